@@ -1,0 +1,35 @@
+"""pathplan-env: path planning among moving obstacles, as a Gymnasium environment.
+
+``import pathplan_env`` registers ``DynamicObstacle-v0``.
+"""
+
+from gymnasium.envs.registration import register
+
+from .env import DynamicObstacleEnv
+from .geometry import shortest_path
+from .scenarios import PAPER_CASES, PRESETS, Obstacle, Scenario, make_scenario, paper_case, sample_random_scenario
+from .wrappers import EgocentricObservation
+
+#: Episode time limit of the registered env (20 s at dt = 0.1 s): 4-6x the straight-line time.
+MAX_EPISODE_STEPS = 200
+
+register(
+    id="DynamicObstacle-v0",
+    entry_point="pathplan_env.env:DynamicObstacleEnv",
+    max_episode_steps=MAX_EPISODE_STEPS,
+)
+
+__all__ = [
+    "DynamicObstacleEnv",
+    "EgocentricObservation",
+    "MAX_EPISODE_STEPS",
+    "Obstacle",
+    "PAPER_CASES",
+    "PRESETS",
+    "Scenario",
+    "make_scenario",
+    "paper_case",
+    "sample_random_scenario",
+    "shortest_path",
+]
+__version__ = "0.1.0"

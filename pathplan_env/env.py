@@ -1,0 +1,366 @@
+"""DynamicObstacle-v0: a circular robot reaches a goal among moving circular obstacles."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+from .scenarios import Scenario, check_delta_d, make_scenario
+from .world import World
+
+
+class DynamicObstacleEnv(gym.Env):
+    """
+    ## Description
+    A circular robot must reach a goal in a walled 2D arena among circular obstacles that move in
+    straight lines and bounce elastically off the walls and off each other (pymunk simulates them;
+    each keeps its own speed). It is the dynamic path-planning benchmark of the paper "A Constraint
+    Optimization path planning for Dynamic Environment" (modified ABC, adaptive constraint PSO),
+    made a Gymnasium environment: a policy picks a waypoint every step, and the robot heads for it.
+
+    The obstacles' speed is set by **Δd** (``delta_d``), the paper's Eq. 8: the distance an obstacle
+    moves in one step divided by its radius. The robot covers half an obstacle radius per step by
+    default, so at Δd = 0.5 the obstacles move as fast as the robot.
+
+    Robot-obstacle contact is detected continuously within a step (an exact swept-circle test at
+    every physics substep), so no obstacle, however fast, crosses the robot unseen, and a near miss
+    is not a hit.
+
+    ## Action Space
+    ``Box(-1, 1, (2,), float32)``: a waypoint, mapped linearly onto the arena: ``-1`` is the arena's
+    lower edge and ``+1`` its upper edge on each axis. Each step the robot moves straight toward the
+    waypoint at its maximum speed, stopping on it if it is closer than one step. The waypoint is
+    clipped so that the robot's disc stays inside the arena. Out-of-range actions are clipped to
+    [-1, 1]; a NaN or infinite action raises ``ValueError``. Convert with
+    ``env.unwrapped.waypoint_to_action(xy)`` and ``env.unwrapped.action_to_waypoint(a)``.
+
+    ## Observation Space
+    A ``Dict`` in the world frame (metres, m/s), every entry float32 with finite bounds. ``N`` is
+    ``max_obstacles``; rows past the scenario's obstacles are padding (zeros at the arena's lower
+    corner, mask 0).
+
+    | Key                   | Shape  | Observation                            | Min                | Max               |
+    |-----------------------|--------|----------------------------------------|--------------------|-------------------|
+    | `robot_position`      | (2,)   | robot centre                           | arena lower corner | arena upper corner|
+    | `robot_velocity`      | (2,)   | robot velocity over the last step      | -V                 | V                 |
+    | `goal`                | (2,)   | goal position                          | arena lower corner | arena upper corner|
+    | `obstacle_positions`  | (N, 2) | obstacle centres                       | arena lower corner | arena upper corner|
+    | `obstacle_velocities` | (N, 2) | obstacle velocities                    | -V                 | V                 |
+    | `obstacle_radii`      | (N,)   | obstacle radii                         | 0                  | half the arena    |
+    | `obstacle_mask`       | (N,)   | 1 for a real obstacle, 0 for padding   | 0                  | 1                 |
+
+    ``V`` is the arena diagonal divided by ``dt`` (crossing the arena in one step): no speed is higher.
+    Static public facts for planners: ``env.unwrapped.bounds``, ``dt``, ``robot_radius``, ``robot_speed``.
+
+    ## Rewards
+    The sum of four components, each also reported in ``info["rewards"]``:
+    - ``progress``: ``reward_progress * (d_before - d_after) / d_start``, with ``d`` the distance to the
+      goal; over a successful episode the progress rewards sum to ``reward_progress``.
+    - ``goal``: ``reward_goal`` (default 1.0) on reaching the goal.
+    - ``collision``: ``reward_collision`` (default -1.0) on touching an obstacle.
+    - ``time``: ``reward_time`` (default -0.005) every step.
+
+    ## Starting State
+    The robot rests at the scenario's start. Presets: ``"paper-case-1"``, ``"paper-case-2"``,
+    ``"paper-case-3"`` (the paper's Table 1 obstacle centres; see ``pathplan_env.scenarios`` and
+    ``docs/paper_assumptions.md`` for the assumed start, goal, radii and arena) and ``"random"``
+    (``n_obstacles`` non-overlapping obstacles, start and goal at least 6 m apart, all drawn from
+    ``np_random``). Obstacles that rest in the scenario get directions from ``np_random`` once
+    ``delta_d`` makes them move.
+
+    ## Episode End
+    - Termination: the robot reaches the goal (``info["is_success"]``), or touches an obstacle
+      (``info["collision"]``); whichever happens first within the step decides.
+    - Truncation: the registration's time limit, ``max_episode_steps=200`` (20 s at dt = 0.1 s).
+
+    ## Info
+    ``is_success``, ``collision``, ``cost`` (1.0 on a step with contact, as Safety-Gymnasium reports
+    constraint costs), ``min_clearance`` (smallest surface gap to any obstacle during the step, m),
+    ``path_length`` (m flown so far), ``time`` (s), ``distance_to_goal``, ``waypoint`` and ``rewards``.
+
+    ## Arguments
+    ```python
+    gym.make("DynamicObstacle-v0", scenario="random", delta_d=0.25, n_obstacles=8,
+             max_obstacles=None, render_mode=None)
+    ```
+    - ``scenario``: a preset name or a ``pathplan_env.Scenario``.
+    - ``delta_d``: obstacle displacement per step in radii, applied to every scenario (directions
+      kept; resting obstacles get random ones). ``0`` freezes the obstacles; ``None`` keeps the
+      scenario's own velocities.
+    - ``n_obstacles``: obstacle count of the ``"random"`` preset.
+    - ``max_obstacles``: padding size ``N`` of the obstacle arrays; default ``max(16, obstacles)``.
+    - ``reward_progress``, ``reward_goal``, ``reward_collision``, ``reward_time``: reward weights.
+    - ``render_mode``: ``"human"`` (a pygame window) or ``"rgb_array"`` (works with no display).
+
+    ``reset(options={"scenario": ..., "delta_d": ..., "n_obstacles": ...})`` reconfigures the env from
+    that episode on (the arena bounds must stay the same: they define the observation space).
+
+    ## Version History
+    - v0: initial release.
+    """
+
+    metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 10}
+
+    def __init__(
+        self,
+        scenario: str | Scenario = "random",
+        delta_d: float | None = 0.25,
+        n_obstacles: int = 8,
+        max_obstacles: int | None = None,
+        reward_progress: float = 1.0,
+        reward_goal: float = 1.0,
+        reward_collision: float = -1.0,
+        reward_time: float = -0.005,
+        render_mode: str | None = None,
+    ):
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(f"render_mode must be one of {self.metadata['render_modes']} or None, got {render_mode!r}")
+        self.render_mode = render_mode
+        self._scenario_spec = scenario
+        self._delta_d = check_delta_d(delta_d)
+        self._n_obstacles = self._check_n_obstacles(n_obstacles)
+        self.reward_weights = {
+            "progress": float(reward_progress),
+            "goal": float(reward_goal),
+            "collision": float(reward_collision),
+            "time": float(reward_time),
+        }
+        # Build one scenario now so that bad input fails when the env is made, and to fix the spaces.
+        self.scenario: Scenario = make_scenario(scenario, np.random.default_rng(0), self._n_obstacles, self._delta_d)
+        self.bounds = self.scenario.bounds
+        if max_obstacles is None:
+            max_obstacles = max(16, self._n_obstacles, self.scenario.n_obstacles)
+        if int(max_obstacles) != max_obstacles or max_obstacles < self.scenario.n_obstacles:
+            raise ValueError(
+                f"max_obstacles must be an integer >= the scenario's {self.scenario.n_obstacles} obstacles, got {max_obstacles!r}"
+            )
+        self.max_obstacles = int(max_obstacles)
+
+        xmin, ymin, xmax, ymax = self.bounds
+        low, high = np.array([xmin, ymin], np.float32), np.array([xmax, ymax], np.float32)
+        vmax = np.float32(self.scenario.arena_diagonal / self.scenario.dt)
+        n = self.max_obstacles
+        point = spaces.Box(low, high, dtype=np.float32)
+        velocity = spaces.Box(-vmax, vmax, shape=(2,), dtype=np.float32)
+        self.observation_space = spaces.Dict(
+            {
+                "robot_position": point,
+                "robot_velocity": velocity,
+                "goal": point,
+                "obstacle_positions": spaces.Box(np.tile(low, (n, 1)), np.tile(high, (n, 1)), dtype=np.float32),
+                "obstacle_velocities": spaces.Box(-vmax, vmax, shape=(n, 2), dtype=np.float32),
+                "obstacle_radii": spaces.Box(0.0, min(xmax - xmin, ymax - ymin) / 2, shape=(n,), dtype=np.float32),
+                "obstacle_mask": spaces.Box(0.0, 1.0, shape=(n,), dtype=np.float32),
+            }
+        )
+        self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
+        self._arena_low = np.array([xmin, ymin], np.float64)
+        self._arena_size = np.array([xmax - xmin, ymax - ymin], np.float64)
+        self._world: World | None = None
+        self._renderer = None
+        self.trail: list[tuple[float, float]] = []
+        self.waypoint: np.ndarray | None = None
+
+    # -- static public facts (what planners may read besides the observation) -------------------
+    @property
+    def dt(self) -> float:
+        return self.scenario.dt
+
+    @property
+    def robot_radius(self) -> float:
+        return self.scenario.robot_radius
+
+    @property
+    def robot_speed(self) -> float:
+        return self.scenario.robot_speed
+
+    # -- action mapping ------------------------------------------------------------------------
+    def action_to_waypoint(self, action) -> np.ndarray:
+        """Map an action in [-1, 1]^2 (clipped) to a waypoint in the arena (float64 metres)."""
+        a = np.clip(np.asarray(action, dtype=np.float64), -1.0, 1.0)
+        return self._arena_low + (a + 1.0) * 0.5 * self._arena_size
+
+    def waypoint_to_action(self, waypoint) -> np.ndarray:
+        """Map waypoints (..., 2) in the arena to actions in [-1, 1]^2 (float32, clipped)."""
+        xy = np.asarray(waypoint, dtype=np.float64)
+        return np.clip(2.0 * (xy - self._arena_low) / self._arena_size - 1.0, -1.0, 1.0).astype(np.float32)
+
+    # -- Gymnasium API -------------------------------------------------------------------------
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+        super().reset(seed=seed)
+        options = options or {}
+        unknown = set(options) - {"scenario", "delta_d", "n_obstacles"}
+        if unknown:
+            raise ValueError(f"reset options: unknown keys {sorted(unknown)}; known: scenario, delta_d, n_obstacles")
+        if "scenario" in options:
+            self._scenario_spec = options["scenario"]
+        if "delta_d" in options:
+            self._delta_d = check_delta_d(options["delta_d"])
+        if "n_obstacles" in options:
+            self._n_obstacles = self._check_n_obstacles(options["n_obstacles"])
+        scenario = make_scenario(self._scenario_spec, self.np_random, self._n_obstacles, self._delta_d)
+        if scenario.bounds != self.bounds:
+            raise ValueError(
+                f"scenario bounds {scenario.bounds} differ from this env's arena {self.bounds}; "
+                "the arena fixes the observation space, so make a new env for another arena"
+            )
+        if scenario.n_obstacles > self.max_obstacles:
+            raise ValueError(f"scenario has {scenario.n_obstacles} obstacles, more than max_obstacles={self.max_obstacles}")
+        self.scenario = scenario
+        self._world = World(scenario)
+        self._goal = np.array(scenario.goal, np.float64)
+        self._start_distance = max(float(np.hypot(*(self._goal - scenario.start))), 1e-9)
+        self._distance = self._start_distance
+        self._path_length = 0.0
+        self._prepare_observation_padding()
+        self.waypoint = None
+        self.trail = [scenario.start]
+        if self.render_mode == "human":
+            self.render()
+        return self._observation(), self._info(min_clearance=self._world.clearance(), rewards=None)
+
+    def step(self, action):
+        if self._world is None:
+            raise RuntimeError("call reset() before step()")
+        world, scenario = self._world, self.scenario
+        ax, ay = self._parse_action(action)
+        r = scenario.robot_radius
+        xmin, ymin, xmax, ymax = self.bounds
+        # waypoint on the arena, kept where the robot's disc fits
+        wx = min(max(self._arena_low[0] + (ax + 1.0) * 0.5 * self._arena_size[0], xmin + r), xmax - r)
+        wy = min(max(self._arena_low[1] + (ay + 1.0) * 0.5 * self._arena_size[1], ymin + r), ymax - r)
+        self.waypoint = np.array((wx, wy))
+        px, py = world.robot_position
+        dx, dy = wx - px, wy - py
+        dist = math.hypot(dx, dy)
+        reach = scenario.robot_speed * scenario.dt
+        if dist > reach:
+            dx, dy = dx * reach / dist, dy * reach / dist
+        contact = world.step((dx, dy))
+        goal_fraction = _reach_fraction(px, py, dx, dy, self._goal, scenario.goal_radius)
+        collision = contact.collided and contact.contact_fraction <= goal_fraction
+        success = goal_fraction <= 1.0 and not collision
+
+        self._path_length += math.hypot(dx, dy)
+        distance = 0.0 if success else float(math.hypot(*(world.robot_position - self._goal)))
+        w = self.reward_weights
+        rewards = {
+            "progress": w["progress"] * (self._distance - distance) / self._start_distance,
+            "goal": w["goal"] if success else 0.0,
+            "collision": w["collision"] if collision else 0.0,
+            "time": w["time"],
+        }
+        self._distance = distance
+        if self.render_mode is not None:
+            self.trail.append((float(world.robot_position[0]), float(world.robot_position[1])))
+        info = self._info(min_clearance=contact.min_gap, rewards=rewards, success=success, collision=collision)
+        if self.render_mode == "human":
+            self.render()
+        return self._observation(), float(sum(rewards.values())), bool(success or collision), False, info
+
+    def render(self):
+        if self.render_mode is None:
+            gym.logger.warn(
+                "render() was called without a render_mode; pass render_mode='rgb_array' or 'human' to gym.make"
+            )
+            return None
+        if self._world is None:
+            raise RuntimeError("call reset() before render()")
+        if self._renderer is None:
+            from .rendering import Renderer  # pygame is imported lazily, only when rendering
+
+            self._renderer = Renderer(self.bounds, self.render_mode, self.metadata["render_fps"])
+        return self._renderer.draw(
+            scenario=self.scenario,
+            obstacle_state=self._world.obstacle_state,
+            radii=self._world.radii,
+            robot_position=self._world.robot_position,
+            trail=self.trail,
+            waypoint=self.waypoint,
+        )
+
+    def close(self):
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+    # -- helpers -------------------------------------------------------------------------------
+    @staticmethod
+    def _check_n_obstacles(n) -> int:
+        if isinstance(n, bool) or int(n) != n or n < 0:
+            raise ValueError(f"n_obstacles must be a non-negative integer, got {n!r}")
+        return int(n)
+
+    @staticmethod
+    def _parse_action(action) -> tuple[float, float]:
+        if np.shape(action) != (2,):
+            raise ValueError(f"action must have shape (2,), got shape {np.shape(action)}")
+        ax, ay = float(action[0]), float(action[1])
+        if not (math.isfinite(ax) and math.isfinite(ay)):
+            raise ValueError(f"action must be finite, got {action!r} (NaN or infinite)")
+        return min(max(ax, -1.0), 1.0), min(max(ay, -1.0), 1.0)
+
+    def _prepare_observation_padding(self) -> None:
+        n, n_max = self.scenario.n_obstacles, self.max_obstacles
+        self._n_real = n
+        self._positions_pad = np.tile(self._arena_low.astype(np.float32), (n_max, 1))
+        self._velocities_pad = np.zeros((n_max, 2), np.float32)
+        self._radii_obs = np.zeros(n_max, np.float32)
+        self._radii_obs[:n] = self._world.radii
+        self._mask_obs = np.zeros(n_max, np.float32)
+        self._mask_obs[:n] = 1.0
+        self._goal_obs = self._goal.astype(np.float32)
+
+    def _observation(self) -> dict[str, np.ndarray]:
+        world, n = self._world, self._n_real
+        state = world.obstacle_state
+        positions = self._positions_pad.copy()
+        positions[:n] = state[:, :2]
+        velocities = self._velocities_pad.copy()
+        velocities[:n] = state[:, 2:]
+        return {
+            "robot_position": world.robot_position.astype(np.float32),
+            "robot_velocity": world.robot_velocity.astype(np.float32),
+            "goal": self._goal_obs.copy(),
+            "obstacle_positions": positions,
+            "obstacle_velocities": velocities,
+            "obstacle_radii": self._radii_obs.copy(),
+            "obstacle_mask": self._mask_obs.copy(),
+        }
+
+    def _info(self, min_clearance: float, rewards, success: bool = False, collision: bool = False) -> dict:
+        return {
+            "is_success": bool(success),
+            "collision": bool(collision),
+            "cost": 1.0 if collision else 0.0,
+            "min_clearance": float(min_clearance),
+            "path_length": self._path_length,
+            "time": self._world.time,
+            "distance_to_goal": self._distance,
+            "waypoint": self.waypoint,
+            "rewards": rewards if rewards is not None else {k: 0.0 for k in self.reward_weights},
+        }
+
+    def __getstate__(self):
+        state = self.__dict__.copy()
+        state["_renderer"] = None  # a pygame window does not pickle; it reopens on the next render()
+        return state
+
+
+def _reach_fraction(px: float, py: float, dx: float, dy: float, goal: np.ndarray, radius: float) -> float:
+    """First fraction t in [0, 1] at which p + t d comes within ``radius`` of the goal (2.0 if never)."""
+    fx, fy = px - goal[0], py - goal[1]
+    c = fx * fx + fy * fy - radius * radius
+    if c <= 0.0:
+        return 0.0
+    a = dx * dx + dy * dy
+    b = fx * dx + fy * dy
+    disc = b * b - a * c
+    if a == 0.0 or b >= 0.0 or disc < 0.0:
+        return 2.0
+    t = (-b - math.sqrt(disc)) / a
+    return t if t <= 1.0 else 2.0

@@ -1,0 +1,77 @@
+"""pygame renderer: ``rgb_array`` draws off-screen (no display needed); ``human`` opens a window."""
+
+from __future__ import annotations
+
+import numpy as np
+
+BACKGROUND = (250, 250, 247)
+WALL = (60, 60, 60)
+OBSTACLE = (214, 96, 77)
+ARROW = (120, 40, 30)
+ROBOT = (52, 101, 164)
+TRAIL = (120, 160, 210)
+GOAL = (46, 160, 67)
+WAYPOINT = (240, 170, 20)
+
+
+class Renderer:
+    """Draws the arena, obstacles with velocity arrows, the robot and its trail, the goal, the waypoint."""
+
+    def __init__(self, bounds, render_mode: str, fps: int, size: int = 600):
+        import pygame  # lazy: the env runs without pygame's display machinery unless rendering
+
+        self._pygame = pygame
+        self.render_mode, self.fps = render_mode, fps
+        xmin, ymin, xmax, ymax = bounds
+        self.scale = size / max(xmax - xmin, ymax - ymin)
+        self.width, self.height = int(round((xmax - xmin) * self.scale)), int(round((ymax - ymin) * self.scale))
+        self.origin = (xmin, ymax)
+        self.window = None
+        self.clock = None
+        if render_mode == "human":
+            pygame.display.init()  # display only: pygame.init() would also open audio
+            pygame.display.set_caption("DynamicObstacle-v0")
+            self.window = pygame.display.set_mode((self.width, self.height))
+            self.clock = pygame.time.Clock()
+        self.canvas = pygame.Surface((self.width, self.height))
+
+    def to_screen(self, xy) -> tuple[int, int]:
+        x, y = xy
+        return int(round((x - self.origin[0]) * self.scale)), int(round((self.origin[1] - y) * self.scale))
+
+    def draw(self, scenario, obstacle_state, radii, robot_position, trail, waypoint):
+        pygame, canvas, s = self._pygame, self.canvas, self.scale
+        canvas.fill(BACKGROUND)
+        pygame.draw.rect(canvas, WALL, canvas.get_rect(), width=3)
+        goal = self.to_screen(scenario.goal)
+        pygame.draw.circle(canvas, GOAL, goal, max(3, int(scenario.goal_radius * s)), width=2)
+        pygame.draw.line(canvas, GOAL, (goal[0] - 6, goal[1]), (goal[0] + 6, goal[1]), 2)
+        pygame.draw.line(canvas, GOAL, (goal[0], goal[1] - 6), (goal[0], goal[1] + 6), 2)
+        for (x, y, vx, vy), r in zip(obstacle_state, radii):
+            centre = self.to_screen((x, y))
+            pygame.draw.circle(canvas, OBSTACLE, centre, max(2, int(r * s)))
+            # the arrow shows where the obstacle will be one step from now
+            tip = self.to_screen((x + vx * scenario.dt, y + vy * scenario.dt))
+            if tip != centre:
+                pygame.draw.line(canvas, ARROW, centre, tip, 2)
+                pygame.draw.circle(canvas, ARROW, tip, 3)
+        if len(trail) > 1:
+            pygame.draw.lines(canvas, TRAIL, False, [self.to_screen(p) for p in trail], 2)
+        if waypoint is not None:
+            wp = self.to_screen(waypoint)
+            pygame.draw.line(canvas, WAYPOINT, self.to_screen(robot_position), wp, 1)
+            pygame.draw.circle(canvas, WAYPOINT, wp, 4)
+        pygame.draw.circle(canvas, ROBOT, self.to_screen(robot_position), max(2, int(scenario.robot_radius * s)))
+
+        if self.render_mode == "human":
+            self.window.blit(canvas, (0, 0))
+            pygame.event.pump()
+            pygame.display.flip()
+            self.clock.tick(self.fps)
+            return None
+        return np.transpose(np.array(pygame.surfarray.pixels3d(canvas)), axes=(1, 0, 2)).copy()
+
+    def close(self):
+        if self.window is not None:
+            self._pygame.display.quit()
+            self.window = None

@@ -1,0 +1,313 @@
+"""Scenarios: the frozen description of one episode's world, the presets, random sampling and Δd.
+
+A :class:`Scenario` is pure data (no simulator state): arena bounds, start, goal, robot size and
+speed, the control period ``dt`` and the obstacles with their initial velocities. The env turns a
+scenario into a pymunk world at every reset; ``env.unwrapped.scenario`` is the one in use.
+
+Δd (the paper's Eq. 8) is the distance an obstacle moves in one env step divided by its radius:
+``delta_d = |v| * dt / radius``. :meth:`Scenario.with_delta_d` sets every obstacle's speed to that.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from typing import Callable
+
+import numpy as np
+
+Vec2 = tuple[float, float]
+
+
+def _vec2(value, name: str) -> Vec2:
+    try:
+        x, y = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a pair of numbers (x, y), got {value!r}") from None
+    if not (math.isfinite(x) and math.isfinite(y)):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return (x, y)
+
+
+def _positive(value, name: str, allow_zero: bool = False) -> float:
+    value = float(value)
+    ok = value >= 0 if allow_zero else value > 0
+    if not (math.isfinite(value) and ok):
+        bound = ">= 0" if allow_zero else "> 0"
+        raise ValueError(f"{name} must be finite and {bound}, got {value!r}")
+    return value
+
+
+@dataclass(frozen=True)
+class Obstacle:
+    """A circular obstacle: centre (m), radius (m) and initial velocity (m/s)."""
+
+    center: Vec2
+    radius: float
+    velocity: Vec2 = (0.0, 0.0)
+
+    def __post_init__(self):
+        object.__setattr__(self, "center", _vec2(self.center, "Obstacle.center"))
+        object.__setattr__(self, "radius", _positive(self.radius, "Obstacle.radius"))
+        object.__setattr__(self, "velocity", _vec2(self.velocity, "Obstacle.velocity"))
+
+    @property
+    def speed(self) -> float:
+        return math.hypot(*self.velocity)
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """Everything that defines an episode's initial world. Validated on construction.
+
+    :param bounds: arena ``(xmin, ymin, xmax, ymax)`` in metres; walls stand on its edges.
+    :param start: robot start position; the robot's disc must fit inside the arena.
+    :param goal: goal position; reached when the robot centre comes within ``goal_radius`` of it.
+    :param obstacles: the obstacles; none may overlap the robot's disc at the start or the goal.
+    :param robot_radius: robot radius (m).
+    :param robot_speed: the robot's maximum speed (m/s).
+    :param dt: control period (s): one env step advances the world by ``dt``.
+    :param goal_radius: goal tolerance (m); ``None`` means the robot radius.
+    :param name: a label (the preset's name), used in logs and results.
+    """
+
+    bounds: tuple[float, float, float, float]
+    start: Vec2
+    goal: Vec2
+    obstacles: tuple[Obstacle, ...] = ()
+    robot_radius: float = 0.2
+    robot_speed: float = 2.5
+    dt: float = 0.1
+    goal_radius: float | None = None
+    name: str = "custom"
+
+    def __post_init__(self):
+        try:
+            xmin, ymin, xmax, ymax = (float(b) for b in self.bounds)
+        except (TypeError, ValueError):
+            raise ValueError(f"Scenario.bounds must be (xmin, ymin, xmax, ymax), got {self.bounds!r}") from None
+        if not all(map(math.isfinite, (xmin, ymin, xmax, ymax))) or xmax <= xmin or ymax <= ymin:
+            raise ValueError(f"Scenario.bounds must be finite with xmin < xmax and ymin < ymax, got {self.bounds!r}")
+        set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731 (frozen dataclass normalisation)
+        set_("bounds", (xmin, ymin, xmax, ymax))
+        set_("start", _vec2(self.start, "Scenario.start"))
+        set_("goal", _vec2(self.goal, "Scenario.goal"))
+        set_("robot_radius", _positive(self.robot_radius, "Scenario.robot_radius"))
+        set_("robot_speed", _positive(self.robot_speed, "Scenario.robot_speed"))
+        set_("dt", _positive(self.dt, "Scenario.dt"))
+        goal_radius = self.robot_radius if self.goal_radius is None else self.goal_radius
+        set_("goal_radius", _positive(goal_radius, "Scenario.goal_radius"))
+        obstacles = tuple(self.obstacles)
+        for i, ob in enumerate(obstacles):
+            if not isinstance(ob, Obstacle):
+                raise ValueError(f"Scenario.obstacles[{i}] must be an Obstacle, got {type(ob).__name__}")
+        set_("obstacles", obstacles)
+        self._check_geometry()
+
+    def _check_geometry(self) -> None:
+        xmin, ymin, xmax, ymax = self.bounds
+        r = self.robot_radius
+        for label, (x, y) in (("start", self.start), ("goal", self.goal)):
+            if not (xmin + r <= x <= xmax - r and ymin + r <= y <= ymax - r):
+                raise ValueError(
+                    f"Scenario.{label} {(x, y)} is outside the arena {self.bounds} "
+                    f"(the robot's disc of radius {r} must fit inside)"
+                )
+        max_step = math.hypot(xmax - xmin, ymax - ymin)
+        if self.robot_speed * self.dt > max_step:
+            raise ValueError(f"Scenario.robot_speed {self.robot_speed} crosses the whole arena in one step")
+        for i, ob in enumerate(self.obstacles):
+            (cx, cy), rad = ob.center, ob.radius
+            if not (xmin + rad <= cx <= xmax - rad and ymin + rad <= cy <= ymax - rad):
+                raise ValueError(f"Scenario.obstacles[{i}] at {ob.center} with radius {rad} is not inside the arena {self.bounds}")
+            for label, (x, y) in (("start", self.start), ("goal", self.goal)):
+                if math.hypot(cx - x, cy - y) <= rad + r:
+                    raise ValueError(f"Scenario.obstacles[{i}] at {ob.center} overlaps the robot at the {label} {(x, y)}")
+            if ob.speed * self.dt > max_step:
+                raise ValueError(
+                    f"Scenario.obstacles[{i}].velocity {ob.velocity} crosses the whole arena in one step; "
+                    f"lower the speed or delta_d"
+                )
+
+    # -- derived facts -------------------------------------------------------------------------
+    @property
+    def n_obstacles(self) -> int:
+        return len(self.obstacles)
+
+    @property
+    def arena_diagonal(self) -> float:
+        xmin, ymin, xmax, ymax = self.bounds
+        return math.hypot(xmax - xmin, ymax - ymin)
+
+    @property
+    def delta_d(self) -> float:
+        """The largest Δd among the obstacles (all equal once set by :meth:`with_delta_d`); 0 if none move."""
+        return max((ob.speed * self.dt / ob.radius for ob in self.obstacles), default=0.0)
+
+    def with_delta_d(self, delta_d: float, rng: np.random.Generator) -> "Scenario":
+        """A copy whose every obstacle moves exactly ``delta_d`` radii per step.
+
+        Obstacles that already move keep their direction; resting ones get a direction from ``rng``.
+        """
+        delta_d = float(delta_d)
+        if not (math.isfinite(delta_d) and delta_d >= 0):
+            raise ValueError(f"delta_d must be finite and >= 0, got {delta_d!r}")
+        angles = rng.uniform(0.0, 2 * math.pi, size=len(self.obstacles))
+        moved = []
+        for ob, angle in zip(self.obstacles, angles):
+            speed = delta_d * ob.radius / self.dt
+            if ob.speed > 0:
+                ux, uy = ob.velocity[0] / ob.speed, ob.velocity[1] / ob.speed
+            else:
+                ux, uy = math.cos(angle), math.sin(angle)
+            moved.append(replace(ob, velocity=(speed * ux, speed * uy)))
+        return replace(self, obstacles=tuple(moved))
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Obstacle data as float64 arrays: ``positions`` (N, 2), ``velocities`` (N, 2), ``radii`` (N,)."""
+        n = len(self.obstacles)
+        return {
+            "positions": np.array([ob.center for ob in self.obstacles], dtype=np.float64).reshape(n, 2),
+            "velocities": np.array([ob.velocity for ob in self.obstacles], dtype=np.float64).reshape(n, 2),
+            "radii": np.array([ob.radius for ob in self.obstacles], dtype=np.float64).reshape(n),
+        }
+
+
+# ---------------------------------------------------------------------------------------------
+# Presets
+# ---------------------------------------------------------------------------------------------
+#: The paper's Table 1 obstacle centres. The paper states nothing else; our assumptions
+#: (documented in docs/paper_assumptions.md): start (0, 0), goal (5, 5), arena [-1, 6]^2, so the
+#: straight line y = x runs through the obstacles as in the paper's Fig. 1. Radius 1.0 in cases 1-2
+#: ("the big circle" of Fig. 1); 0.45 in case 3, where centres (2, 3) and (2, 4) are 1.0 apart and
+#: larger discs would overlap.
+PAPER_CASES: dict[str, tuple[tuple[Vec2, ...], float]] = {
+    "paper-case-1": (((2.0, 3.0),), 1.0),
+    "paper-case-2": (((1.0, 2.0), (3.0, 4.0)), 1.0),
+    "paper-case-3": (((2.0, 4.0), (1.0, 1.5), (2.0, 3.0), (3.0, 2.0), (4.5, 4.0)), 0.45),
+}
+PAPER_BOUNDS = (-1.0, -1.0, 6.0, 6.0)
+PAPER_START, PAPER_GOAL = (0.0, 0.0), (5.0, 5.0)
+ROBOT_RADIUS = 0.2
+DT = 0.1
+#: Default robot speed: the robot covers half an obstacle radius per step, so at Δd = 0.5 the
+#: obstacles move exactly as fast as the robot (CrowdNav's humans and robot share one speed).
+ROBOT_STEP_IN_RADII = 0.5
+
+
+def paper_case(name: str) -> Scenario:
+    centers, radius = PAPER_CASES[name]
+    return Scenario(
+        bounds=PAPER_BOUNDS,
+        start=PAPER_START,
+        goal=PAPER_GOAL,
+        obstacles=tuple(Obstacle(center=c, radius=radius) for c in centers),
+        robot_radius=ROBOT_RADIUS,
+        robot_speed=ROBOT_STEP_IN_RADII * radius / DT,
+        dt=DT,
+        name=name,
+    )
+
+
+#: The random preset: a 10 m x 10 m arena (larger beyond 12 obstacles, keeping 12 per 100 m^2),
+#: obstacle radii uniform in [0.4, 0.6] m (mean 0.5 m), start and goal at least 6 m apart,
+#: obstacles at least 0.1 m apart and clear of the robot's start and goal by 0.5 m.
+RANDOM_ARENA_SIDE = 10.0
+RANDOM_DENSITY_OBSTACLES = 12
+RANDOM_RADIUS_RANGE = (0.4, 0.6)
+RANDOM_MIN_START_GOAL = 6.0
+RANDOM_OBSTACLE_GAP = 0.1
+RANDOM_START_CLEARANCE = 0.5
+_CANDIDATES = 64
+
+
+def random_arena_bounds(n_obstacles: int) -> tuple[float, float, float, float]:
+    side = RANDOM_ARENA_SIDE * math.sqrt(max(1.0, n_obstacles / RANDOM_DENSITY_OBSTACLES))
+    return (0.0, 0.0, side, side)
+
+
+def sample_random_scenario(rng: np.random.Generator, n_obstacles: int = 8) -> Scenario:
+    """Draw a random scenario from ``rng`` (the env passes its ``np_random``); obstacles start at rest."""
+    if isinstance(n_obstacles, bool) or int(n_obstacles) != n_obstacles or n_obstacles < 0:
+        raise ValueError(f"n_obstacles must be a non-negative integer, got {n_obstacles!r}")
+    n = int(n_obstacles)
+    bounds = random_arena_bounds(n)
+    xmin, ymin, xmax, ymax = bounds
+    lo, hi = np.array([xmin, ymin]), np.array([xmax, ymax])
+    r = ROBOT_RADIUS
+    margin = r + 0.3
+    while True:
+        start, goal = rng.uniform(lo + margin, hi - margin, size=(2, 2))
+        if math.dist(start, goal) >= RANDOM_MIN_START_GOAL:
+            break
+    radii = rng.uniform(*RANDOM_RADIUS_RANGE, size=n)
+    # Rejection sampling from one batch of candidates per obstacle, checked against all placed
+    # obstacles at once (reset-time only, not on the step path).
+    unit = rng.uniform(0.0, 1.0, size=(n, _CANDIDATES, 2))
+    centers = np.empty((n, 2))
+    for i, rad in enumerate(radii):
+        candidates = lo + rad + unit[i] * (hi - lo - 2 * rad)
+        keep_out = np.concatenate([[start, goal], centers[:i]])
+        min_dist = np.concatenate([[rad + r + RANDOM_START_CLEARANCE] * 2, radii[:i] + rad + RANDOM_OBSTACLE_GAP])
+        clear = (np.linalg.norm(candidates[:, None] - keep_out[None], axis=-1) > min_dist).all(axis=1)
+        if not clear.any():
+            raise ValueError(f"n_obstacles: could not place {n} obstacles in the random arena {bounds} (placed {i})")
+        centers[i] = candidates[np.argmax(clear)]
+    return Scenario(
+        bounds=bounds,
+        start=tuple(start),
+        goal=tuple(goal),
+        obstacles=tuple(Obstacle(center=tuple(c), radius=float(rad)) for c, rad in zip(centers, radii)),
+        robot_radius=r,
+        robot_speed=ROBOT_STEP_IN_RADII * float(np.mean(RANDOM_RADIUS_RANGE)) / DT,
+        dt=DT,
+        name="random",
+    )
+
+
+PRESETS: dict[str, Callable[[np.random.Generator, int], Scenario]] = {
+    **{name: (lambda rng, n, name=name: paper_case(name)) for name in PAPER_CASES},
+    "random": sample_random_scenario,
+}
+
+
+def make_scenario(
+    spec: "str | Scenario", rng: np.random.Generator, n_obstacles: int = 8, delta_d: float | None = None
+) -> Scenario:
+    """Resolve a preset name or a :class:`Scenario`, then apply ``delta_d`` (``None`` keeps the velocities)."""
+    if isinstance(spec, Scenario):
+        scenario = spec
+    elif isinstance(spec, str):
+        if spec not in PRESETS:
+            raise ValueError(f"scenario: unknown preset {spec!r}; known presets: {sorted(PRESETS)}")
+        scenario = PRESETS[spec](rng, n_obstacles)
+    else:
+        raise ValueError(f"scenario must be a preset name or a Scenario, got {type(spec).__name__}")
+    if delta_d is not None:
+        scenario = scenario.with_delta_d(delta_d, rng)
+    return scenario
+
+
+def check_delta_d(delta_d) -> float | None:
+    """Validate a ``delta_d`` argument early, naming it in the error."""
+    if delta_d is None:
+        return None
+    try:
+        value = float(delta_d)
+    except (TypeError, ValueError):
+        raise ValueError(f"delta_d must be a number >= 0 or None, got {delta_d!r}") from None
+    if not (math.isfinite(value) and value >= 0):
+        raise ValueError(f"delta_d must be finite and >= 0, got {delta_d!r}")
+    return value
+
+
+__all__ = [
+    "Obstacle",
+    "Scenario",
+    "PRESETS",
+    "PAPER_CASES",
+    "make_scenario",
+    "paper_case",
+    "sample_random_scenario",
+    "check_delta_d",
+]

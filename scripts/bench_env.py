@@ -1,0 +1,60 @@
+"""Env speed: steps per second with random actions and no rendering, as a ratio to CartPole-v1.
+
+Both are measured in the same run, through ``gym.make`` (the same wrappers), on the same machine,
+so the ratio means something on a noisy shared machine where the raw rates do not.
+
+    python scripts/bench_env.py [--steps 20000] [--repeats 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import gymnasium as gym
+
+import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
+
+
+def steps_per_second(env: gym.Env, steps: int, seed: int = 0) -> float:
+    env.reset(seed=seed)
+    env.action_space.seed(seed)
+    actions = [env.action_space.sample() for _ in range(steps)]
+    start = time.perf_counter()
+    for action in actions:
+        _, _, terminated, truncated, _ = env.step(action)
+        if terminated or truncated:
+            env.reset()
+    return steps / (time.perf_counter() - start)
+
+
+def best_of(make, steps: int, repeats: int) -> float:
+    env = make()
+    steps_per_second(env, min(steps, 2000))  # warm-up (numba cache load, allocator)
+    return max(steps_per_second(env, steps, seed=i) for i in range(repeats))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--steps", type=int, default=20000)
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--delta-d", type=float, default=0.25)
+    args = parser.parse_args()
+
+    cartpole = best_of(lambda: gym.make("CartPole-v1"), args.steps, args.repeats)
+    print(f"CartPole-v1: {cartpole:10.0f} steps/s (reference)")
+    print("| obstacles | steps/s | ratio to CartPole-v1 | target |")
+    print("|---:|---:|---:|---:|")
+    targets = {5: 0.5, 50: 0.1}
+    for n in (5, 20, 50):
+        rate = best_of(
+            lambda: gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=n, delta_d=args.delta_d),
+            args.steps,
+            args.repeats,
+        )
+        target = f">= {targets[n]}x" if n in targets else ""
+        print(f"| {n} | {rate:.0f} | {rate / cartpole:.3f}x | {target} |")
+
+
+if __name__ == "__main__":
+    main()

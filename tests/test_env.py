@@ -1,0 +1,298 @@
+"""The environment's contract: Gymnasium/SB3 checks, determinism, physics, contacts, bad input."""
+
+import copy
+import hashlib
+import math
+import pickle
+import subprocess
+import sys
+import warnings
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import pathplan_env
+from pathplan_env import Obstacle, Scenario
+from pathplan_env.geometry import swept_contact
+from pathplan_env.wrappers import make_learning_env
+
+
+def rollout_digest(seed: int, steps: int = 60, **kwargs) -> str:
+    env = gym.make("DynamicObstacle-v0", **kwargs)
+    env.action_space.seed(seed)
+    obs, info = env.reset(seed=seed)
+    h = hashlib.sha256()
+    for _ in range(steps):
+        obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+        for key in sorted(obs):
+            h.update(obs[key].tobytes())
+        h.update(repr((reward, terminated, truncated, info["min_clearance"], info["path_length"])).encode())
+        if terminated or truncated:
+            obs, info = env.reset()
+    return h.hexdigest()
+
+
+def standing_scenario(obstacle: Obstacle) -> Scenario:
+    return Scenario(bounds=(0, 0, 20, 10), start=(10, 5), goal=(18, 9), obstacles=(obstacle,), robot_radius=0.2)
+
+
+def stand_still(env):
+    return env.unwrapped.waypoint_to_action(env.unwrapped.scenario.start)
+
+
+# -- API and checkers ---------------------------------------------------------------------------
+def test_gymnasium_check_env_passes_without_warnings():
+    from gymnasium.utils.env_checker import check_env
+
+    env = gym.make("DynamicObstacle-v0", render_mode="rgb_array")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check_env(env.unwrapped)
+
+
+def test_sb3_check_env_on_raw_and_wrapped_env():
+    from stable_baselines3.common.env_checker import check_env
+
+    with pytest.warns(UserWarning, match="unconventional shape"):  # (N, 2) Dict entries: a note, not an error
+        check_env(gym.make("DynamicObstacle-v0"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check_env(make_learning_env(gym.make("DynamicObstacle-v0")))
+
+
+def test_make_by_module_path_and_time_limit():
+    env = gym.make("pathplan_env:DynamicObstacle-v0", scenario="paper-case-1", delta_d=0)
+    assert env.spec.max_episode_steps == pathplan_env.MAX_EPISODE_STEPS
+    env.reset(seed=0)
+    for step in range(1, 10_000):
+        _, _, terminated, truncated, _ = env.step(stand_still(env))
+        if terminated or truncated:
+            break
+    assert truncated and not terminated and step == pathplan_env.MAX_EPISODE_STEPS
+
+
+def test_async_vector_env_steps():
+    envs = gym.make_vec("DynamicObstacle-v0", num_envs=4, vectorization_mode="async")
+    obs, _ = envs.reset(seed=3)
+    assert obs["obstacle_positions"].shape == (4, 16, 2)
+    for _ in range(5):
+        obs, reward, terminated, truncated, info = envs.step(envs.action_space.sample())
+    assert reward.shape == (4,) and np.isfinite(reward).all()
+    envs.close()
+
+
+def test_observation_in_space_and_info_contract():
+    env = gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=5)
+    obs, info = env.reset(seed=1)
+    assert env.observation_space.contains(obs)
+    assert obs["obstacle_mask"].sum() == 5 and obs["obstacle_radii"][5:].sum() == 0
+    for _ in range(30):
+        obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+        assert env.observation_space.contains(obs)
+        assert type(reward) is float and type(terminated) is bool and type(truncated) is bool
+        assert math.isclose(reward, sum(info["rewards"].values()))
+        assert {"is_success", "collision", "cost", "min_clearance", "path_length", "time"} <= set(info)
+        assert info["cost"] == (1.0 if info["collision"] else 0.0)
+        if terminated or truncated:
+            break
+
+
+def test_scenario_of_episode_is_public_with_velocities():
+    env = gym.make("DynamicObstacle-v0", scenario="paper-case-3", delta_d=0.5)
+    env.reset(seed=0)
+    scenario = env.unwrapped.scenario
+    assert scenario.name == "paper-case-3" and scenario.n_obstacles == 5
+    for ob in scenario.obstacles:  # delta_d sets every speed to exactly 0.5 radii per step
+        assert math.isclose(ob.speed * scenario.dt / ob.radius, 0.5)
+
+
+def test_reset_options_reconfigure():
+    env = gym.make("DynamicObstacle-v0", scenario="paper-case-1", delta_d=0.0)
+    env.reset(seed=0, options={"scenario": "paper-case-2", "delta_d": 1.0})
+    assert env.unwrapped.scenario.name == "paper-case-2"
+    assert math.isclose(env.unwrapped.scenario.delta_d, 1.0)
+
+
+def test_straight_run_reaches_goal_on_empty_arena_and_rewards_sum():
+    scenario = Scenario(bounds=(0, 0, 10, 10), start=(1, 1), goal=(8, 5), robot_speed=2.0)
+    env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=None)
+    env.reset(seed=0)
+    total_progress, steps = 0.0, 0
+    while True:
+        _, _, terminated, truncated, info = env.step(env.unwrapped.waypoint_to_action(scenario.goal))
+        total_progress += info["rewards"]["progress"]
+        steps += 1
+        if terminated or truncated:
+            break
+    assert info["is_success"] and not info["collision"]
+    assert math.isclose(total_progress, 1.0)  # progress sums to its weight over a success
+    distance = math.dist(scenario.start, scenario.goal)
+    assert steps == math.ceil((distance - scenario.robot_radius) / (scenario.robot_speed * scenario.dt))
+    assert info["path_length"] <= distance + 1e-9
+
+
+def test_out_of_range_actions_are_clipped():
+    env = gym.make("DynamicObstacle-v0", scenario="paper-case-1", delta_d=0)
+    env.reset(seed=0)
+    a = env.step(np.array([5.0, -7.0], np.float32))[0]
+    env.reset(seed=0)
+    b = env.step(np.array([1.0, -1.0], np.float32))[0]
+    assert all(np.array_equal(a[k], b[k]) for k in a)
+
+
+def test_action_waypoint_round_trip():
+    env = gym.make("DynamicObstacle-v0").unwrapped
+    xy = np.array([[1.5, 2.5], [9.0, 0.5]])
+    np.testing.assert_allclose(env.action_to_waypoint(env.waypoint_to_action(xy)), xy, atol=1e-5)
+
+
+# -- determinism and copies ---------------------------------------------------------------------
+def test_same_seed_same_rollout_and_different_seed_differs():
+    assert rollout_digest(7) == rollout_digest(7)
+    assert rollout_digest(7) != rollout_digest(8)
+
+
+def test_same_seed_same_rollout_in_a_fresh_process():
+    code = "from tests.test_env import rollout_digest; print(rollout_digest(11, delta_d=1.0))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+    assert out == rollout_digest(11, delta_d=1.0)
+
+
+@pytest.mark.parametrize("clone", [lambda e: pickle.loads(pickle.dumps(e)), copy.deepcopy])
+def test_pickle_and_deepcopy_continue_identically(clone):
+    env = gym.make("DynamicObstacle-v0", delta_d=0.5)
+    env.reset(seed=5)
+    twin = clone(env)
+    rng = np.random.default_rng(0)
+    for _ in range(40):
+        action = rng.uniform(-1, 1, 2).astype(np.float32)
+        a, b = env.step(action), twin.step(action)
+        assert all(np.array_equal(a[0][k], b[0][k]) for k in a[0]) and a[1:4] == b[1:4]
+        if a[2] or a[3]:
+            break
+
+
+# -- physics and contacts -----------------------------------------------------------------------
+def test_fast_obstacle_crossing_standing_robot_is_a_collision():
+    # radius 0.5 at delta_d = 4 moves 2 m a step: it crosses the robot's 0.4 m disc within one step
+    scenario = standing_scenario(Obstacle(center=(8.7, 5.0), radius=0.5, velocity=(1.0, 0.0)))
+    env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=4.0)
+    env.reset(seed=0)
+    _, reward, terminated, _, info = env.step(stand_still(env))
+    assert terminated and info["collision"] and info["cost"] == 1.0 and info["min_clearance"] < 0
+    assert info["rewards"]["collision"] == -1.0
+
+
+def test_near_miss_by_one_percent_is_not_a_collision():
+    reach = 0.5 + 0.2
+    offset = 1.01 * reach  # passes 1 % of the sum of radii wide of the robot
+    scenario = standing_scenario(Obstacle(center=(8.7, 5.0 + offset), radius=0.5, velocity=(1.0, 0.0)))
+    env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=4.0)
+    env.reset(seed=0)
+    _, _, terminated, _, info = env.step(stand_still(env))
+    assert not terminated and not info["collision"]
+    assert 0 < info["min_clearance"] < 0.02 * reach
+    assert math.isclose(info["min_clearance"], 0.01 * reach, rel_tol=1e-3)
+
+
+def test_swept_contact_sees_a_crossing_that_both_endpoints_miss():
+    a, b = np.array([[-3.0, 0.0, 0, 0]]), np.array([[3.0, 0.0, 0, 0]])
+    robot = np.zeros(2)
+    gap, t = swept_contact(robot, robot, 0.2, a, b, np.array([0.5]))
+    assert gap < 0 and math.isclose(t, (3.0 - 0.7) / 6.0)
+    gap, t = swept_contact(robot, robot, 0.2, a + [0, 0.71, 0, 0], b + [0, 0.71, 0, 0], np.array([0.5]))
+    assert t > 1.0 and math.isclose(gap, 0.01)
+
+
+def test_elastic_bounces_keep_each_obstacle_speed():
+    env = gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=12, delta_d=2.0)
+    env.reset(seed=2)
+    scenario = env.unwrapped.scenario
+    speeds = np.array([ob.speed for ob in scenario.obstacles])
+    directions = []
+    for _ in range(150):
+        obs, *_ = env.unwrapped.step(stand_still(env))  # the unwrapped env: no time limit, no termination check
+        v = obs["obstacle_velocities"][: len(speeds)]
+        np.testing.assert_allclose(np.linalg.norm(v, axis=1), speeds, rtol=1e-5)
+        directions.append(v / speeds[:, None])
+    turned = np.abs(np.diff(np.array(directions), axis=0)).max(axis=2) > 1e-3
+    assert turned.any(axis=0).all(), "every obstacle should have bounced at least once"
+    xmin, ymin, xmax, ymax = scenario.bounds
+    p, r = obs["obstacle_positions"][: len(speeds)], obs["obstacle_radii"][: len(speeds)]
+    assert (p[:, 0] - r >= xmin - 1e-2).all() and (p[:, 0] + r <= xmax + 1e-2).all()
+
+
+def test_robot_never_pushes_obstacles():
+    # a resting obstacle stays exactly where it is while the robot drives into it
+    scenario = Scenario(bounds=(0, 0, 10, 10), start=(2, 5), goal=(9, 5), obstacles=(Obstacle((5, 5), 1.0),))
+    env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=0)
+    env.reset(seed=0)
+    while True:
+        obs, _, terminated, truncated, info = env.step(env.unwrapped.waypoint_to_action((9, 5)))
+        np.testing.assert_array_equal(obs["obstacle_positions"][0], [5, 5])
+        if terminated or truncated:
+            break
+    assert info["collision"]
+
+
+# -- rendering ----------------------------------------------------------------------------------
+def test_rgb_array_render_and_record_video(tmp_path):
+    env = gym.make("DynamicObstacle-v0", render_mode="rgb_array")
+    env = gym.wrappers.RecordVideo(env, str(tmp_path / "videos"), episode_trigger=lambda e: True, disable_logger=True)
+    env.reset(seed=0)
+    frame = env.render()
+    assert frame.dtype == np.uint8 and frame.ndim == 3 and frame.shape[2] == 3
+    assert len(np.unique(frame.reshape(-1, 3), axis=0)) > 3  # something is drawn
+    for _ in range(5):
+        env.step(env.action_space.sample())
+    env.close()
+    assert list((tmp_path / "videos").glob("*.mp4"))
+
+
+# -- bad input ----------------------------------------------------------------------------------
+@pytest.mark.parametrize("bad", [[np.nan, 0.0], [0.0, np.inf]])
+def test_non_finite_action_raises(bad):
+    env = gym.make("DynamicObstacle-v0")
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match="finite"):
+        env.unwrapped.step(np.array(bad, np.float32))
+
+
+@pytest.mark.parametrize(
+    "kwargs, field",
+    [
+        (dict(scenario="paper-case-9"), "unknown preset"),
+        (dict(delta_d=-0.1), "delta_d"),
+        (dict(scenario=dict(obstacles=(Obstacle((5, 5), 1.0),), robot_speed=-1.0)), "robot_speed"),
+        (dict(scenario=dict(start=(11, 5))), "start"),
+        (dict(scenario=dict(goal=(5, -3))), "goal"),
+        (dict(scenario=dict(obstacles=(Obstacle((1.5, 1), 0.8),))), r"obstacles\[0\].*start"),
+        (dict(scenario=dict(obstacles=(Obstacle((9, 9.2), 0.5),))), r"obstacles\[0\].*goal"),
+        (dict(n_obstacles=-2), "n_obstacles"),
+    ],
+)
+def test_bad_configuration_raises_naming_the_field(kwargs, field):
+    def build():
+        if isinstance(kwargs.get("scenario"), dict):
+            base = dict(bounds=(0, 0, 10, 10), start=(1, 1), goal=(9, 9))
+            return gym.make("DynamicObstacle-v0", scenario=Scenario(**{**base, **kwargs["scenario"]}))
+        return gym.make("DynamicObstacle-v0", **kwargs)
+
+    with pytest.raises(ValueError, match=field):
+        build()
+
+
+def test_negative_obstacle_radius_raises():
+    with pytest.raises(ValueError, match="Obstacle.radius"):
+        Obstacle(center=(1, 1), radius=-0.5)
+
+
+def test_wrapper_output_is_in_its_space():
+    env = make_learning_env(gym.make("DynamicObstacle-v0", delta_d=1.0))
+    obs, _ = env.reset(seed=0)
+    for _ in range(50):
+        assert env.observation_space.contains(obs)
+        obs, _, terminated, truncated, _ = env.step(env.action_space.sample())
+        if terminated or truncated:
+            obs, _ = env.reset()

@@ -1,0 +1,21 @@
+"""Policies for DynamicObstacle-v0 with SB3's ``predict`` contract.
+
+``agents.make(name, env, seed=None, **overrides)`` builds one; ``agents.available()`` lists them.
+"""
+
+from functools import partial
+
+from .base import Agent, available, make, register
+from .classical import StraightAgent, VelocityObstacleAgent
+from .metaheuristic import MetaheuristicAgent
+from .oracle import StaticOracleAgent
+
+register("straight", StraightAgent)
+register("velocity-obstacle", VelocityObstacleAgent)
+register("oracle-static", StaticOracleAgent)
+for _optimizer in ("pso", "abc"):
+    register(_optimizer, partial(MetaheuristicAgent, optimizer=_optimizer, variant="paper"))
+    register(f"{_optimizer}-vanilla", partial(MetaheuristicAgent, optimizer=_optimizer, variant="vanilla"))
+    register(f"{_optimizer}-predictive", partial(MetaheuristicAgent, optimizer=_optimizer, variant="paper", predictive=True))
+
+__all__ = ["Agent", "MetaheuristicAgent", "StaticOracleAgent", "StraightAgent", "VelocityObstacleAgent", "available", "make", "register"]

@@ -27,9 +27,19 @@ class EnvFacts:
     dt: float
 
     @classmethod
-    def of(cls, env: gym.Env) -> "EnvFacts":
-        e = env.unwrapped
-        return cls(tuple(e.bounds), float(e.robot_radius), float(e.robot_speed), float(e.dt))
+    def of(cls, env) -> "EnvFacts":
+        """Read the facts from an env, a wrapped env, a Gymnasium vector env or an SB3 VecEnv."""
+        names = ("bounds", "robot_radius", "robot_speed", "dt")
+        if hasattr(env, "unwrapped") and hasattr(env.unwrapped, "robot_speed"):
+            values = [getattr(env.unwrapped, name) for name in names]
+        elif hasattr(env, "get_attr"):  # SB3 VecEnv
+            values = [env.get_attr(name)[0] for name in names]
+        elif hasattr(env, "get_attr") or hasattr(env, "call"):  # Gymnasium vector env
+            values = [env.get_attr(name)[0] for name in names]
+        else:
+            raise ValueError(f"cannot read bounds, dt, robot radius and speed from {type(env).__name__}")
+        bounds, radius, speed, dt = values
+        return cls(tuple(float(b) for b in bounds), float(radius), float(speed), float(dt))
 
     @property
     def length_scale(self) -> float:

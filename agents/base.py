@@ -1,0 +1,111 @@
+"""The agent interface (SB3's ``predict`` contract) and the registry behind ``agents.make``."""
+
+from __future__ import annotations
+
+import time
+from typing import Any, Callable
+
+import numpy as np
+
+from pathplan_env.wrappers import EnvFacts
+
+
+def real_obstacles(obs: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Centres (N, 2), velocities (N, 2) and radii (N,) of the unpadded obstacles, float64."""
+    mask = np.asarray(obs["obstacle_mask"]) > 0
+    return (
+        np.ascontiguousarray(obs["obstacle_positions"][mask], dtype=np.float64),
+        np.ascontiguousarray(obs["obstacle_velocities"][mask], dtype=np.float64),
+        np.ascontiguousarray(obs["obstacle_radii"][mask], dtype=np.float64),
+    )
+
+
+def point_along(path: np.ndarray, distance: float) -> np.ndarray:
+    """The point ``distance`` metres along a polyline (its end if it is shorter)."""
+    seg = np.diff(path, axis=0)
+    lengths = np.hypot(seg[:, 0], seg[:, 1])
+    cumulative = np.cumsum(lengths)
+    i = int(np.searchsorted(cumulative, distance))
+    if i >= len(lengths):
+        return path[-1].copy()
+    before = cumulative[i] - lengths[i]
+    return path[i] + seg[i] * ((distance - before) / lengths[i])
+
+
+class Agent:
+    """A policy on DynamicObstacle-v0 with SB3's ``predict`` contract.
+
+    Subclasses implement :meth:`plan`, which maps one observation (and this env's memory) to a
+    waypoint in the world. ``predict`` handles batched observations from vector envs, per-env memory
+    reset by ``episode_start``, the waypoint-to-action mapping, and timing (``last_plan_seconds``).
+    Agents read only the observation and the env's static public facts (:class:`EnvFacts`).
+    """
+
+    name = "agent"
+
+    def __init__(self, env, seed: int | None = None):
+        self.facts = EnvFacts.of(env)
+        self.seed = seed
+        self.rng = np.random.default_rng(seed)
+        xmin, ymin, xmax, ymax = self.facts.bounds
+        self._arena_low = np.array([xmin, ymin])
+        self._arena_size = np.array([xmax - xmin, ymax - ymin])
+        self._memory: list[dict[str, Any]] = []
+        self.last_plan_seconds = 0.0
+
+    # -- to implement --------------------------------------------------------------------------
+    def plan(self, obs: dict[str, np.ndarray], memory: dict[str, Any]) -> np.ndarray:
+        """The waypoint (x, y) for one observation. ``memory`` is this env's scratch space for the episode."""
+        raise NotImplementedError
+
+    # -- SB3 contract --------------------------------------------------------------------------
+    def predict(self, observation, state=None, episode_start=None, deterministic: bool = False):
+        batched = np.ndim(observation["robot_position"]) == 2
+        n = len(observation["robot_position"]) if batched else 1
+        if len(self._memory) != n:
+            self._memory = [{} for _ in range(n)]
+        if episode_start is not None:
+            for i, start in enumerate(np.atleast_1d(episode_start)):
+                if start:
+                    self._memory[i] = {}
+        waypoints = np.empty((n, 2))
+        for i in range(n):  # one plan per env of the batch
+            obs = {k: v[i] for k, v in observation.items()} if batched else observation
+            begin = time.perf_counter()
+            waypoints[i] = self.plan(obs, self._memory[i])
+            self.last_plan_seconds = time.perf_counter() - begin
+        actions = self.waypoint_to_action(waypoints)
+        return (actions if batched else actions[0]), state
+
+    def reset(self) -> None:
+        """Forget every env's memory (``predict`` does this per env when ``episode_start`` is true)."""
+        self._memory = []
+
+    def waypoint_to_action(self, waypoints: np.ndarray) -> np.ndarray:
+        return np.clip(2.0 * (waypoints - self._arena_low) / self._arena_size - 1.0, -1.0, 1.0).astype(np.float32)
+
+    @property
+    def step_length(self) -> float:
+        return self.facts.robot_speed * self.facts.dt
+
+
+# -- registry ---------------------------------------------------------------------------------
+_REGISTRY: dict[str, Callable[..., Agent]] = {}
+
+
+def register(name: str, factory: Callable[..., Agent]) -> None:
+    _REGISTRY[name] = factory
+
+
+def available() -> list[str]:
+    """Names accepted by :func:`make`."""
+    return sorted(_REGISTRY)
+
+
+def make(name: str, env, seed: int | None = None, **overrides) -> Agent:
+    """Build the agent ``name`` for ``env`` (an env, wrapped env or vector env); ``overrides`` go to its constructor."""
+    if name not in _REGISTRY:
+        raise ValueError(f"unknown agent {name!r}; available: {available()}")
+    agent = _REGISTRY[name](env, seed=seed, **overrides)
+    agent.name = name
+    return agent

@@ -1,0 +1,97 @@
+"""Artificial Bee Colony: the paper's modified ABC and the original one, compiled.
+
+Each cycle has the classic three phases over ``SN`` food sources (candidate paths):
+
+* employed bees: each source ``i`` tries ``v_ij = x_ij + phi (x_ij - x_kj)`` in one random dimension
+  ``j`` with a random partner ``k``, kept if better (greedy selection);
+* onlooker bees: ``SN`` more such trials on sources drawn with probability proportional to
+  fitness ``1 / (1 + cost)``;
+* scouts. **Original**: a source not improved for ``limit`` trials is replaced by a random one.
+  **Modified (the paper)**: every infeasible source (penalty > 0) is replaced by a random one.
+
+The modified ABC also warm-starts: only its first run is fully random; every later run seeds
+the colony with the previous run's best source (done by the agent, which owns the memory).
+The run stops once ``max_evaluations`` objective evaluations are spent.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from .objective import path_cost
+
+
+@numba.njit(cache=True)
+def _try_neighbour(i, x, cost, pen, trials, lo, hi, robot, goal, centers, velocities, radii, speed, horizon, penalty_weight):
+    SN, D = x.shape
+    k = np.random.randint(SN - 1)
+    if k >= i:
+        k += 1
+    j = np.random.randint(D)
+    candidate = x[i].copy()
+    phi = 2.0 * np.random.random() - 1.0
+    candidate[j] = min(max(x[i, j] + phi * (x[i, j] - x[k, j]), lo[j]), hi[j])
+    c, p = path_cost(candidate, robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
+    if c < cost[i]:
+        x[i] = candidate
+        cost[i], pen[i] = c, p
+        trials[i] = 0
+    else:
+        trials[i] += 1
+
+
+@numba.njit(cache=True)
+def abc_run(
+    x0, lo, hi, max_evaluations, limit, scouts_replace_infeasible, seed,
+    robot, goal, centers, velocities, radii, speed, horizon, penalty_weight,
+):  # fmt: skip
+    """Run ABC from the food sources ``x0`` (SN, D).
+
+    :return: ``(best_x, best_cost, best_penalty, history, evaluations, scouted)``: ``history[c]`` is
+        the best cost after cycle ``c`` (trailing entries unused are NaN); ``scouted`` counts the
+        sources the scouts replaced.
+    """
+    np.random.seed(seed)
+    SN, D = x0.shape
+    x = x0.copy()
+    cost = np.empty(SN)
+    pen = np.empty(SN)
+    trials = np.zeros(SN, dtype=np.int64)
+    for i in range(SN):
+        cost[i], pen[i] = path_cost(x[i], robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
+    evaluations = SN
+    b = np.argmin(cost)
+    best_x, best_cost, best_pen = x[b].copy(), cost[b], pen[b]
+    history = np.full(max_evaluations // (2 * SN) + 1, np.nan)
+    cycle = 0
+    scouted = 0
+    while evaluations + 2 * SN <= max_evaluations:
+        for i in range(SN):  # employed bees
+            _try_neighbour(i, x, cost, pen, trials, lo, hi, robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
+        fitness = 1.0 / (1.0 + cost)
+        cumulative = np.cumsum(fitness / fitness.sum())
+        for _ in range(SN):  # onlooker bees: roulette-wheel choice of a source
+            i = min(np.searchsorted(cumulative, np.random.random()), SN - 1)
+            _try_neighbour(i, x, cost, pen, trials, lo, hi, robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
+        evaluations += 2 * SN
+        for i in range(SN):  # memorise the best before the scouts discard anything
+            if cost[i] < best_cost:
+                best_x[:], best_cost, best_pen = x[i], cost[i], pen[i]
+        for i in range(SN):  # scouts
+            if scouts_replace_infeasible:
+                abandon = pen[i] > 0.0
+            else:
+                abandon = trials[i] > limit
+            if abandon and evaluations < max_evaluations:
+                for j in range(D):
+                    x[i, j] = lo[j] + np.random.random() * (hi[j] - lo[j])
+                cost[i], pen[i] = path_cost(x[i], robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
+                trials[i] = 0
+                evaluations += 1
+                scouted += 1
+                if cost[i] < best_cost:
+                    best_x[:], best_cost, best_pen = x[i], cost[i], pen[i]
+        history[cycle] = best_cost
+        cycle += 1
+    return best_x, best_cost, best_pen, history, evaluations, scouted

@@ -1,0 +1,130 @@
+"""The paper's replanners as agents: optimise k waypoints every step, fly along the best path.
+
+Every step the agent builds the objective from the observation, runs the optimiser, and aims one
+step's length along the best path found (so the robot flies the plan at full speed; a waypoint
+chosen close to the robot would otherwise slow it down).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from .base import Agent, point_along, real_obstacles
+from .bee_colony import abc_run
+from .objective import Scene
+from .pso import inertia_schedule, pso_run
+
+
+class MetaheuristicAgent(Agent):
+    """PSO or ABC replanner.
+
+    :param optimizer: ``"pso"`` or ``"abc"``.
+    :param variant: ``"paper"`` (adaptive inertia, Eq. 7 / modified ABC: warm start and scouts that
+        replace every infeasible source) or ``"vanilla"`` (constant inertia / the original ABC:
+        random restart every replan, limit-based scouts).
+    :param predictive: space-time objective with obstacles extrapolated along their velocities.
+    :param n_waypoints: intermediate waypoints ``k`` (path of ``k + 1`` segments).
+    :param population: particles (PSO) or bees (ABC: ``population / 2`` food sources).
+    :param iterations: PSO iterations; ABC gets the same number of objective evaluations.
+    :param margin: safety margin added to every obstacle's radius besides the robot radius (m).
+    :param warm_start: seed each replan with the previous best path and the straight line to the
+        goal. Default: on for the modified ABC (the paper's modification) and for the predictive
+        variants (ours); off for the paper's PSO and the vanilla ablations.
+    """
+
+    def __init__(
+        self,
+        env,
+        seed: int | None = None,
+        *,
+        optimizer: str = "pso",
+        variant: str = "paper",
+        predictive: bool = False,
+        n_waypoints: int = 2,
+        population: int = 30,
+        iterations: int = 100,
+        margin: float = 0.05,
+        penalty_weight: float = 100.0,
+        horizon: float = 3.0,
+        w_max: float = 0.9,
+        w_min: float = 0.4,
+        w_constant: float = 0.7298,
+        c1: float = 1.49618,
+        c2: float = 1.49618,
+        v_max_fraction: float = 0.2,
+        abc_limit: int = 20,
+        warm_start: bool | None = None,
+    ):
+        super().__init__(env, seed)
+        if optimizer not in ("pso", "abc"):
+            raise ValueError(f"optimizer must be 'pso' or 'abc', got {optimizer!r}")
+        if variant not in ("paper", "vanilla"):
+            raise ValueError(f"variant must be 'paper' or 'vanilla', got {variant!r}")
+        for label, value in (("n_waypoints", n_waypoints), ("population", population), ("iterations", iterations)):
+            if int(value) != value or value < 1:
+                raise ValueError(f"{label} must be a positive integer, got {value!r}")
+        if optimizer == "abc" and population < 4:
+            raise ValueError(f"population must be >= 4 for ABC (two food sources at least), got {population}")
+        self.optimizer, self.variant, self.predictive = optimizer, variant, bool(predictive)
+        self.n_waypoints, self.population, self.iterations = int(n_waypoints), int(population), int(iterations)
+        self.margin, self.penalty_weight, self.horizon = float(margin), float(penalty_weight), float(horizon)
+        if variant == "paper":
+            self.w_max, self.w_min = float(w_max), float(w_min)
+        else:
+            self.w_max = self.w_min = float(w_constant)
+        self.c1, self.c2, self.v_max_fraction, self.abc_limit = float(c1), float(c2), float(v_max_fraction), int(abc_limit)
+        self.inertia = inertia_schedule(self.iterations, self.w_max, self.w_min)
+        if warm_start is None:
+            warm_start = variant == "paper" and (optimizer == "abc" or self.predictive)
+        self.warm_start = bool(warm_start)
+        xmin, ymin, xmax, ymax = self.facts.bounds
+        r = self.facts.robot_radius
+        self._lo = np.tile([xmin + r, ymin + r], self.n_waypoints)
+        self._hi = np.tile([xmax - r, ymax - r], self.n_waypoints)
+        self.last_history: np.ndarray | None = None
+        self.last_cost = self.last_penalty = np.nan
+        self.last_scouted = 0
+
+    def scene(self, obs: dict[str, np.ndarray]) -> Scene:
+        centers, velocities, radii = real_obstacles(obs)
+        return Scene(
+            robot=np.asarray(obs["robot_position"], np.float64),
+            goal=np.asarray(obs["goal"], np.float64),
+            centers=centers,
+            velocities=velocities if self.predictive else np.zeros_like(velocities),
+            radii=radii + self.facts.robot_radius + self.margin,
+            speed=self.facts.robot_speed,
+            horizon=self.horizon,
+            penalty_weight=self.penalty_weight,
+        )
+
+    def optimize(self, scene: Scene, memory: dict[str, Any]) -> np.ndarray:
+        """One replan: the best candidate (2k,). Records ``last_cost``, ``last_penalty``, ``last_history``."""
+        seed = int(self.rng.integers(2**31 - 1))
+        size = self.population if self.optimizer == "pso" else self.population // 2
+        x0 = self.rng.uniform(self._lo, self._hi, size=(size, self._lo.size))
+        if self.warm_start:
+            if "best" in memory:  # the previous plan, as the paper's modified ABC does
+                x0[0] = memory["best"]
+            fractions = np.arange(1, self.n_waypoints + 1) / (self.n_waypoints + 1)
+            x0[1] = np.clip((scene.robot + fractions[:, None] * (scene.goal - scene.robot)).ravel(), self._lo, self._hi)
+        if self.optimizer == "pso":
+            best, cost, penalty, history = pso_run(
+                x0, self._lo, self._hi, self.inertia, self.c1, self.c2, self.v_max_fraction, seed, *scene.args()
+            )
+        else:
+            best, cost, penalty, history, _, self.last_scouted = abc_run(
+                x0, self._lo, self._hi, self.population * self.iterations, self.abc_limit, self.variant == "paper", seed, *scene.args()
+            )
+            history = history[~np.isnan(history)]
+        memory["best"] = best
+        self.last_cost, self.last_penalty, self.last_history = float(cost), float(penalty), history
+        return best
+
+    def plan(self, obs, memory):
+        scene = self.scene(obs)
+        best = self.optimize(scene, memory)
+        path = np.vstack([scene.robot, best.reshape(-1, 2), scene.goal])
+        return point_along(path, self.step_length)

@@ -1,0 +1,36 @@
+"""The static oracle: the exact shortest path among the current obstacles, replanned every step."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pathplan_env.geometry import shortest_path
+
+from .base import Agent, point_along, real_obstacles
+
+
+class StaticOracleAgent(Agent):
+    """Exact shortest collision-free path among the obstacles as they are now (tangent visibility
+    graph + Dijkstra, ``pathplan_env.geometry.shortest_path``); flies one step along it.
+
+    Blind to motion: it is the optimum of a static scene and the yardstick for optimality gaps.
+    """
+
+    def __init__(self, env, seed=None, *, margin: float = 0.05):
+        super().__init__(env, seed)
+        self.margin = float(margin)
+
+    def plan(self, obs, memory):
+        robot = np.asarray(obs["robot_position"], np.float64)
+        goal = np.asarray(obs["goal"], np.float64)
+        centers, _, radii = real_obstacles(obs)
+        inflated = radii + self.facts.robot_radius + self.margin
+        # never plan around a disc the robot or the goal is already inside: shrink it to fit
+        for point in (robot, goal):
+            inflated = np.minimum(inflated, np.hypot(*(centers - point).T) - 1e-6)
+        xmin, ymin, xmax, ymax = self.facts.bounds
+        r = self.facts.robot_radius
+        path, _ = shortest_path(robot, goal, centers, inflated, bounds=(xmin + r, ymin + r, xmax - r, ymax - r))
+        if path is None:  # boxed in: head for the goal and let replanning find a way when one opens
+            return goal
+        return point_along(path, self.step_length)

@@ -1,0 +1,73 @@
+"""Particle swarm optimisation: the paper's adaptive constraint PSO (Eq. 5-7), compiled.
+
+Velocity and position updates (Eq. 5-6)::
+
+    v <- w(it) v + c1 r1 (pbest - x) + c2 r2 (gbest - x)
+    x <- x + v
+
+with the linearly decreasing inertia of Eq. 7, ``w(it) = wmax - (wmax - wmin) * it / itmax``
+(:func:`inertia_schedule`, passed to the compiled run as an array). The vanilla ablation uses a
+constant inertia (``wmax == wmin``). Positions are clipped to the search box
+and velocities to a fraction of its size. The whole run is one numba call.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from .objective import path_cost
+
+
+def inertia_schedule(iterations: int, w_max: float, w_min: float) -> np.ndarray:
+    """Eq. 7: the inertia used at each iteration ``it = 0 .. itmax - 1``."""
+    it = np.arange(iterations)
+    return w_max - (w_max - w_min) * it / iterations
+
+
+@numba.njit(cache=True)
+def pso_run(
+    x0, lo, hi, inertia, c1, c2, v_max_fraction, seed,
+    robot, goal, centers, velocities, radii, speed, horizon, penalty_weight,
+):  # fmt: skip
+    """Run PSO from the swarm ``x0`` (P, D), one iteration per entry of ``inertia`` (Eq. 7's w(it)).
+
+    :return: ``(best_x, best_cost, best_penalty, history)``; ``history[it]`` is the best cost after
+        iteration ``it``.
+    """
+    np.random.seed(seed)
+    P, D = x0.shape
+    x = x0.copy()
+    v_max = v_max_fraction * (hi - lo)
+    v = np.zeros((P, D))
+    for i in range(P):
+        for j in range(D):
+            v[i, j] = (2.0 * np.random.random() - 1.0) * v_max[j]
+    pbest = x.copy()
+    pbest_cost = np.empty(P)
+    pbest_pen = np.empty(P)
+    g = 0
+    for i in range(P):
+        pbest_cost[i], pbest_pen[i] = path_cost(x[i], robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
+        if pbest_cost[i] < pbest_cost[g]:
+            g = i
+    gbest = pbest[g].copy()
+    gbest_cost, gbest_pen = pbest_cost[g], pbest_pen[g]
+    history = np.empty(inertia.shape[0])
+    for it in range(inertia.shape[0]):
+        w = inertia[it]
+        for i in range(P):
+            for j in range(D):
+                vij = w * v[i, j] + c1 * np.random.random() * (pbest[i, j] - x[i, j]) + c2 * np.random.random() * (gbest[j] - x[i, j])
+                vij = min(max(vij, -v_max[j]), v_max[j])
+                v[i, j] = vij
+                x[i, j] = min(max(x[i, j] + vij, lo[j]), hi[j])
+            cost, pen = path_cost(x[i], robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
+            if cost < pbest_cost[i]:
+                pbest_cost[i], pbest_pen[i] = cost, pen
+                pbest[i] = x[i]
+                if cost < gbest_cost:
+                    gbest_cost, gbest_pen = cost, pen
+                    gbest[:] = x[i]
+        history[it] = gbest_cost
+    return gbest, gbest_cost, gbest_pen, history

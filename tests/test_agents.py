@@ -1,0 +1,145 @@
+"""Planners: they reach the goal, honour SB3's predict contract, and implement the paper's rules."""
+
+import math
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from stable_baselines3.common.evaluation import evaluate_policy
+
+import agents
+import pathplan_env
+from agents.bee_colony import abc_run
+from agents.objective import Scene, evaluate
+from agents.pso import inertia_schedule
+from pathplan_env import Obstacle, Scenario
+
+PLANNERS = [name for name in agents.available() if name not in ("straight", "ppo")]
+
+
+def run_episode(agent, env, seed=0):
+    obs, info = env.reset(seed=seed)
+    while True:
+        action, _ = agent.predict(obs)
+        obs, _, terminated, truncated, info = env.step(action)
+        if terminated or truncated:
+            return info
+
+
+@pytest.mark.parametrize("case", ["paper-case-1", "paper-case-2", "paper-case-3"])
+@pytest.mark.parametrize("name", PLANNERS)
+def test_planner_reaches_goal_of_static_paper_case(name, case):
+    env = gym.make("DynamicObstacle-v0", scenario=case, delta_d=0)
+    info = run_episode(agents.make(name, env, seed=0), env)
+    assert info["is_success"] and not info["collision"]
+
+
+@pytest.mark.parametrize("case", ["paper-case-1", "paper-case-2", "paper-case-3"])
+def test_straight_cannot_pass_the_paper_obstacles(case):
+    env = gym.make("DynamicObstacle-v0", scenario=case, delta_d=0)
+    info = run_episode(agents.make("straight", env), env)
+    assert info["collision"]
+
+
+@pytest.mark.parametrize("name", PLANNERS + ["straight"])
+def test_evaluate_policy_runs_every_agent_on_a_vector_env(name):
+    env = gym.make("DynamicObstacle-v0", scenario="paper-case-1", delta_d=0)
+    agent = agents.make(name, env, seed=0)
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    vec = DummyVecEnv([lambda: gym.make("DynamicObstacle-v0", scenario="paper-case-1", delta_d=0)] * 2)
+    mean, _ = evaluate_policy(agent, vec, n_eval_episodes=2, warn=False)
+    assert math.isfinite(mean)
+    assert agent.last_plan_seconds > 0
+
+
+def test_same_seed_same_actions():
+    env = gym.make("DynamicObstacle-v0", delta_d=0.5)
+    obs, _ = env.reset(seed=4)
+    for name in ("pso", "abc", "pso-predictive"):
+        a = agents.make(name, env, seed=9).predict(obs)[0]
+        b = agents.make(name, env, seed=9).predict(obs)[0]
+        np.testing.assert_array_equal(a, b)
+
+
+def test_unknown_agent_and_bad_override_raise():
+    env = gym.make("DynamicObstacle-v0")
+    with pytest.raises(ValueError, match="unknown agent"):
+        agents.make("a-star", env)
+    with pytest.raises(ValueError, match="n_waypoints"):
+        agents.make("pso", env, n_waypoints=0)
+
+
+def test_pso_inertia_follows_eq_7():
+    w = inertia_schedule(100, 0.9, 0.4)
+    np.testing.assert_allclose(w, 0.9 - (0.9 - 0.4) / 100 * np.arange(100))
+    env = gym.make("DynamicObstacle-v0")
+    np.testing.assert_array_equal(agents.make("pso", env).inertia, w)
+    vanilla = agents.make("pso-vanilla", env).inertia
+    assert np.all(vanilla == vanilla[0])  # the ablation keeps a constant inertia
+
+
+def _one_obstacle_scene():
+    return Scene(
+        robot=np.array([0.0, 0.0]), goal=np.array([4.0, 0.0]), centers=np.array([[2.0, 0.0]]),
+        velocities=np.zeros((1, 2)), radii=np.array([1.0]), speed=1.0, horizon=3.0, penalty_weight=100.0,
+    )  # fmt: skip
+
+
+def test_modified_abc_warm_starts_from_previous_best():
+    # Budget of the initial evaluation only: the run returns the best of its starting sources,
+    # so the previous best comes back exactly when it seeds the colony.
+    env = gym.make("DynamicObstacle-v0", scenario="paper-case-1")
+    scene = _one_obstacle_scene()
+    previous = np.array([1.0, 1.5, 3.0, 1.5])  # a feasible detour over the obstacle
+    modified = agents.make("abc", env, seed=0, population=4, iterations=1)
+    assert np.array_equal(modified.optimize(scene, {"best": previous.copy()}), previous)
+    vanilla = agents.make("abc-vanilla", env, seed=0, population=4, iterations=1)
+    assert not np.array_equal(vanilla.optimize(scene, {"best": previous.copy()}), previous)
+
+
+def test_modified_abc_scouts_replace_every_infeasible_source():
+    # an obstacle covering the whole search box: every source is infeasible in every cycle
+    scene = _one_obstacle_scene()
+    scene.radii = np.array([50.0])
+    sources, cycles = 6, 5
+    x0 = np.random.default_rng(0).uniform(-1, 1, size=(sources, 4))
+    budget = sources + cycles * 3 * sources
+    lo, hi = -np.ones(4), np.ones(4)
+    *_, scouted = abc_run(x0, lo, hi, budget, 20, True, 0, *scene.args())
+    assert scouted == cycles * sources
+    *_, scouted_vanilla = abc_run(x0, lo, hi, budget, 20, False, 0, *scene.args())
+    assert scouted_vanilla < scouted
+
+
+def test_objective_penalises_cutting_and_predicts_motion():
+    scene = _one_obstacle_scene()
+    straight = np.array([1.0, 0.0, 3.0, 0.0])
+    cost, penalty = evaluate(straight, scene)
+    assert penalty[0] > 2 * math.pi and cost[0] == pytest.approx(4.0 + penalty[0])
+    # the obstacle moves away fast: the predictive objective sees the straight path clear
+    scene.velocities = np.array([[0.0, 10.0]])
+    assert evaluate(straight, scene)[1][0] == 0.0
+
+
+def test_oracle_length_equals_hand_computed_tangent_path():
+    # start and goal 2 m either side of a disc of inflated radius R = 1: tangent, arc, tangent
+    path, length = pathplan_env.shortest_path((-2, 0), (2, 0), [(0, 0)], [1.0])
+    expected = 2 * math.sqrt(3) + (math.pi - 2 * math.acos(0.5))
+    assert length == pytest.approx(expected, rel=1e-9)
+    # the oracle flies it in the env (robot radius 0.2 + margin 0.05 around a 0.75 m obstacle)
+    scenario = Scenario(bounds=(-5, -5, 5, 5), start=(-2, 0), goal=(2, 0), obstacles=(Obstacle((0, 0), 0.75),), goal_radius=1e-3)
+    env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=0)
+    info = run_episode(agents.make("oracle-static", env), env)
+    assert info["is_success"] and info["path_length"] == pytest.approx(expected, rel=0.01)
+
+
+def test_predictive_pso_beats_paper_pso_at_half_radius_per_step():
+    episodes = 40
+    rates = {}
+    for name in ("pso", "pso-predictive"):
+        env = gym.make("DynamicObstacle-v0", scenario="random", delta_d=0.5)
+        agent = agents.make(name, env, seed=0)
+        successes = [run_episode(agent, env, seed=1000 + i)["is_success"] for i in range(episodes)]
+        rates[name] = np.mean(successes)
+    assert rates["pso-predictive"] >= rates["pso"] + 0.3, rates

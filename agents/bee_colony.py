@@ -22,7 +22,7 @@ import numpy as np
 from .objective import path_cost
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def _try_neighbour(i, x, cost, pen, trials, lo, hi, robot, goal, centers, velocities, radii, speed, horizon, penalty_weight):
     SN, D = x.shape
     k = np.random.randint(SN - 1)
@@ -41,7 +41,7 @@ def _try_neighbour(i, x, cost, pen, trials, lo, hi, robot, goal, centers, veloci
         trials[i] += 1
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def abc_run(
     x0, lo, hi, max_evaluations, limit, scouts_replace_infeasible, seed,
     robot, goal, centers, velocities, radii, speed, horizon, penalty_weight,

@@ -44,18 +44,19 @@ class Scene:
         return (self.robot, self.goal, self.centers, self.velocities, self.radii, self.speed, self.horizon, self.penalty_weight)
 
 
-@numba.njit(cache=True, inline="always")
-def _segment_origin_distance(ax, ay, bx, by):
-    """Distance from the origin to the segment a-b."""
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _segment_origin_distance_sq(ax, ay, bx, by):
+    """Squared distance from the origin to the segment a-b."""
     ex, ey = bx - ax, by - ay
     ee = ex * ex + ey * ey
     t = 0.0
     if ee > 0.0:
         t = min(max(-(ax * ex + ay * ey) / ee, 0.0), 1.0)
-    return math.hypot(ax + t * ex, ay + t * ey)
+    px, py = ax + t * ex, ay + t * ey
+    return px * px + py * py
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always", error_model="numpy")  # inlined into the optimisers' loops
 def path_cost(x, robot, goal, centers, velocities, radii, speed, horizon, penalty_weight):
     """Cost and penalty of one candidate ``x`` (2k,): ``(length + penalty, penalty)``."""
     k = x.shape[0] // 2
@@ -68,22 +69,22 @@ def path_cost(x, robot, goal, centers, velocities, radii, speed, horizon, penalt
             bx, by = x[2 * s], x[2 * s + 1]
         else:
             bx, by = goal[0], goal[1]
-        seg = math.hypot(bx - ax, by - ay)
+        seg = math.sqrt((bx - ax) * (bx - ax) + (by - ay) * (by - ay))
         t1 = t0 + seg / speed
         h0, h1 = min(t0, horizon), min(t1, horizon)
         for o in range(radii.shape[0]):
             cx, cy, vx, vy = centers[o, 0], centers[o, 1], velocities[o, 0], velocities[o, 1]
-            d = _segment_origin_distance(ax - cx - vx * h0, ay - cy - vy * h0, bx - cx - vx * h1, by - cy - vy * h1)
-            depth = radii[o] - d
-            if depth > 0.0:
-                penalty += TWO_PI * radii[o] + penalty_weight * depth
+            d2 = _segment_origin_distance_sq(ax - cx - vx * h0, ay - cy - vy * h0, bx - cx - vx * h1, by - cy - vy * h1)
+            r = radii[o]
+            if d2 < r * r:  # the square root only for the (rare) segments that cut in
+                penalty += TWO_PI * r + penalty_weight * (r - math.sqrt(d2))
         length += seg
         t0 = t1
         ax, ay = bx, by
     return length + penalty, penalty
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def population_cost(X, robot, goal, centers, velocities, radii, speed, horizon, penalty_weight):
     """Costs and penalties of a whole population ``X`` (P, 2k) in one call."""
     n = X.shape[0]

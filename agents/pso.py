@@ -25,7 +25,7 @@ def inertia_schedule(iterations: int, w_max: float, w_min: float) -> np.ndarray:
     return w_max - (w_max - w_min) * it / iterations
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def pso_run(
     x0, lo, hi, inertia, c1, c2, v_max_fraction, seed,
     robot, goal, centers, velocities, radii, speed, horizon, penalty_weight,

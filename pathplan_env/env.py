@@ -245,7 +245,8 @@ class DynamicObstacleEnv(gym.Env):
         collision = contact.collided and contact.contact_fraction <= goal_fraction
         success = goal_fraction <= 1.0 and not collision
 
-        self._path_length += math.hypot(dx, dy)
+        # on success, the episode ends where the robot reached the goal, part-way through the step
+        self._path_length += math.hypot(dx, dy) * (goal_fraction if success else 1.0)
         distance = 0.0 if success else float(math.hypot(*(world.robot_position - self._goal)))
         w = self.reward_weights
         rewards = {

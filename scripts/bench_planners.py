@@ -1,0 +1,157 @@
+"""Planner speed and quality, printed as ratios measured in one run.
+
+1. Replan time: one plan of our compiled PSO (30 particles x 100 iterations, k = 2, 5 obstacles)
+   and ABC (same number of objective evaluations), against pyswarms' GlobalBestPSO and mealpy's
+   LDW_PSO and OriginalABC on the same objective and budget (``pip install -e .[bench]``; they are
+   skipped when missing), and against a PSO written with one numpy call per iteration.
+2. Quality: on static random scenes, the length each planner flies in the env divided by the exact
+   shortest path (tangent graph, same inflation: robot radius + the planner's margin), for
+   k = 1, 2, 3 waypoints.
+
+    python scripts/bench_planners.py [--replans 200] [--scenes 20]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import gymnasium as gym
+import numpy as np
+from tqdm import tqdm
+
+import agents
+import pathplan_env
+from agents.objective import evaluate
+
+BUDGET_PARTICLES, BUDGET_ITERATIONS = 30, 100
+
+
+def paper_case_3_scene(agent):
+    env = gym.make("DynamicObstacle-v0", scenario="paper-case-3", delta_d=0)
+    obs, _ = env.reset(seed=0)
+    return agent.scene(obs)
+
+
+def median_ms(fn, repeats: int) -> float:
+    fn()  # warm-up (numba cache load)
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - start)
+    return 1e3 * float(np.median(times))
+
+
+def numpy_pso(scene, lo, hi, rng, particles=BUDGET_PARTICLES, iterations=BUDGET_ITERATIONS):
+    """Reference: the same adaptive PSO with one vectorised numpy update + objective call per iteration."""
+    d = lo.size
+    x = rng.uniform(lo, hi, size=(particles, d))
+    v = np.zeros_like(x)
+    cost = evaluate(x, scene)[0]
+    pbest, pcost = x.copy(), cost.copy()
+    g = pbest[np.argmin(pcost)]
+    for it in range(iterations):
+        w = 0.9 - 0.5 * it / iterations
+        v = w * v + 1.49618 * rng.random(x.shape) * (pbest - x) + 1.49618 * rng.random(x.shape) * (g - x)
+        x = np.clip(x + v, lo, hi)
+        cost = evaluate(x, scene)[0]
+        better = cost < pcost
+        pbest[better], pcost[better] = x[better], cost[better]
+        g = pbest[np.argmin(pcost)]
+    return g
+
+
+def replan_times(repeats: int) -> dict[str, float]:
+    env = gym.make("DynamicObstacle-v0", scenario="paper-case-3", delta_d=0)
+    pso = agents.make("pso", env, seed=0, population=BUDGET_PARTICLES, iterations=BUDGET_ITERATIONS)
+    abc = agents.make("abc", env, seed=0, population=BUDGET_PARTICLES, iterations=BUDGET_ITERATIONS)
+    scene = paper_case_3_scene(pso)
+    lo, hi = pso._lo, pso._hi
+    objective = lambda X: evaluate(X, scene)[0]  # noqa: E731  (the same compiled objective for everyone)
+    rng = np.random.default_rng(0)
+    times = {
+        "ours: pso": median_ms(lambda: pso.optimize(scene, {}), repeats),
+        "ours: abc": median_ms(lambda: abc.optimize(scene, {}), repeats),
+        "numpy PSO (one call per iteration)": median_ms(lambda: numpy_pso(scene, lo, hi, rng), max(10, repeats // 10)),
+    }
+    try:
+        import pyswarms
+
+        def run_pyswarms():
+            optimizer = pyswarms.single.GlobalBestPSO(
+                n_particles=BUDGET_PARTICLES, dimensions=lo.size, options={"c1": 1.49618, "c2": 1.49618, "w": 0.7298}, bounds=(lo, hi)
+            )
+            optimizer.optimize(objective, iters=BUDGET_ITERATIONS, verbose=False)
+
+        import logging
+
+        logging.getLogger("pyswarms").setLevel(logging.ERROR)
+        times["pyswarms GlobalBestPSO"] = median_ms(run_pyswarms, max(10, repeats // 10))
+    except ImportError:
+        print("pyswarms not installed (pip install -e .[bench]): skipped")
+    try:
+        from mealpy import ABC, PSO, FloatVar
+
+        problem = {"obj_func": lambda x: float(objective(x[None])[0]), "bounds": FloatVar(lb=lo, ub=hi), "minmax": "min", "log_to": None}
+        for label, model in (("mealpy LDW_PSO", lambda: PSO.LDW_PSO(epoch=BUDGET_ITERATIONS, pop_size=BUDGET_PARTICLES)),
+                             ("mealpy OriginalABC", lambda: ABC.OriginalABC(epoch=BUDGET_ITERATIONS // 2, pop_size=BUDGET_PARTICLES))):  # fmt: skip
+            times[label] = median_ms(lambda: model().solve(problem, seed=0), 3)
+    except ImportError:
+        print("mealpy not installed (pip install -e .[bench]): skipped")
+    return times
+
+
+def fly(agent, env, seed):
+    obs, _ = env.reset(seed=seed)
+    while True:
+        action, _ = agent.predict(obs)
+        obs, _, terminated, truncated, info = env.step(action)
+        if terminated or truncated:
+            return info
+
+
+def optimality(n_scenes: int) -> list[tuple[str, int, float, float, float]]:
+    rows = []
+    configs = [(name, k) for name in ("pso", "abc", "pso-predictive", "abc-predictive") for k in (1, 2, 3)]
+    for name, k in tqdm(configs, desc="optimality", leave=False):
+        env = gym.make("DynamicObstacle-v0", scenario="random", delta_d=0)
+        agent = agents.make(name, env, seed=0, n_waypoints=k)
+        ratios, successes = [], 0
+        for seed in range(n_scenes):
+            info = fly(agent, env, seed=10_000 + seed)
+            s = env.unwrapped.scenario
+            arrays = s.arrays()
+            goal_radius = s.goal_radius
+            _, optimum = pathplan_env.shortest_path(s.start, s.goal, arrays["positions"], arrays["radii"] + s.robot_radius + agent.margin, bounds=s.bounds)
+            if info["is_success"] and np.isfinite(optimum):
+                successes += 1
+                # the episode ends within goal_radius of the goal: compare with the optimum shortened by it
+                ratios.append(info["path_length"] / (optimum - goal_radius))
+        rows.append((name, k, successes / n_scenes, float(np.median(ratios)), float(np.percentile(ratios, 90))))
+    return rows
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--replans", type=int, default=200)
+    parser.add_argument("--scenes", type=int, default=20)
+    args = parser.parse_args()
+
+    times = replan_times(args.replans)
+    ours = times["ours: pso"]
+    print(f"\nReplan time, paper-case-3 (5 obstacles), k = 2, {BUDGET_PARTICLES} x {BUDGET_ITERATIONS} evaluations; median")
+    print("| planner | ms per replan | ours: pso is faster by |")
+    print("|---|---:|---:|")
+    for label, ms in times.items():
+        print(f"| {label} | {ms:.3f} | {ms / ours:.1f}x |")
+
+    print(f"\nFlown path / exact shortest path on {args.scenes} static random scenes (8 obstacles)")
+    print("| planner | k | success | median ratio | p90 ratio |")
+    print("|---|---:|---:|---:|---:|")
+    for name, k, success, median, p90 in optimality(args.scenes):
+        print(f"| {name} | {k} | {success:.2f} | {median:.4f} | {p90:.4f} |")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,153 @@
+"""Reproduce the paper's Table 1, Table 2 and Fig. 5, printed beside the paper's numbers.
+
+* Table 1: for each paper case, ``--runs`` independent plans from the start of the static scene by
+  the modified ABC and the adaptive constraint PSO: mean best cost, mean time per plan (ms), mean
+  planned path length and its standard deviation.
+* Table 2: success or failure at Δd in {1, 0.5, 0.25, 0.125, 0.1} over the three paper cases
+  (``--episodes`` per case), with the success rate and episode count behind each verdict. A
+  verdict is "success" when the Wilson 95 % interval's lower bound is at least 0.9. Our predictive
+  variants are shown beside the paper's planners.
+* Fig. 5: the best cost against objective evaluations, averaged over the runs (``fig5_cost.png``).
+
+    python scripts/reproduce_paper.py [--runs 30] [--episodes 20] [--out results/paper]
+
+See docs/paper_assumptions.md for what the paper leaves unstated and what we assumed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+from tqdm import tqdm
+
+import agents
+import pathplan_env  # noqa: F401  (registers the env)
+from pathplan_env.splits import heldout_seeds
+
+CASES = ["paper-case-1", "paper-case-2", "paper-case-3"]
+PLANNERS = {"abc": "modified ABC", "pso": "adaptive constraint PSO"}
+#: The paper's Table 1: cost, time, average length, standard deviation.
+PAPER_TABLE_1 = {
+    ("paper-case-1", "abc"): (50.709, 30.850, 230.53, 13.634),
+    ("paper-case-1", "pso"): (7.99, 169.132, 8.1682, 0.6241),
+    ("paper-case-2", "abc"): (152.688, 30.737, 156.62, 8.8432),
+    ("paper-case-2", "pso"): (19.58, 80.54, 19.93, 0.8458),
+    ("paper-case-3", "abc"): (144.053, 37.15, 192.25, 11.109),
+    ("paper-case-3", "pso"): (12.36, 50.6, 12.337, 0.4740),
+}
+PAPER_TABLE_2 = {1.0: "fail", 0.5: "fail", 0.25: "fail", 0.125: "success", 0.1: "success"}
+
+
+def table_1(runs: int):
+    rows, histories = [], {}
+    for case in CASES:
+        env = gym.make("DynamicObstacle-v0", scenario=case, delta_d=0)
+        obs, _ = env.reset(seed=0)
+        for name in PLANNERS:
+            costs, times, lengths, curves = [], [], [], []
+            for run in range(runs):
+                agent = agents.make(name, env, seed=run)
+                scene = agent.scene(obs)
+                agent.optimize(scene, {})  # compile/cache warm-up is excluded from the timing below
+                agent = agents.make(name, env, seed=run)
+                start = time.perf_counter()
+                best = agent.optimize(scene, {})
+                times.append(1e3 * (time.perf_counter() - start))
+                costs.append(agent.last_cost)
+                path = np.vstack([scene.robot, best.reshape(-1, 2), scene.goal])
+                lengths.append(float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum()))
+                curves.append(agent.last_history)
+            rows.append((case, name, np.mean(costs), np.mean(times), np.mean(lengths), np.std(lengths)))
+            # a PSO iteration and an ABC cycle (employed + onlooker phases) both spend `population` evaluations
+            length = min(len(c) for c in curves)
+            histories[(case, name)] = (np.arange(1, length + 1) * agent.population, np.mean([c[:length] for c in curves], axis=0))
+    return rows, histories
+
+
+def run_episode(agent, env, seed):
+    obs, _ = env.reset(seed=seed)
+    while True:
+        action, _ = agent.predict(obs)
+        obs, _, terminated, truncated, info = env.step(action)
+        if terminated or truncated:
+            return bool(info["is_success"])
+
+
+def table_2(episodes: int, names: list[str]):
+    from scipy.stats import binomtest
+
+    seeds = heldout_seeds(0, episodes)
+    rows = []
+    for delta_d in tqdm(sorted(PAPER_TABLE_2, reverse=True), desc="Table 2", leave=False):
+        row = {"delta_d": delta_d}
+        for name in names:
+            wins = 0
+            for case in CASES:
+                env = gym.make("DynamicObstacle-v0", scenario=case, delta_d=delta_d)
+                for seed in seeds:
+                    wins += run_episode(agents.make(name, env, seed=seed), env, seed)
+            n = episodes * len(CASES)
+            low = binomtest(wins, n).proportion_ci(method="wilson").low
+            row[name] = (wins / n, n, "success" if low >= 0.9 else "fail")
+        rows.append(row)
+    return rows
+
+
+def plot_fig5(histories, out: Path) -> Path:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(2, 3, figsize=(13, 6.5), sharex=True)
+    for row, name in enumerate(PLANNERS):
+        for col, case in enumerate(CASES):
+            evals, cost = histories[(case, name)]
+            ax = axes[row][col]
+            ax.plot(evals, cost, color="#3465a4" if name == "pso" else "#cc6600")
+            ax.set_title(f"{PLANNERS[name]}, {case}", fontsize=10)
+            ax.grid(alpha=0.3)
+            if col == 0:
+                ax.set_ylabel("average best cost")
+            if row == 1:
+                ax.set_xlabel("objective evaluations")
+    fig.tight_layout()
+    path = out / "fig5_cost.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--runs", type=int, default=30, help="independent plans per case and planner (Table 1, Fig. 5)")
+    parser.add_argument("--episodes", type=int, default=20, help="episodes per case and Δd (Table 2)")
+    parser.add_argument("--out", default="results/paper")
+    args = parser.parse_args()
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+
+    rows, histories = table_1(args.runs)
+    print(f"\nTable 1: one plan from the start of each static case, {args.runs} runs (ours | paper)")
+    print("| case | planner | cost | time (ms) | average length | std | paper: cost | time | length | std |")
+    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for case, name, cost, ms, length, std in rows:
+        p = PAPER_TABLE_1[(case, name)]
+        print(f"| {case} | {PLANNERS[name]} | {cost:.3f} | {ms:.2f} | {length:.3f} | {std:.4f} | {p[0]} | {p[1]} | {p[2]} | {p[3]} |")
+    print(f"wrote {plot_fig5(histories, out)}")
+
+    names = ["abc", "pso", "abc-predictive", "pso-predictive"]
+    print(f"\nTable 2: verdict (success rate, episodes) over the three paper cases; success = Wilson 95% lower bound >= 0.9")
+    print("| Δd | paper (both) | " + " | ".join(names) + " |")
+    print("|---:|---|" + "---|" * len(names))
+    for row in table_2(args.episodes, names):
+        cells = [f"{row[n][2]} ({row[n][0]:.2f}, n={row[n][1]})" for n in names]
+        print(f"| {row['delta_d']:g} | {PAPER_TABLE_2[row['delta_d']]} | " + " | ".join(cells) + " |")
+
+
+if __name__ == "__main__":
+    main()

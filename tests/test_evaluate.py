@@ -1,0 +1,62 @@
+"""The evaluation harness on a tiny suite: schema, rate sanity, determinism."""
+
+import csv
+import json
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
+import evaluate  # noqa: E402
+
+from pathplan_env.splits import TEST_SEED_BASE, is_training_seed, heldout_seeds  # noqa: E402
+
+TINY = ["--agents", "straight,pso-predictive", "--scenarios", "paper-case-1", "--delta-d", "0,0.5", "--episodes", "4", "--no-plots"]
+
+
+@pytest.fixture(scope="module")
+def tiny_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("eval")
+    evaluate.main(TINY + ["--workers", "2", "--out", str(out)])
+    return out
+
+
+def test_summary_schema_and_rates(tiny_run):
+    summary = json.loads((tiny_run / "summary.json").read_text())
+    assert set(summary) == {"results", "config", "versions"}
+    assert len(summary["results"]) == 4
+    for cell in summary["results"]:
+        for key in ("agent", "scenario", "delta_d", "episodes", "success_rate", "success_ci95", "collision_rate",
+                    "timeout_rate", "path_length", "path_length_ratio", "time_to_goal", "plan_ms_median",
+                    "plan_ms_p95", "min_clearance"):  # fmt: skip
+            assert key in cell
+        rates = [cell["success_rate"], cell["collision_rate"], cell["timeout_rate"]]
+        assert all(0 <= r <= 1 for r in rates) and sum(rates) == pytest.approx(1.0)
+        lo, hi = cell["success_ci95"]
+        assert 0 <= lo <= cell["success_rate"] <= hi <= 1
+        assert cell["episodes"] == 4
+    straight = [c for c in summary["results"] if c["agent"] == "straight" and c["delta_d"] == 0][0]
+    assert straight["collision_rate"] == 1.0  # the obstacle blocks the direct line
+    rows = list(csv.DictReader(open(tiny_run / "episodes.csv")))
+    assert len(rows) == 16
+
+
+def test_same_seed_same_results_with_any_worker_count(tiny_run, tmp_path):
+    again = evaluate.main(TINY + ["--workers", "1", "--out", str(tmp_path)])
+    first = json.loads((tiny_run / "summary.json").read_text())["results"]
+    strip = lambda cells: [{k: v for k, v in c.items() if not k.startswith("plan_ms")} for c in cells]  # noqa: E731
+    assert strip(first) == strip(json.loads(json.dumps(again)))
+
+
+def test_test_split_is_disjoint_from_training_seeds():
+    seeds = heldout_seeds(0, 100) + heldout_seeds(7, 100)
+    assert min(seeds) >= TEST_SEED_BASE and not any(is_training_seed(s) for s in seeds)
+    assert len(set(seeds)) == 200
+
+
+def test_bad_arguments_are_named(tmp_path):
+    with pytest.raises(SystemExit, match="--agents"):
+        evaluate.main(["--agents", "nope", "--out", str(tmp_path)])
+    with pytest.raises(SystemExit, match="--delta-d"):
+        evaluate.main(["--delta-d", "-1", "--out", str(tmp_path)])

@@ -43,10 +43,6 @@ class Renderer:
         pygame, canvas, s = self._pygame, self.canvas, self.scale
         canvas.fill(BACKGROUND)
         pygame.draw.rect(canvas, WALL, canvas.get_rect(), width=3)
-        goal = self.to_screen(scenario.goal)
-        pygame.draw.circle(canvas, GOAL, goal, max(3, int(scenario.goal_radius * s)), width=2)
-        pygame.draw.line(canvas, GOAL, (goal[0] - 6, goal[1]), (goal[0] + 6, goal[1]), 2)
-        pygame.draw.line(canvas, GOAL, (goal[0], goal[1] - 6), (goal[0], goal[1] + 6), 2)
         for (x, y, vx, vy), r in zip(obstacle_state, radii):
             centre = self.to_screen((x, y))
             pygame.draw.circle(canvas, OBSTACLE, centre, max(2, int(r * s)))
@@ -55,6 +51,10 @@ class Renderer:
             if tip != centre:
                 pygame.draw.line(canvas, ARROW, centre, tip, 2)
                 pygame.draw.circle(canvas, ARROW, tip, 3)
+        goal = self.to_screen(scenario.goal)  # drawn over the obstacles: one may pass over it
+        pygame.draw.circle(canvas, GOAL, goal, max(3, int(scenario.goal_radius * s)), width=2)
+        pygame.draw.line(canvas, GOAL, (goal[0] - 6, goal[1]), (goal[0] + 6, goal[1]), 2)
+        pygame.draw.line(canvas, GOAL, (goal[0], goal[1] - 6), (goal[0], goal[1] + 6), 2)
         if len(trail) > 1:
             pygame.draw.lines(canvas, TRAIL, False, [self.to_screen(p) for p in trail], 2)
         if waypoint is not None:

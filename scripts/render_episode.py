@@ -13,9 +13,27 @@ os.environ.setdefault("SDL_VIDEODRIVER", "dummy")  # off-screen: no display need
 
 import gymnasium as gym
 import imageio.v3 as iio
+import numpy as np
+from PIL import Image
 
 import agents
 import pathplan_env  # noqa: F401
+
+
+def save_gif(frames: list[np.ndarray], out: Path, fps: int) -> None:
+    """GIF with an exact palette: the renderer draws a few flat colours, and per-frame quantisation
+    (imageio's default) would drop small marks such as the goal and the waypoint."""
+    colours, index = np.unique(np.stack(frames).reshape(-1, 3), axis=0, return_inverse=True)
+    if len(colours) > 256:
+        iio.imwrite(out, frames, duration=1000 / fps, loop=0)
+        return
+    palette = colours.astype(np.uint8).ravel().tolist()
+    images = []
+    for idx in index.reshape(len(frames), *frames[0].shape[:2]):
+        image = Image.frombytes("P", (idx.shape[1], idx.shape[0]), idx.astype(np.uint8).tobytes())
+        image.putpalette(palette)
+        images.append(image)
+    images[0].save(out, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)
 
 
 def main() -> None:
@@ -42,7 +60,11 @@ def main() -> None:
     frames += [frames[-1]] * args.fps  # hold the last frame for a second
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    iio.imwrite(out, frames[:: max(1, len(frames) // 150)], duration=1000 / args.fps, loop=0)
+    frames = frames[:: max(1, len(frames) // 150)]
+    if out.suffix.lower() == ".gif":
+        save_gif(frames, out, args.fps)
+    else:
+        iio.imwrite(out, frames, fps=args.fps)
     outcome = "success" if info["is_success"] else "collision" if info["collision"] else "timeout"
     print(f"{args.agent} on {args.scenario} (Δd={args.delta_d}, seed {args.seed}): {outcome}, "
           f"{info['path_length']:.2f} m in {info['time']:.1f} s -> {out}")  # fmt: skip

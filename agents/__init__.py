@@ -5,7 +5,7 @@
 
 from functools import partial
 
-from .base import Agent, available, make, register
+from .base import Agent, available, make, register, rollout
 from .classical import StraightAgent, VelocityObstacleAgent
 from .metaheuristic import MetaheuristicAgent
 from .oracle import StaticOracleAgent
@@ -18,4 +18,4 @@ for _optimizer in ("pso", "abc"):
     register(f"{_optimizer}-vanilla", partial(MetaheuristicAgent, optimizer=_optimizer, variant="vanilla"))
     register(f"{_optimizer}-predictive", partial(MetaheuristicAgent, optimizer=_optimizer, variant="paper", predictive=True))
 
-__all__ = ["Agent", "MetaheuristicAgent", "StaticOracleAgent", "StraightAgent", "VelocityObstacleAgent", "available", "make", "register"]
+__all__ = ["Agent", "MetaheuristicAgent", "StaticOracleAgent", "StraightAgent", "VelocityObstacleAgent", "available", "make", "register", "rollout"]

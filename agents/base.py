@@ -89,6 +89,16 @@ class Agent:
         return self.facts.robot_speed * self.facts.dt
 
 
+def rollout(agent: Agent, env, seed: int | None = None) -> dict:
+    """Run one episode of ``agent`` on ``env`` from ``reset(seed=seed)``; return the last step's info."""
+    obs, info = env.reset(seed=seed)
+    while True:
+        action, _ = agent.predict(obs)
+        obs, _, terminated, truncated, info = env.step(action)
+        if terminated or truncated:
+            return info
+
+
 # -- registry ---------------------------------------------------------------------------------
 _REGISTRY: dict[str, Callable[..., Agent]] = {}
 

@@ -32,9 +32,7 @@ class EnvFacts:
         names = ("bounds", "robot_radius", "robot_speed", "dt")
         if hasattr(env, "unwrapped") and hasattr(env.unwrapped, "robot_speed"):
             values = [getattr(env.unwrapped, name) for name in names]
-        elif hasattr(env, "get_attr"):  # SB3 VecEnv
-            values = [env.get_attr(name)[0] for name in names]
-        elif hasattr(env, "get_attr") or hasattr(env, "call"):  # Gymnasium vector env
+        elif hasattr(env, "get_attr"):  # an SB3 VecEnv or a Gymnasium vector env
             values = [env.get_attr(name)[0] for name in names]
         else:
             raise ValueError(f"cannot read bounds, dt, robot radius and speed from {type(env).__name__}")

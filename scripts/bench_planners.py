@@ -102,15 +102,6 @@ def replan_times(repeats: int) -> dict[str, float]:
     return times
 
 
-def fly(agent, env, seed):
-    obs, _ = env.reset(seed=seed)
-    while True:
-        action, _ = agent.predict(obs)
-        obs, _, terminated, truncated, info = env.step(action)
-        if terminated or truncated:
-            return info
-
-
 def optimality(n_scenes: int) -> list[tuple[str, int, float, float, float]]:
     rows = []
     configs = [(name, k) for name in ("pso", "abc", "pso-predictive", "abc-predictive") for k in (1, 2, 3)]
@@ -119,7 +110,7 @@ def optimality(n_scenes: int) -> list[tuple[str, int, float, float, float]]:
         agent = agents.make(name, env, seed=0, n_waypoints=k)
         ratios, successes = [], 0
         for seed in range(n_scenes):
-            info = fly(agent, env, seed=10_000 + seed)
+            info = agents.rollout(agent, env, seed=10_000 + seed)
             s = env.unwrapped.scenario
             arrays = s.arrays()
             goal_radius = s.goal_radius

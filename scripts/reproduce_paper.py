@@ -68,15 +68,6 @@ def table_1(runs: int):
     return rows, histories
 
 
-def run_episode(agent, env, seed):
-    obs, _ = env.reset(seed=seed)
-    while True:
-        action, _ = agent.predict(obs)
-        obs, _, terminated, truncated, info = env.step(action)
-        if terminated or truncated:
-            return bool(info["is_success"])
-
-
 def table_2(episodes: int, names: list[str]):
     from scipy.stats import binomtest
 
@@ -89,7 +80,7 @@ def table_2(episodes: int, names: list[str]):
             for case in CASES:
                 env = gym.make("DynamicObstacle-v0", scenario=case, delta_d=delta_d)
                 for seed in seeds:
-                    wins += run_episode(agents.make(name, env, seed=seed), env, seed)
+                    wins += agents.rollout(agents.make(name, env, seed=seed), env, seed)["is_success"]
             n = episodes * len(CASES)
             low = binomtest(wins, n).proportion_ci(method="wilson").low
             row[name] = (wins / n, n, "success" if low >= 0.9 else "fail")

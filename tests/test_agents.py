@@ -18,12 +18,7 @@ PLANNERS = [name for name in agents.available() if name not in ("straight", "ppo
 
 
 def run_episode(agent, env, seed=0):
-    obs, info = env.reset(seed=seed)
-    while True:
-        action, _ = agent.predict(obs)
-        obs, _, terminated, truncated, info = env.step(action)
-        if terminated or truncated:
-            return info
+    return agents.rollout(agent, env, seed)
 
 
 @pytest.mark.parametrize("case", ["paper-case-1", "paper-case-2", "paper-case-3"])

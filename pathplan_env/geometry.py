@@ -71,10 +71,6 @@ def point_segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.nd
     return np.linalg.norm(p - closest, axis=-1)
 
 
-def polyline_length(points: np.ndarray) -> float:
-    return float(np.linalg.norm(np.diff(np.asarray(points, dtype=float), axis=0), axis=1).sum())
-
-
 # ---------------------------------------------------------------------------------------------
 # Exact shortest path among circles: tangent visibility graph
 # ---------------------------------------------------------------------------------------------

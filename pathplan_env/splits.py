@@ -1,10 +1,13 @@
-"""Episode seed splits: the evaluation's test episodes never share a seed with RL training.
+"""Episode seed splits: RL training, validation (model selection) and test never share a seed.
 
-Training draws episode seeds below ``TEST_SEED_BASE``; the test split lives above it.
+Training draws episode seeds below ``VALIDATION_SEED_BASE``; validation uses
+``[VALIDATION_SEED_BASE, TEST_SEED_BASE)``; the evaluation's test split lives above ``TEST_SEED_BASE``.
 """
 
+VALIDATION_SEED_BASE = 900_000_000
 TEST_SEED_BASE = 1_000_000_000
 EPISODES_PER_SPLIT_SEED = 1_000_000
+TRAINING_SEEDS_PER_RUN = 10_000_000
 
 
 def heldout_seeds(split_seed: int, episodes: int) -> list[int]:
@@ -15,5 +18,17 @@ def heldout_seeds(split_seed: int, episodes: int) -> list[int]:
     return [base + i for i in range(episodes)]
 
 
+def training_seed_base(run_seed: int) -> int:
+    """First episode seed of the training run ``run_seed``; its episodes take the next ``TRAINING_SEEDS_PER_RUN`` seeds."""
+    base = int(run_seed) * TRAINING_SEEDS_PER_RUN
+    if not 0 <= base <= VALIDATION_SEED_BASE - TRAINING_SEEDS_PER_RUN:
+        raise ValueError(f"seed must be in [0, {VALIDATION_SEED_BASE // TRAINING_SEEDS_PER_RUN - 1}], got {run_seed!r}")
+    return base
+
+
 def is_training_seed(seed: int) -> bool:
-    return 0 <= seed < TEST_SEED_BASE
+    return 0 <= seed < VALIDATION_SEED_BASE
+
+
+def is_validation_seed(seed: int) -> bool:
+    return VALIDATION_SEED_BASE <= seed < TEST_SEED_BASE

@@ -15,6 +15,10 @@ from gymnasium import spaces
 
 FEATURE_LIMIT = 10.0  # features are clipped to +-FEATURE_LIMIT (bounds for the Box space)
 PER_OBSTACLE = 7  # x, y, vx, vy (goal frame), radius, surface gap, mask
+ROBOT_FEATURES = 9  # goal distance, goal direction (2), robot velocity (2), wall distances (4)
+#: Lengths are measured in units of this many robot steps, so that scenes of different sizes but the
+#: same robot step (the paper's cases, the random preset) look alike to a policy.
+STEPS_PER_LENGTH_UNIT = 10.0
 
 
 @dataclass(frozen=True)
@@ -41,8 +45,7 @@ class EnvFacts:
 
     @property
     def length_scale(self) -> float:
-        xmin, ymin, xmax, ymax = self.bounds
-        return 0.5 * max(xmax - xmin, ymax - ymin)
+        return STEPS_PER_LENGTH_UNIT * self.robot_speed * self.dt
 
 
 def _goal_frame(obs: dict[str, np.ndarray]):
@@ -63,10 +66,11 @@ def _rotate(v: np.ndarray, ex: np.ndarray) -> np.ndarray:
 def egocentric_features(obs: dict[str, np.ndarray], facts: EnvFacts, k_nearest: int = 8) -> np.ndarray:
     """Flat float32 features in the robot's goal-aligned frame, for one or a batch of observations.
 
-    Layout: distance to goal, robot velocity (2), distances to the four walls, then the
-    ``k_nearest`` obstacles by surface gap, each as relative position (2), velocity (2), radius,
-    gap and mask. Lengths are divided by half the arena's larger side, velocities by the robot's
-    speed; padding rows are zeros.
+    Layout: distance to goal, goal direction in the world frame (2; it orients the walls), robot
+    velocity (2), distances to the four walls (world -x, +x, -y, +y), then the ``k_nearest``
+    obstacles by surface gap, each as relative position (2), velocity (2), radius, gap and mask.
+    Lengths are in units of ``STEPS_PER_LENGTH_UNIT`` robot steps, velocities in robot speeds;
+    padding rows are zeros.
     """
     obs = {k: np.asarray(v, dtype=np.float64) for k, v in obs.items()}
     L, v = facts.length_scale, facts.robot_speed
@@ -102,6 +106,7 @@ def egocentric_features(obs: dict[str, np.ndarray], facts: EnvFacts, k_nearest: 
     features = np.concatenate(
         [
             (goal_dist / L)[..., None],
+            ex,
             _rotate(obs["robot_velocity"], ex) / v,
             walls / L,
             obstacles.reshape(obstacles.shape[:-2] + (k_nearest * PER_OBSTACLE,)),
@@ -112,7 +117,7 @@ def egocentric_features(obs: dict[str, np.ndarray], facts: EnvFacts, k_nearest: 
 
 
 def feature_size(k_nearest: int) -> int:
-    return 7 + PER_OBSTACLE * k_nearest
+    return ROBOT_FEATURES + PER_OBSTACLE * k_nearest
 
 
 def relative_action_to_waypoint(obs: dict[str, np.ndarray], action: np.ndarray, facts: EnvFacts) -> np.ndarray:
@@ -162,3 +167,52 @@ class RelativeWaypointAction(gym.ActionWrapper):
 def make_learning_env(env: gym.Env, k_nearest: int = 8) -> gym.Env:
     """The wrapper stack used for RL training and for running a trained policy."""
     return RelativeWaypointAction(EgocentricObservation(env, k_nearest=k_nearest))
+
+
+class EpisodeSchedule(gym.Wrapper):
+    """Reset from a reproducible stream of episodes, each with its own Δd and obstacle count.
+
+    Episode ``k`` uses the seed ``first_seed + k * stride``. Its Δd is drawn uniformly from
+    ``delta_d`` (a number or a ``(low, high)`` range) and its obstacle count uniformly from
+    ``n_obstacles`` (an int or an inclusive ``(low, high)`` range), by a generator seeded with that
+    episode seed, so every episode is reproducible from its seed alone, whatever the vector env's
+    autoreset order. Seeds or options passed to ``reset`` explicitly take precedence.
+    ``set_delta_d`` changes the range (for a curriculum); ``restart`` rewinds the stream.
+    """
+
+    def __init__(self, env: gym.Env, first_seed: int, stride: int = 1, delta_d=0.25, n_obstacles=8):
+        super().__init__(env)
+        if int(stride) < 1:
+            raise ValueError(f"stride must be >= 1, got {stride!r}")
+        if int(first_seed) < 0:
+            raise ValueError(f"first_seed must be >= 0, got {first_seed!r}")
+        self.first_seed, self.stride = int(first_seed), int(stride)
+        self.episodes = 0
+        self.set_delta_d(delta_d)
+        low, high = (n_obstacles, n_obstacles) if np.isscalar(n_obstacles) else n_obstacles
+        if not 0 <= int(low) <= int(high):
+            raise ValueError(f"n_obstacles must be an int >= 0 or a range (low, high) with 0 <= low <= high, got {n_obstacles!r}")
+        self.n_obstacles_range = (int(low), int(high))
+
+    def set_delta_d(self, delta_d) -> None:
+        low, high = (delta_d, delta_d) if np.isscalar(delta_d) else delta_d
+        if not (np.isfinite(low) and np.isfinite(high) and 0 <= low <= high):
+            raise ValueError(f"delta_d must be a number >= 0 or a range (low, high) with 0 <= low <= high, got {delta_d!r}")
+        self.delta_d_range = (float(low), float(high))
+
+    def restart(self) -> None:
+        self.episodes = 0
+
+    def next_seed(self) -> int:
+        return self.first_seed + self.episodes * self.stride
+
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        if seed is None:
+            seed = self.next_seed()
+            self.episodes += 1
+        draw = np.random.default_rng([int(seed), 0x5EED])  # independent of the env's own stream
+        episode = {
+            "delta_d": float(draw.uniform(*self.delta_d_range)),
+            "n_obstacles": int(draw.integers(self.n_obstacles_range[0], self.n_obstacles_range[1] + 1)),
+        }
+        return self.env.reset(seed=int(seed), options={**episode, **(options or {})})

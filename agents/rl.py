@@ -1,0 +1,67 @@
+"""Trained stable-baselines3 policies as agents: the learning wrappers' transforms applied to raw observations.
+
+A policy trained on ``pathplan_env.wrappers.make_learning_env`` sees ``egocentric_features`` and acts in
+the relative-waypoint action space; this agent applies the same two functions to the raw env's
+observations (single or batched), so it runs wherever the planners run.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+from pathplan_env.wrappers import egocentric_features, feature_size, relative_action_to_waypoint
+
+from .base import Agent
+
+MODELS_DIR = Path(__file__).parent / "models"
+
+
+def model_metadata(path: str | Path) -> dict:
+    """The JSON written beside a model by ``scripts/train_rl.py`` (algorithm, k_nearest, command, ...)."""
+    sidecar = Path(path).with_suffix(".json")
+    if not sidecar.exists():
+        raise ValueError(f"path: no metadata file {sidecar} beside the model (scripts/train_rl.py writes it)")
+    return json.loads(sidecar.read_text())
+
+
+def _load_model(path: Path, algo: str):
+    import stable_baselines3
+
+    classes = {"ppo": stable_baselines3.PPO, "sac": stable_baselines3.SAC}
+    if algo not in classes:
+        raise ValueError(f"algo: unknown algorithm {algo!r}; known: {sorted(classes)}")
+    return classes[algo].load(path, device="cpu")
+
+
+class RLAgent(Agent):
+    """A stable-baselines3 model trained on the learning wrappers (``scripts/train_rl.py``).
+
+    ``path`` is the model's ``.zip`` (default: the shipped ``agents/models/<algo>.zip``). Actions
+    are the policy's mean unless ``predict(..., deterministic=False)`` asks for samples.
+    """
+
+    def __init__(self, env, seed: int | None = None, algo: str = "ppo", path: str | Path | None = None):
+        super().__init__(env, seed=seed)
+        path = Path(path) if path is not None else MODELS_DIR / f"{algo}.zip"
+        if not path.exists():
+            raise ValueError(f"path: no model at {path}; train one with scripts/train_rl.py")
+        self.metadata = model_metadata(path)
+        self.k_nearest = int(self.metadata["k_nearest"])
+        self.model = _load_model(path, self.metadata.get("algo", algo))
+        expected = (feature_size(self.k_nearest),)
+        if self.model.observation_space.shape != expected:
+            raise ValueError(f"path: model expects observations of shape {self.model.observation_space.shape}, the wrappers give {expected}")
+        if seed is not None:
+            self.model.set_random_seed(seed)
+
+    def predict(self, observation, state=None, episode_start=None, deterministic: bool = False):
+        begin = time.perf_counter()
+        features = egocentric_features(observation, self.facts, self.k_nearest)
+        relative, _ = self.model.predict(features, deterministic=deterministic)
+        waypoints = relative_action_to_waypoint(observation, relative, self.facts)
+        self.last_plan_seconds = time.perf_counter() - begin
+        return self.waypoint_to_action(waypoints), state

@@ -1,0 +1,239 @@
+"""Train a stable-baselines3 agent (PPO by default, or SAC) on DynamicObstacle-v0.
+
+    python scripts/train_rl.py --total-timesteps 3000000 --seed 0 --out runs/ppo
+    python scripts/train_rl.py --algo sac --n-envs 4 --total-timesteps 500000 --out runs/sac
+    python scripts/train_rl.py ... --ship            # also copy the model to agents/models/<algo>.zip
+
+The policy sees ``pathplan_env.wrappers.make_learning_env``'s egocentric features and acts in its
+relative-waypoint action space, the same transforms ``agents.make("ppo", env)`` applies at test time.
+Training episodes come from ``EpisodeSchedule`` streams of training seeds (disjoint from the
+validation and test splits of ``pathplan_env.splits``), on random scenes whose Δd widens from
+``[0, --delta-d-start]`` to ``[0, --delta-d-max]`` over the first ``--curriculum-fraction`` of training.
+An ``EvalCallback`` scores the same validation episodes every ``--eval-freq`` steps (success rate
+from ``info["is_success"]``) and keeps the best model. Writes to ``--out``: TensorBoard logs,
+checkpoints, ``best_model.zip``, ``final_model.zip``, ``evaluations.npz``, ``learning_curve.png``
+and ``model.json`` (the command, seed and figures).
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import platform
+import shlex
+import shutil
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+
+import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
+from pathplan_env.splits import VALIDATION_SEED_BASE, training_seed_base
+from pathplan_env.wrappers import EpisodeSchedule, make_learning_env
+
+MODELS_DIR = Path(__file__).resolve().parents[1] / "agents" / "models"
+
+
+@dataclass
+class Args:
+    algo: str = "ppo"
+    """ppo or sac"""
+    total_timesteps: int = 3_000_000
+    seed: int = 0
+    """run seed: torch, and the training episode seeds (pathplan_env.splits.training_seed_base)"""
+    n_envs: int = 8
+    vec_env: str = "dummy"
+    """dummy (one process; best on 2 cores) or subproc"""
+    n_obstacles_min: int = 4
+    n_obstacles_max: int = 12
+    delta_d_start: float = 0.25
+    delta_d_max: float = 1.0
+    curriculum_fraction: float = 0.3
+    k_nearest: int = 8
+    learning_rate: float = 3e-4
+    net_arch: str = "128,128"
+    eval_freq: int = 100_000
+    """env steps between validation evaluations"""
+    eval_episodes: int = 100
+    eval_delta_d: float = 0.25
+    checkpoint_freq: int = 500_000
+    torch_threads: int = 1
+    out: str = "runs/ppo"
+    ship: str = ""
+    """'best' or 'final': copy that model to agents/models/<algo>.zip with its metadata"""
+    progress: bool = True
+
+    def __post_init__(self):
+        if self.algo not in ("ppo", "sac"):
+            raise ValueError(f"algo must be 'ppo' or 'sac', got {self.algo!r}")
+        if self.vec_env not in ("dummy", "subproc"):
+            raise ValueError(f"vec_env must be 'dummy' or 'subproc', got {self.vec_env!r}")
+        if self.ship not in ("", "best", "final"):
+            raise ValueError(f"ship must be 'best' or 'final', got {self.ship!r}")
+        for name in ("total_timesteps", "n_envs", "eval_freq", "eval_episodes", "checkpoint_freq", "k_nearest"):
+            if getattr(self, name) < 1:
+                raise ValueError(f"{name} must be >= 1, got {getattr(self, name)!r}")
+        if not 0 <= self.n_obstacles_min <= self.n_obstacles_max:
+            raise ValueError(f"n_obstacles_min/max must satisfy 0 <= min <= max, got {self.n_obstacles_min}, {self.n_obstacles_max}")
+        if not 0 <= self.delta_d_start <= self.delta_d_max:
+            raise ValueError(f"delta_d_start/max must satisfy 0 <= start <= max, got {self.delta_d_start}, {self.delta_d_max}")
+        if not 0 <= self.curriculum_fraction <= 1:
+            raise ValueError(f"curriculum_fraction must be in [0, 1], got {self.curriculum_fraction}")
+        training_seed_base(self.seed)  # range check
+
+
+def parse_args(argv=None) -> Args:
+    """Flags from the dataclass's fields (``--total-timesteps``, ``--no-progress``, ...)."""
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    for f in dataclasses.fields(Args):
+        flag = "--" + f.name.replace("_", "-")
+        if f.type == "bool":
+            parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=f.default)
+        else:
+            parser.add_argument(flag, type={"int": int, "float": float}.get(f.type, str), default=f.default)
+    return Args(**vars(parser.parse_args(argv)))
+
+
+def make_env(args: Args, first_seed: int, stride: int, delta_d, n_obstacles):
+    def thunk():
+        from stable_baselines3.common.monitor import Monitor
+
+        env = gym.make("DynamicObstacle-v0", scenario="random")
+        env = EpisodeSchedule(env, first_seed=first_seed, stride=stride, delta_d=delta_d, n_obstacles=n_obstacles)
+        return Monitor(make_learning_env(env, k_nearest=args.k_nearest))
+
+    return thunk
+
+
+def build_model(args: Args, env, log_dir: Path):
+    import torch
+    from stable_baselines3 import PPO, SAC
+
+    net_arch = [int(n) for n in args.net_arch.split(",")]
+    common = dict(learning_rate=args.learning_rate, seed=args.seed, verbose=0, device="cpu", tensorboard_log=str(log_dir / "tb"))
+    if args.algo == "ppo":
+        return PPO(
+            "MlpPolicy", env, n_steps=256, batch_size=256, n_epochs=10, gamma=0.99, gae_lambda=0.95,
+            clip_range=0.2, ent_coef=0.0, policy_kwargs=dict(net_arch=net_arch, activation_fn=torch.nn.Tanh), **common,
+        )  # fmt: skip
+    return SAC("MlpPolicy", env, buffer_size=300_000, batch_size=256, learning_starts=10_000, policy_kwargs=dict(net_arch=net_arch), **common)
+
+
+def train(args: Args) -> dict:
+    import torch
+    from stable_baselines3.common.callbacks import BaseCallback, CallbackList, CheckpointCallback, EvalCallback
+    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
+
+    torch.set_num_threads(args.torch_threads)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    n_obstacles = (args.n_obstacles_min, args.n_obstacles_max)
+    base = training_seed_base(args.seed)
+    thunks = [make_env(args, base + i, args.n_envs, (0.0, args.delta_d_start), n_obstacles) for i in range(args.n_envs)]
+    train_env = (DummyVecEnv if args.vec_env == "dummy" else SubprocVecEnv)(thunks)
+    # one validation env: its episodes run in seed order, and are rewound before every evaluation
+    eval_env = DummyVecEnv([make_env(args, VALIDATION_SEED_BASE, 1, args.eval_delta_d, n_obstacles)])
+
+    class Curriculum(BaseCallback):
+        """Widen the training Δd range linearly from [0, start] to [0, max] over the curriculum fraction."""
+
+        def _on_step(self) -> bool:
+            horizon = max(1.0, args.curriculum_fraction * args.total_timesteps)
+            high = args.delta_d_start + (args.delta_d_max - args.delta_d_start) * min(1.0, self.num_timesteps / horizon)
+            if self.n_calls % 64 == 1:
+                self.training_env.env_method("set_delta_d", (0.0, high))
+                self.logger.record("curriculum/delta_d_max", high)
+            return True
+
+    class SameEpisodesEval(EvalCallback):
+        def _on_step(self) -> bool:
+            if self.eval_freq > 0 and self.n_calls % self.eval_freq == 0:
+                self.eval_env.env_method("restart")
+            return super()._on_step()
+
+    every = lambda steps: max(1, steps // args.n_envs)  # noqa: E731 (callbacks count vector steps)
+    callbacks = CallbackList([
+        Curriculum(),
+        SameEpisodesEval(eval_env, n_eval_episodes=args.eval_episodes, eval_freq=every(args.eval_freq),
+                         best_model_save_path=str(out), log_path=str(out), deterministic=True, verbose=1),
+        CheckpointCallback(save_freq=every(args.checkpoint_freq), save_path=str(out / "checkpoints"), name_prefix=args.algo),
+    ])  # fmt: skip
+    model = build_model(args, train_env, out)
+    start = time.perf_counter()
+    model.learn(args.total_timesteps, callback=callbacks, progress_bar=args.progress, tb_log_name=args.algo)
+    seconds = time.perf_counter() - start
+    model.save(out / "final_model.zip")
+    train_env.close()
+    eval_env.close()
+
+    curve = learning_curve(out)
+    meta = {
+        "algo": args.algo,
+        "k_nearest": args.k_nearest,
+        "command": "python " + " ".join(shlex.quote(a) for a in sys.argv),
+        "args": dataclasses.asdict(args),
+        "total_timesteps": int(model.num_timesteps),
+        "training_seconds": round(seconds, 1),
+        "env_steps_per_second": round(model.num_timesteps / seconds, 1),
+        "validation": {"delta_d": args.eval_delta_d, "episodes": args.eval_episodes, **curve},
+        "git_commit": _git_commit(),
+        "versions": _versions(),
+        "machine": f"{platform.machine()}, {platform.python_version()}",
+    }
+    for name in ("final_model", "best_model"):
+        if (out / f"{name}.zip").exists():
+            (out / f"{name}.json").write_text(json.dumps({**meta, "model": name}, indent=2))
+    if args.ship:
+        MODELS_DIR.mkdir(exist_ok=True)
+        shutil.copyfile(out / f"{args.ship}_model.zip", MODELS_DIR / f"{args.algo}.zip")
+        shutil.copyfile(out / f"{args.ship}_model.json", MODELS_DIR / f"{args.algo}.json")
+        shutil.copyfile(out / "learning_curve.png", MODELS_DIR / f"{args.algo}_learning_curve.png")
+        print(f"shipped {args.ship} model to {MODELS_DIR / (args.algo + '.zip')}")
+    print(json.dumps({k: meta[k] for k in ("total_timesteps", "training_seconds", "env_steps_per_second", "validation")}, indent=2))
+    return meta
+
+
+def learning_curve(out: Path) -> dict:
+    """Plot validation success rate against env steps from EvalCallback's ``evaluations.npz``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    data = np.load(out / "evaluations.npz")
+    steps, success = data["timesteps"], data["successes"].mean(axis=1)
+    fig, ax = plt.subplots(figsize=(6, 3.5))
+    ax.plot(steps, success, marker="o", ms=3)
+    ax.set(xlabel="env steps", ylabel="validation success rate", ylim=(0, 1.02), title=f"{out.name}: success on the validation episodes")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(out / "learning_curve.png", dpi=120)
+    plt.close(fig)
+    np.savetxt(out / "learning_curve.csv", np.column_stack([steps, success]), delimiter=",", header="env_steps,success_rate", comments="")
+    best = int(np.argmax(success))
+    return {"final_success_rate": float(success[-1]), "best_success_rate": float(success[best]), "best_at_steps": int(steps[best])}
+
+
+def _git_commit() -> str:
+    try:
+        return subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+
+
+def _versions() -> dict:
+    import gymnasium
+    import pymunk
+    import stable_baselines3
+    import torch
+
+    return {"stable_baselines3": stable_baselines3.__version__, "torch": torch.__version__, "gymnasium": gymnasium.__version__, "pymunk": pymunk.version}
+
+
+if __name__ == "__main__":
+    train(parse_args())

@@ -194,7 +194,9 @@ def shortest_path(
         )
         if bounds is not None:
             blocked |= ((pts_s[..., 0] < xmin) | (pts_s[..., 0] > xmax) | (pts_s[..., 1] < ymin) | (pts_s[..., 1] > ymax)).any(axis=1)
-        ok = ~blocked & (sweep > eps)
+        # zero sweeps stay: they join tangent points that coincide (a bitangent touching where another
+        # tangent also touches), and dropping them disconnects the path that turns there
+        ok = ~blocked
         rows.append(order[ok]), cols.append(nxt[ok]), weights.append(radii[c] * sweep[ok])
         for a, b, t0, sw in zip(order[ok], nxt[ok], th[ok], sweep[ok]):
             # two tangent points on a circle are joined by two arcs; the path uses the shorter

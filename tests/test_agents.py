@@ -129,6 +129,23 @@ def test_oracle_length_equals_hand_computed_tangent_path():
     assert info["is_success"] and info["path_length"] == pytest.approx(expected, rel=0.01)
 
 
+@pytest.mark.parametrize("subset", [(1, 2, 3, 4), (0, 1, 3, 4), None])
+def test_shortest_path_grows_with_inflation_and_is_clear(subset):
+    # Inflating the discs can only lengthen the shortest path. Paper case 3 has many near-coincident
+    # tangent points (a regression: zero-length arcs between them were dropped, giving jumps up).
+    centers = np.array(pathplan_env.PRESETS["paper-case-3"](None, 0).arrays()["positions"])
+    centers = centers if subset is None else centers[list(subset)]
+    lengths = []
+    for radius in np.arange(0.40, 0.80, 0.005):
+        path, length = pathplan_env.shortest_path((0, 0), (5, 5), centers, np.full(len(centers), radius), arc_resolution=0.01)
+        lengths.append(length)
+        if path is not None:  # the polyline stays out of the discs (up to arc chords) and has the reported length
+            gaps = np.linalg.norm(path[:, None] - centers[None], axis=-1) - radius
+            assert gaps.min() > -1e-6
+            assert np.hypot(*np.diff(path, axis=0).T).sum() == pytest.approx(length, rel=1e-3)
+    assert np.all(np.diff(lengths) >= -1e-9), np.round(lengths, 3)
+
+
 def test_predictive_pso_beats_paper_pso_at_half_radius_per_step():
     episodes = 40
     rates = {}

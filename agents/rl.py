@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import time
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -28,7 +29,9 @@ def model_metadata(path: str | Path) -> dict:
     return json.loads(sidecar.read_text())
 
 
-def _load_model(path: Path, algo: str):
+@lru_cache(maxsize=8)
+def _load_model(path: Path, algo: str, mtime: float):
+    """Load once per process (an evaluation makes one agent per episode); ``predict`` never mutates it."""
     import stable_baselines3
 
     classes = {"ppo": stable_baselines3.PPO, "sac": stable_baselines3.SAC}
@@ -51,12 +54,10 @@ class RLAgent(Agent):
             raise ValueError(f"path: no model at {path}; train one with scripts/train_rl.py")
         self.metadata = model_metadata(path)
         self.k_nearest = int(self.metadata["k_nearest"])
-        self.model = _load_model(path, self.metadata.get("algo", algo))
+        self.model = _load_model(path.resolve(), self.metadata.get("algo", algo), path.stat().st_mtime)
         expected = (feature_size(self.k_nearest),)
         if self.model.observation_space.shape != expected:
             raise ValueError(f"path: model expects observations of shape {self.model.observation_space.shape}, the wrappers give {expected}")
-        if seed is not None:
-            self.model.set_random_seed(seed)
 
     def predict(self, observation, state=None, episode_start=None, deterministic: bool = False):
         begin = time.perf_counter()

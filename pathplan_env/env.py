@@ -63,6 +63,9 @@ class DynamicObstacleEnv(gym.Env):
     - ``goal``: ``reward_goal`` (default 1.0) on reaching the goal.
     - ``collision``: ``reward_collision`` (default -1.0) on touching an obstacle.
     - ``time``: ``reward_time`` (default -0.005) every step.
+    - ``proximity``: ``reward_proximity * max(0, 1 - min_clearance / proximity_distance)``, a
+      discomfort penalty near obstacles as in CrowdNav, for shaping RL training. Off by default
+      (``reward_proximity=0``), so the default reward is the four terms above.
 
     ## Starting State
     The robot rests at the scenario's start. Presets: ``"paper-case-1"``, ``"paper-case-2"``,
@@ -93,7 +96,9 @@ class DynamicObstacleEnv(gym.Env):
       scenario's own velocities.
     - ``n_obstacles``: obstacle count of the ``"random"`` preset.
     - ``max_obstacles``: padding size ``N`` of the obstacle arrays; default ``max(16, obstacles)``.
-    - ``reward_progress``, ``reward_goal``, ``reward_collision``, ``reward_time``: reward weights.
+    - ``reward_progress``, ``reward_goal``, ``reward_collision``, ``reward_time``, ``reward_proximity``:
+      reward weights; ``proximity_distance`` (m, default 0.5) is the surface gap below which the
+      proximity penalty starts.
     - ``render_mode``: ``"human"`` (a pygame window) or ``"rgb_array"`` (works with no display).
 
     ``reset(options={"scenario": ..., "delta_d": ..., "n_obstacles": ...})`` reconfigures the env from
@@ -115,6 +120,8 @@ class DynamicObstacleEnv(gym.Env):
         reward_goal: float = 1.0,
         reward_collision: float = -1.0,
         reward_time: float = -0.005,
+        reward_proximity: float = 0.0,
+        proximity_distance: float = 0.5,
         render_mode: str | None = None,
     ):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
@@ -128,7 +135,11 @@ class DynamicObstacleEnv(gym.Env):
             "goal": float(reward_goal),
             "collision": float(reward_collision),
             "time": float(reward_time),
+            "proximity": float(reward_proximity),
         }
+        if not (math.isfinite(proximity_distance) and proximity_distance > 0):
+            raise ValueError(f"proximity_distance must be finite and > 0, got {proximity_distance!r}")
+        self.proximity_distance = float(proximity_distance)
         # Build one scenario now so that bad input fails when the env is made, and to fix the spaces.
         self.scenario: Scenario = make_scenario(scenario, np.random.default_rng(0), self._n_obstacles, self._delta_d)
         self.bounds = self.scenario.bounds
@@ -160,6 +171,7 @@ class DynamicObstacleEnv(gym.Env):
         self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
         self._arena_low = np.array([xmin, ymin], np.float64)
         self._arena_size = np.array([xmax - xmin, ymax - ymin], np.float64)
+        self._half_size = (0.5 * (xmax - xmin), 0.5 * (ymax - ymin))
         self._world: World | None = None
         self._renderer = None
         self.trail: list[tuple[float, float]] = []
@@ -213,6 +225,11 @@ class DynamicObstacleEnv(gym.Env):
         self.scenario = scenario
         self._world = World(scenario)
         self._goal = np.array(scenario.goal, np.float64)
+        self._goal_xy = scenario.goal
+        r = scenario.robot_radius
+        xmin, ymin, xmax, ymax = scenario.bounds
+        self._waypoint_box = ((xmin + r, ymin + r), (xmax - r, ymax - r))
+        self._reach = scenario.robot_speed * scenario.dt
         self._start_distance = max(float(np.hypot(*(self._goal - scenario.start))), 1e-9)
         self._distance = self._start_distance
         self._path_length = 0.0
@@ -224,44 +241,45 @@ class DynamicObstacleEnv(gym.Env):
         return self._observation(), self._info(min_clearance=self._world.clearance(), rewards=None)
 
     def step(self, action):
-        if self._world is None:
+        world = self._world
+        if world is None:
             raise RuntimeError("call reset() before step()")
-        world, scenario = self._world, self.scenario
         ax, ay = self._parse_action(action)
-        r = scenario.robot_radius
-        xmin, ymin, xmax, ymax = self.bounds
-        # waypoint on the arena, kept where the robot's disc fits
-        wx = min(max(self._arena_low[0] + (ax + 1.0) * 0.5 * self._arena_size[0], xmin + r), xmax - r)
-        wy = min(max(self._arena_low[1] + (ay + 1.0) * 0.5 * self._arena_size[1], ymin + r), ymax - r)
+        (low_x, low_y), (high_x, high_y) = self._waypoint_box
+        # the waypoint on the arena, kept where the robot's disc fits
+        wx = min(max(self._arena_low[0] + (ax + 1.0) * self._half_size[0], low_x), high_x)
+        wy = min(max(self._arena_low[1] + (ay + 1.0) * self._half_size[1], low_y), high_y)
         self.waypoint = np.array((wx, wy))
         px, py = world.robot_position
         dx, dy = wx - px, wy - py
         dist = math.hypot(dx, dy)
-        reach = scenario.robot_speed * scenario.dt
+        reach = self._reach
         if dist > reach:
             dx, dy = dx * reach / dist, dy * reach / dist
-        contact = world.step((dx, dy))
-        goal_fraction = _reach_fraction(px, py, dx, dy, self._goal, scenario.goal_radius)
-        collision = contact.collided and contact.contact_fraction <= goal_fraction
+        min_gap, contact_fraction = world.step(dx, dy)
+        goal_fraction = _reach_fraction(px, py, dx, dy, self._goal_xy, self.scenario.goal_radius)
+        collision = contact_fraction <= 1.0 and contact_fraction <= goal_fraction
         success = goal_fraction <= 1.0 and not collision
 
         # on success, the episode ends where the robot reached the goal, part-way through the step
         self._path_length += math.hypot(dx, dy) * (goal_fraction if success else 1.0)
-        distance = 0.0 if success else float(math.hypot(*(world.robot_position - self._goal)))
+        distance = 0.0 if success else math.hypot(px + dx - self._goal_xy[0], py + dy - self._goal_xy[1])
         w = self.reward_weights
         rewards = {
             "progress": w["progress"] * (self._distance - distance) / self._start_distance,
             "goal": w["goal"] if success else 0.0,
             "collision": w["collision"] if collision else 0.0,
             "time": w["time"],
+            "proximity": w["proximity"] * max(0.0, 1.0 - min_gap / self.proximity_distance) if w["proximity"] else 0.0,
         }
         self._distance = distance
         if self.render_mode is not None:
             self.trail.append((float(world.robot_position[0]), float(world.robot_position[1])))
-        info = self._info(min_clearance=contact.min_gap, rewards=rewards, success=success, collision=collision)
+        info = self._info(min_clearance=min_gap, rewards=rewards, success=success, collision=collision)
         if self.render_mode == "human":
             self.render()
-        return self._observation(), float(sum(rewards.values())), bool(success or collision), False, info
+        reward = rewards["progress"] + rewards["goal"] + rewards["collision"] + rewards["time"] + rewards["proximity"]
+        return self._observation(), reward, success or collision, False, info
 
     def render(self):
         if self.render_mode is None:
@@ -298,9 +316,12 @@ class DynamicObstacleEnv(gym.Env):
 
     @staticmethod
     def _parse_action(action) -> tuple[float, float]:
-        if np.shape(action) != (2,):
+        if type(action) is np.ndarray and action.shape == (2,):  # the common case, checked cheaply
+            ax, ay = action.tolist()
+        elif np.shape(action) == (2,):
+            ax, ay = float(action[0]), float(action[1])
+        else:
             raise ValueError(f"action must have shape (2,), got shape {np.shape(action)}")
-        ax, ay = float(action[0]), float(action[1])
         if not (math.isfinite(ax) and math.isfinite(ay)):
             raise ValueError(f"action must be finite, got {action!r} (NaN or infinite)")
         return min(max(ax, -1.0), 1.0), min(max(ay, -1.0), 1.0)

@@ -22,10 +22,10 @@ NO_CONTACT = 2.0  # returned as the contact fraction when nothing touches (any v
 
 
 @numba.njit(cache=True)
-def swept_contact(robot_a, robot_b, robot_radius, obstacles_a, obstacles_b, radii):
+def swept_contact(ax, ay, bx, by, robot_radius, obstacles_a, obstacles_b, radii):
     """Smallest surface gap and first contact over one substep of linear motion.
 
-    Within a substep the robot moves linearly from ``robot_a`` to ``robot_b`` and obstacle ``i``
+    Within a substep the robot moves linearly from ``(ax, ay)`` to ``(bx, by)`` and obstacle ``i``
     from ``obstacles_a[i, :2]`` to ``obstacles_b[i, :2]`` (this is exactly how Chipmunk integrates
     positions). In the robot's frame the obstacle's relative position is ``d(t) = d0 + t e``, so the
     closest approach and the first touching time are closed-form: no obstacle, however fast, can
@@ -38,10 +38,10 @@ def swept_contact(robot_a, robot_b, robot_radius, obstacles_a, obstacles_b, radi
     min_gap = np.inf
     t_contact = NO_CONTACT
     for i in range(radii.shape[0]):
-        d0x = obstacles_a[i, 0] - robot_a[0]
-        d0y = obstacles_a[i, 1] - robot_a[1]
-        ex = (obstacles_b[i, 0] - robot_b[0]) - d0x
-        ey = (obstacles_b[i, 1] - robot_b[1]) - d0y
+        d0x = obstacles_a[i, 0] - ax
+        d0y = obstacles_a[i, 1] - ay
+        ex = (obstacles_b[i, 0] - bx) - d0x
+        ey = (obstacles_b[i, 1] - by) - d0y
         reach = robot_radius + radii[i]
         ee = ex * ex + ey * ey
         d0e = d0x * ex + d0y * ey

@@ -14,6 +14,7 @@ import math
 from dataclasses import dataclass, replace
 from typing import Callable
 
+import numba
 import numpy as np
 
 Vec2 = tuple[float, float]
@@ -54,6 +55,15 @@ class Obstacle:
     @property
     def speed(self) -> float:
         return math.hypot(*self.velocity)
+
+    @classmethod
+    def _from_checked(cls, center: Vec2, radius: float, velocity: Vec2) -> "Obstacle":
+        """Build from values that are already valid float tuples (sampling, ``with_delta_d``): no re-validation."""
+        ob = object.__new__(cls)
+        object.__setattr__(ob, "center", center)
+        object.__setattr__(ob, "radius", radius)
+        object.__setattr__(ob, "velocity", velocity)
+        return ob
 
 
 @dataclass(frozen=True)
@@ -102,6 +112,15 @@ class Scenario:
             if not isinstance(ob, Obstacle):
                 raise ValueError(f"Scenario.obstacles[{i}] must be an Obstacle, got {type(ob).__name__}")
         set_("obstacles", obstacles)
+        n = len(obstacles)
+        arrays = {
+            "positions": np.array([ob.center for ob in obstacles], dtype=np.float64).reshape(n, 2),
+            "velocities": np.array([ob.velocity for ob in obstacles], dtype=np.float64).reshape(n, 2),
+            "radii": np.array([ob.radius for ob in obstacles], dtype=np.float64).reshape(n),
+        }
+        for a in arrays.values():
+            a.flags.writeable = False  # shared by every arrays() call: a frozen scenario stays frozen
+        set_("_arrays", arrays)
         self._check_geometry()
 
     def _check_geometry(self) -> None:
@@ -116,18 +135,24 @@ class Scenario:
         max_step = math.hypot(xmax - xmin, ymax - ymin)
         if self.robot_speed * self.dt > max_step:
             raise ValueError(f"Scenario.robot_speed {self.robot_speed} crosses the whole arena in one step")
-        for i, ob in enumerate(self.obstacles):
-            (cx, cy), rad = ob.center, ob.radius
-            if not (xmin + rad <= cx <= xmax - rad and ymin + rad <= cy <= ymax - rad):
-                raise ValueError(f"Scenario.obstacles[{i}] at {ob.center} with radius {rad} is not inside the arena {self.bounds}")
-            for label, (x, y) in (("start", self.start), ("goal", self.goal)):
-                if math.hypot(cx - x, cy - y) <= rad + r:
-                    raise ValueError(f"Scenario.obstacles[{i}] at {ob.center} overlaps the robot at the {label} {(x, y)}")
-            if ob.speed * self.dt > max_step:
-                raise ValueError(
-                    f"Scenario.obstacles[{i}].velocity {ob.velocity} crosses the whole arena in one step; "
-                    f"lower the speed or delta_d"
-                )
+        if not self.obstacles:
+            return
+        # all obstacles at once; the error names the first offender
+        pos, vel, rad = self._arrays["positions"], self._arrays["velocities"], self._arrays["radii"]
+        outside = (pos[:, 0] < xmin + rad) | (pos[:, 0] > xmax - rad) | (pos[:, 1] < ymin + rad) | (pos[:, 1] > ymax - rad)
+        for i in np.flatnonzero(outside)[:1]:
+            ob = self.obstacles[i]
+            raise ValueError(f"Scenario.obstacles[{i}] at {ob.center} with radius {ob.radius} is not inside the arena {self.bounds}")
+        for label, point in (("start", self.start), ("goal", self.goal)):
+            overlap = np.hypot(pos[:, 0] - point[0], pos[:, 1] - point[1]) <= rad + r
+            for i in np.flatnonzero(overlap)[:1]:
+                raise ValueError(f"Scenario.obstacles[{i}] at {self.obstacles[i].center} overlaps the robot at the {label} {point}")
+        too_fast = np.hypot(vel[:, 0], vel[:, 1]) * self.dt > max_step
+        for i in np.flatnonzero(too_fast)[:1]:
+            raise ValueError(
+                f"Scenario.obstacles[{i}].velocity {self.obstacles[i].velocity} crosses the whole arena in one step; "
+                f"lower the speed or delta_d"
+            )
 
     # -- derived facts -------------------------------------------------------------------------
     @property
@@ -153,24 +178,21 @@ class Scenario:
         if not (math.isfinite(delta_d) and delta_d >= 0):
             raise ValueError(f"delta_d must be finite and >= 0, got {delta_d!r}")
         angles = rng.uniform(0.0, 2 * math.pi, size=len(self.obstacles))
-        moved = []
-        for ob, angle in zip(self.obstacles, angles):
-            speed = delta_d * ob.radius / self.dt
-            if ob.speed > 0:
-                ux, uy = ob.velocity[0] / ob.speed, ob.velocity[1] / ob.speed
-            else:
-                ux, uy = math.cos(angle), math.sin(angle)
-            moved.append(replace(ob, velocity=(speed * ux, speed * uy)))
-        return replace(self, obstacles=tuple(moved))
+        velocities, radii = self._arrays["velocities"], self._arrays["radii"]
+        speeds = np.hypot(velocities[:, 0], velocities[:, 1])
+        moving = speeds > 0
+        units = np.where(
+            moving[:, None], velocities / np.where(moving, speeds, 1.0)[:, None], np.stack([np.cos(angles), np.sin(angles)], axis=1)
+        )
+        new_velocities = (delta_d * radii / self.dt)[:, None] * units
+        moved = tuple(
+            Obstacle._from_checked(ob.center, ob.radius, (vx, vy)) for ob, (vx, vy) in zip(self.obstacles, new_velocities.tolist())
+        )
+        return replace(self, obstacles=moved)
 
     def arrays(self) -> dict[str, np.ndarray]:
-        """Obstacle data as float64 arrays: ``positions`` (N, 2), ``velocities`` (N, 2), ``radii`` (N,)."""
-        n = len(self.obstacles)
-        return {
-            "positions": np.array([ob.center for ob in self.obstacles], dtype=np.float64).reshape(n, 2),
-            "velocities": np.array([ob.velocity for ob in self.obstacles], dtype=np.float64).reshape(n, 2),
-            "radii": np.array([ob.radius for ob in self.obstacles], dtype=np.float64).reshape(n),
-        }
+        """Obstacle data as read-only float64 arrays: ``positions`` (N, 2), ``velocities`` (N, 2), ``radii`` (N,)."""
+        return dict(self._arrays)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -226,6 +248,37 @@ def random_arena_bounds(n_obstacles: int) -> tuple[float, float, float, float]:
     return (0.0, 0.0, side, side)
 
 
+@numba.njit(cache=True)
+def _place_obstacles(unit, radii, lo, hi, start, goal, endpoint_clearance, gap):
+    """Rejection sampling: obstacle ``i`` takes the first of its candidate points ``unit[i]`` that keeps
+    clear of the start, the goal and the obstacles placed before it. Compiled: with 50 obstacles
+    the loop over candidates and placed obstacles dominated the reset.
+
+    :return: ``(centers, placed)``; ``placed < len(radii)`` when some obstacle found no free candidate.
+    """
+    n, m = unit.shape[0], unit.shape[1]
+    centers = np.empty((n, 2))
+    for i in range(n):
+        rad = radii[i]
+        found = False
+        for c in range(m):
+            x = lo[0] + rad + unit[i, c, 0] * (hi[0] - lo[0] - 2 * rad)
+            y = lo[1] + rad + unit[i, c, 1] * (hi[1] - lo[1] - 2 * rad)
+            ok = math.hypot(x - start[0], y - start[1]) > rad + endpoint_clearance
+            ok = ok and math.hypot(x - goal[0], y - goal[1]) > rad + endpoint_clearance
+            j = 0
+            while ok and j < i:
+                ok = math.hypot(x - centers[j, 0], y - centers[j, 1]) > radii[j] + rad + gap
+                j += 1
+            if ok:
+                centers[i, 0], centers[i, 1] = x, y
+                found = True
+                break
+        if not found:
+            return centers, i
+    return centers, n
+
+
 def sample_random_scenario(rng: np.random.Generator, n_obstacles: int = 8) -> Scenario:
     """Draw a random scenario from ``rng`` (the env passes its ``np_random``); obstacles start at rest."""
     if isinstance(n_obstacles, bool) or int(n_obstacles) != n_obstacles or n_obstacles < 0:
@@ -241,23 +294,15 @@ def sample_random_scenario(rng: np.random.Generator, n_obstacles: int = 8) -> Sc
         if math.dist(start, goal) >= RANDOM_MIN_START_GOAL:
             break
     radii = rng.uniform(*RANDOM_RADIUS_RANGE, size=n)
-    # Rejection sampling from one batch of candidates per obstacle, checked against all placed
-    # obstacles at once (reset-time only, not on the step path).
     unit = rng.uniform(0.0, 1.0, size=(n, _CANDIDATES, 2))
-    centers = np.empty((n, 2))
-    for i, rad in enumerate(radii):
-        candidates = lo + rad + unit[i] * (hi - lo - 2 * rad)
-        keep_out = np.concatenate([[start, goal], centers[:i]])
-        min_dist = np.concatenate([[rad + r + RANDOM_START_CLEARANCE] * 2, radii[:i] + rad + RANDOM_OBSTACLE_GAP])
-        clear = (np.linalg.norm(candidates[:, None] - keep_out[None], axis=-1) > min_dist).all(axis=1)
-        if not clear.any():
-            raise ValueError(f"n_obstacles: could not place {n} obstacles in the random arena {bounds} (placed {i})")
-        centers[i] = candidates[np.argmax(clear)]
+    centers, placed = _place_obstacles(unit, radii, lo, hi, start, goal, r + RANDOM_START_CLEARANCE, RANDOM_OBSTACLE_GAP)
+    if placed < n:
+        raise ValueError(f"n_obstacles: could not place {n} obstacles in the random arena {bounds} (placed {placed})")
     return Scenario(
         bounds=bounds,
         start=tuple(start),
         goal=tuple(goal),
-        obstacles=tuple(Obstacle(center=tuple(c), radius=float(rad)) for c, rad in zip(centers, radii)),
+        obstacles=tuple(Obstacle._from_checked(tuple(c), rad, (0.0, 0.0)) for c, rad in zip(centers.tolist(), radii.tolist())),
         robot_radius=r,
         robot_speed=ROBOT_STEP_IN_RADII * float(np.mean(RANDOM_RADIUS_RANGE)) / DT,
         dt=DT,

@@ -14,8 +14,9 @@ otherwise cross the robot between two steps unseen).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from typing import NamedTuple
 
+import numba
 import numpy as np
 import pymunk
 import pymunk.batch
@@ -29,11 +30,37 @@ WALL_TYPE = 2
 #: Chipmunk's discrete collision detection from missing obstacle-obstacle and obstacle-wall
 #: contacts; robot contacts are exact at any substep size.
 MAX_SUBSTEP_DISPLACEMENT = 0.5
+#: Relative speed change that counts as a bounce to undo (Chipmunk's elastic impulses change speeds
+#: by far more; numerical drift of a free body is far less).
+SPEED_TOLERANCE = 1e-9
 _STATE_FIELDS = pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.VELOCITY
+_batch = pymunk.batch  # its ffi and lib, for the per-substep read below
+_READ_BODY = _batch.ffi.addressof(_batch.lib, "pmSpaceBodyGetIteratorFuncBatched")
 
 
-@dataclass(frozen=True)
-class StepContact:
+@numba.njit(cache=True)
+def _finish_substep(state, new_state, ax, ay, bx, by, robot_radius, radii, speeds):
+    """The robot's swept contact test from ``state`` to ``new_state``, then restore every obstacle's speed.
+
+    Compiled because it runs on every substep: one call instead of a dozen numpy calls on tiny
+    arrays. Bounces keep directions but give each obstacle its own speed back (in ``new_state``,
+    which is then copied into ``state``). Returns ``(min_gap, t_contact, any_restored)``.
+    """
+    min_gap, t_contact = swept_contact(ax, ay, bx, by, robot_radius, state, new_state, radii)
+    restored = False
+    for i in range(radii.shape[0]):
+        vx, vy = new_state[i, 2], new_state[i, 3]
+        norm = math.hypot(vx, vy)
+        if norm > 0.0 and abs(norm - speeds[i]) > SPEED_TOLERANCE * speeds[i]:
+            new_state[i, 2] = vx * (speeds[i] / norm)
+            new_state[i, 3] = vy * (speeds[i] / norm)
+            restored = True
+        for j in range(4):
+            state[i, j] = new_state[i, j]
+    return min_gap, t_contact, restored
+
+
+class StepContact(NamedTuple):
     """What the robot met during one step."""
 
     min_gap: float
@@ -47,42 +74,47 @@ class StepContact:
 
 
 class World:
-    """One episode's simulation, built fresh from a :class:`Scenario` (as LunarLander does on reset)."""
+    """One episode's simulation, built fresh from a :class:`Scenario` (as LunarLander does on reset).
+
+    Obstacle state moves between pymunk and numpy in one batch call per substep
+    (``pymunk.batch``), not one Python attribute access per body.
+    """
 
     def __init__(self, scenario: Scenario):
         self.scenario = scenario
         data = scenario.arrays()
         self.radii = data["radii"]
         self.n_obstacles = len(self.radii)
-        self._nominal_speed = np.linalg.norm(data["velocities"], axis=1)
+        self._speeds = np.hypot(data["velocities"][:, 0], data["velocities"][:, 1])
         self.robot_position = np.array(scenario.start, dtype=np.float64)
         self.robot_velocity = np.zeros(2)
         self.time = 0.0
 
-        max_displacement = float(self._nominal_speed.max(initial=0.0)) * scenario.dt
+        max_displacement = float(self._speeds.max(initial=0.0)) * scenario.dt
         min_radius = float(self.radii.min(initial=1.0))
         self.substeps = max(1, math.ceil(max_displacement / (MAX_SUBSTEP_DISPLACEMENT * min_radius)))
 
         self.space = pymunk.Space()
         self.space.collision_slop = 1e-4 * min_radius  # default 0.1 m is a fifth of a small obstacle
         self._add_walls(scenario.bounds, thickness=max(scenario.arena_diagonal, 1.0))
-        self._bodies = []
-        for (x, y), (vx, vy), r, speed in zip(data["positions"], data["velocities"], self.radii, self._nominal_speed):
+        objects = []
+        for r, speed in zip(self.radii.tolist(), self._speeds.tolist()):
             if speed > 0:
                 body = pymunk.Body(mass=r * r, moment=math.inf)  # equal density; discs never spin
             else:
                 body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)  # a resting obstacle is immovable
-            body.position = (float(x), float(y))
-            body.velocity = (float(vx), float(vy))
-            shape = pymunk.Circle(body, float(r))
+            shape = pymunk.Circle(body, r)
             shape.elasticity, shape.friction, shape.collision_type = 1.0, 0.0, OBSTACLE_TYPE
-            self.space.add(body, shape)
-            self._bodies.append(body)
-        self._touched: set[int] = set()
-        self.space.on_collision(OBSTACLE_TYPE, None, post_solve=self._record_contact)
-        self._init_buffers()
-        self._read_state()
-        self.obstacle_state = self._states[self._current]  # (N, 4): x, y, vx, vy
+            objects += (body, shape)
+        self.space.add(*objects)
+        # positions and velocities in one batch write; the obstacles are the space's first bodies
+        self._buffer = pymunk.batch.Buffer()
+        self._attach_state_view()
+        self._pymunk_state[:, :2] = data["positions"]
+        self._pymunk_state[:, 2:] = data["velocities"]
+        pymunk.batch.set_space_bodies(self.space, _STATE_FIELDS, self._buffer)
+        self.obstacle_state = self._pymunk_state.copy()  # (N, 4): x, y, vx, vy
+        self.space.step(0.0)  # runs pymunk's one-time checks on the new bodies; moves nothing
 
     # -- construction helpers ------------------------------------------------------------------
     def _add_walls(self, bounds, thickness: float) -> None:
@@ -101,65 +133,56 @@ class World:
             seg.elasticity, seg.friction, seg.collision_type = 1.0, 0.0, WALL_TYPE
             self.space.add(seg)
 
-    def _init_buffers(self) -> None:
-        # Two state arrays we alternate between: the previous substep's state stays intact for the
-        # swept test without a copy. (pymunk.batch's set_float_buf would let pymunk write into them
-        # directly, but in pymunk 7.3 it does not keep its view alive, so we copy from its buffer.)
-        self._buffer = pymunk.batch.Buffer()
-        self._states = [np.zeros((self.n_obstacles, 4)), np.zeros((self.n_obstacles, 4))]
-        self._current = 0
+    def _attach_state_view(self) -> None:
+        """Read the bodies once and keep a numpy view onto pymunk's batch array.
 
-    def _read_state(self) -> None:
-        buf = self._buffer
-        buf.clear()
-        pymunk.batch.get_space_bodies(self.space, _STATE_FIELDS, buf)
-        # dynamic and kinematic bodies come first, in insertion order: the obstacles
-        flat = np.frombuffer(buf.float_buf(), dtype=np.float64, count=4 * self.n_obstacles)
-        self._states[self._current][:] = flat.reshape(self.n_obstacles, 4)
+        Later reads of the same bodies refill that array in place (it never needs to grow), so the
+        view stays valid. (``Buffer.set_float_buf`` would point pymunk at our own array instead, but
+        pymunk 7.3 may reallocate it while reading.)
 
-    def _record_contact(self, arbiter: pymunk.Arbiter, space, data) -> None:
-        for shape in arbiter.shapes:
-            if shape.collision_type == OBSTACLE_TYPE:
-                self._touched.add(id(shape.body))
+        The per-substep read calls the C iterator behind ``pymunk.batch.get_space_bodies`` with a
+        request struct built once here: the wrapper's per-call set-up cost more than the read itself.
+        """
+        self._request = _batch.ffi.new("pmBatchedData *")
+        self._request.fields = _STATE_FIELDS.value
+        self._request.floatArray = self._buffer._float_arr
+        self._request.intArray = self._buffer._int_arr
+        self._read_bodies()
+        array = self._buffer._float_arr
+        raw = np.frombuffer(pymunk.batch.ffi.buffer(array.arr, 8 * array.num), dtype=np.float64)
+        self._pymunk_state = raw[: 4 * self.n_obstacles].reshape(self.n_obstacles, 4)
 
-    def _restore_speeds(self) -> None:
-        """Give every obstacle touched in the last substep its own speed back (directions unchanged)."""
-        for index, body in enumerate(self._bodies):
-            if id(body) in self._touched:
-                vx, vy = body.velocity
-                norm = math.hypot(vx, vy)
-                if norm > 0:
-                    scale = self._nominal_speed[index] / norm
-                    body.velocity = (vx * scale, vy * scale)
-        self._touched.clear()
+    def _read_bodies(self) -> None:
+        self._buffer._float_arr.num = 0  # Buffer.clear() for the float array, the only one we use
+        _batch.lib.cpSpaceEachBody(self.space._space, _READ_BODY, self._request)
 
     # -- stepping ------------------------------------------------------------------------------
-    def step(self, robot_displacement: tuple[float, float]) -> StepContact:
-        """Advance by one ``dt``: move the robot by ``robot_displacement``, obstacles by physics."""
-        dt = self.scenario.dt
-        n = self.substeps
-        dx, dy = robot_displacement
-        start = self.robot_position
+    def step(self, dx: float, dy: float) -> StepContact:
+        """Advance by one ``dt``: move the robot by ``(dx, dy)``, obstacles by physics."""
+        dt, n = self.scenario.dt, self.substeps
+        x0, y0 = self.robot_position
         min_gap, first_contact = math.inf, NO_CONTACT
-        robot_a = start
+        ax, ay = x0, y0
+        space = self.space._space
         for k in range(1, n + 1):
-            self.space.step(dt / n)
-            if self._touched:
-                self._restore_speeds()
-            previous = self._states[self._current]
-            self._current ^= 1
-            self._read_state()
-            robot_b = start + (k / n) * np.array((dx, dy)) if n > 1 else start + (dx, dy)
-            gap, t = swept_contact(robot_a, robot_b, self.scenario.robot_radius, previous, self._states[self._current], self.radii)
+            # Chipmunk's step itself: Space.step's extra work (deferred adds and removals, post-step
+            # callbacks) never applies here, since nothing is added or removed after construction
+            _batch.lib.cpSpaceStep(space, dt / n)
+            self._read_bodies()
+            bx, by = (x0 + dx, y0 + dy) if k == n else (x0 + (k / n) * dx, y0 + (k / n) * dy)
+            gap, t, restored = _finish_substep(
+                self.obstacle_state, self._pymunk_state, ax, ay, bx, by, self.scenario.robot_radius, self.radii, self._speeds
+            )
+            if restored:  # write the restored speeds back to pymunk
+                pymunk.batch.set_space_bodies(self.space, _STATE_FIELDS, self._buffer)
             min_gap = min(min_gap, gap)
             if t <= 1.0 and first_contact > 1.0:
                 first_contact = (k - 1 + t) / n
-            robot_a = robot_b
-        self.obstacle_state = self._states[self._current]
-        self.robot_position = robot_a
+            ax, ay = bx, by
+        self.robot_position = np.array((ax, ay))
         self.robot_velocity = np.array((dx / dt, dy / dt))
         self.time += dt
-        return StepContact(min_gap=float(min_gap), contact_fraction=float(first_contact))
+        return StepContact(float(min_gap), float(first_contact))
 
     def clearance(self) -> float:
         """Current smallest surface gap between the robot and any obstacle (inf with no obstacles)."""
@@ -168,13 +191,14 @@ class World:
         d = np.hypot(*(self.obstacle_state[:, :2] - self.robot_position).T) - self.radii - self.scenario.robot_radius
         return float(d.min())
 
-    # -- pickling: pymunk's Space pickles itself; the batch buffer is rebuilt ------------------
+    # -- pickling: pymunk's Space pickles itself; the batch buffer and its view are rebuilt ----
     def __getstate__(self):
         state = self.__dict__.copy()
-        del state["_buffer"]
+        for key in ("_buffer", "_pymunk_state", "_request"):
+            del state[key]
         return state
 
     def __setstate__(self, state):
         self.__dict__.update(state)
         self._buffer = pymunk.batch.Buffer()
-        self.obstacle_state = self._states[self._current]
+        self._attach_state_view()

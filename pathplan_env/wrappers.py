@@ -129,6 +129,14 @@ def relative_action_to_waypoint(obs: dict[str, np.ndarray], action: np.ndarray, 
     return obs["robot_position"] + world
 
 
+def waypoint_to_relative_action(obs: dict[str, np.ndarray], waypoint: np.ndarray, facts: EnvFacts) -> np.ndarray:
+    """Inverse of :func:`relative_action_to_waypoint` (clipped to [-1, 1]^2): e.g. a planner's waypoint as a label."""
+    obs = {k: np.asarray(v, dtype=np.float64) for k, v in obs.items()}
+    ex, _ = _goal_frame(obs)
+    offset = (np.asarray(waypoint, dtype=np.float64) - obs["robot_position"]) / (facts.robot_speed * facts.dt)
+    return np.clip(_rotate(offset, ex), -1.0, 1.0).astype(np.float32)
+
+
 class EgocentricObservation(gym.ObservationWrapper):
     """Flat ``Box`` observation: :func:`egocentric_features` of the env's ``Dict`` observation."""
 

@@ -31,13 +31,13 @@ from tqdm import tqdm
 
 SUITES = {
     "default": dict(
-        agents="straight,velocity-obstacle,oracle-static,pso,abc,pso-predictive,abc-predictive",
+        agents="straight,velocity-obstacle,oracle-static,pso,abc,pso-predictive,abc-predictive,ppo",
         scenarios="random,paper-case-3",
-        delta_d="0,0.125,0.25,0.5,1",
+        delta_d="0,0.1,0.25,0.5,1",
         episodes=50,
     ),
     "large": dict(
-        agents="straight,velocity-obstacle,oracle-static,pso,abc,pso-vanilla,abc-vanilla,pso-predictive,abc-predictive",
+        agents="straight,velocity-obstacle,oracle-static,pso,abc,pso-vanilla,abc-vanilla,pso-predictive,abc-predictive,ppo",
         scenarios="random,paper-case-1,paper-case-2,paper-case-3",
         delta_d="0,0.1,0.125,0.25,0.5,1,2",
         episodes=100,
@@ -82,7 +82,7 @@ def run_episode(agent_name: str, scenario: str, delta_d: float, episode: int, se
     )
     plan_ms, clearance, steps = [], math.inf, 0
     while True:
-        action, _ = agent.predict(obs)
+        action, _ = agent.predict(obs, deterministic=True)
         plan_ms.append(1e3 * agent.last_plan_seconds)
         obs, _, terminated, truncated, info = env.step(action)
         clearance = min(clearance, info["min_clearance"])
@@ -100,6 +100,10 @@ def run_episode(agent_name: str, scenario: str, delta_d: float, episode: int, se
         path_length_ratio=info["path_length"] / reference if success and np.isfinite(reference) and reference > 0 else math.nan,
         time_to_goal=info["time"] if success else math.nan, min_clearance=clearance, plan_ms=plan_ms,
     )  # fmt: skip
+
+
+def _init_worker() -> None:
+    os.environ["OMP_NUM_THREADS"] = "1"  # one torch thread per worker: the workers already fill the cores
 
 
 def _run_job(job) -> EpisodeResult:
@@ -285,7 +289,7 @@ def main(argv=None) -> list[dict]:
     start = time.perf_counter()
     results: list[EpisodeResult] = []
     if args.workers > 1:
-        with get_context("spawn").Pool(args.workers) as pool:
+        with get_context("spawn").Pool(args.workers, initializer=_init_worker) as pool:
             for res in tqdm(pool.imap_unordered(_run_job, jobs, chunksize=4), total=len(jobs), desc="episodes", file=sys.stderr):
                 results.append(res)
     else:

@@ -33,8 +33,8 @@ import gymnasium as gym
 import numpy as np
 
 import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
-from pathplan_env.splits import VALIDATION_SEED_BASE, training_seed_base
-from pathplan_env.wrappers import EpisodeSchedule, make_learning_env
+from pathplan_env.splits import TRAINING_SEEDS_PER_RUN, VALIDATION_SEED_BASE, training_seed_base
+from pathplan_env.wrappers import EnvFacts, EpisodeSchedule, egocentric_features, make_learning_env, waypoint_to_relative_action
 
 MODELS_DIR = Path(__file__).resolve().parents[1] / "agents" / "models"
 
@@ -55,7 +55,22 @@ class Args:
     delta_d_max: float = 1.0
     curriculum_fraction: float = 0.3
     k_nearest: int = 8
-    learning_rate: float = 3e-4
+    learning_rate: float = 1e-4
+    """gentle by default: PPO fine-tunes the behaviour-cloned policy"""
+    log_std_init: float = -1.0
+    """initial exploration noise (std e^-1 = 0.37 of a step's reach) around the cloned mean action"""
+    ent_coef: float = 0.0
+    n_steps: int = 256
+    """PPO rollout length per env"""
+    reward_collision: float = -1.0
+    """the env's collision penalty during training (evaluation always uses the env's default)"""
+    reward_proximity: float = -0.1
+    teacher: str = "velocity-obstacle"
+    """warm start: behaviour-clone this planner's successful episodes before RL (CrowdNav's IL + RL); '' = none"""
+    teacher_steps: int = 200_000
+    """env steps of teacher demonstrations"""
+    teacher_epochs: int = 20
+    """CrowdNav-style discomfort penalty within 0.5 m of an obstacle, for training only (0 = off)"""
     net_arch: str = "128,128"
     eval_freq: int = 100_000
     """env steps between validation evaluations"""
@@ -103,7 +118,7 @@ def make_env(args: Args, first_seed: int, stride: int, delta_d, n_obstacles):
     def thunk():
         from stable_baselines3.common.monitor import Monitor
 
-        env = gym.make("DynamicObstacle-v0", scenario="random")
+        env = gym.make("DynamicObstacle-v0", scenario="random", reward_collision=args.reward_collision, reward_proximity=args.reward_proximity)
         env = EpisodeSchedule(env, first_seed=first_seed, stride=stride, delta_d=delta_d, n_obstacles=n_obstacles)
         return Monitor(make_learning_env(env, k_nearest=args.k_nearest))
 
@@ -118,10 +133,81 @@ def build_model(args: Args, env, log_dir: Path):
     common = dict(learning_rate=args.learning_rate, seed=args.seed, verbose=0, device="cpu", tensorboard_log=str(log_dir / "tb"))
     if args.algo == "ppo":
         return PPO(
-            "MlpPolicy", env, n_steps=256, batch_size=256, n_epochs=10, gamma=0.99, gae_lambda=0.95,
-            clip_range=0.2, ent_coef=0.0, policy_kwargs=dict(net_arch=net_arch, activation_fn=torch.nn.Tanh), **common,
+            "MlpPolicy", env, n_steps=args.n_steps, batch_size=256, n_epochs=10, gamma=0.99, gae_lambda=0.95,
+            clip_range=0.2, ent_coef=args.ent_coef, policy_kwargs=dict(net_arch=net_arch, activation_fn=torch.nn.Tanh, log_std_init=args.log_std_init), **common,
         )  # fmt: skip
     return SAC("MlpPolicy", env, buffer_size=300_000, batch_size=256, learning_starts=10_000, policy_kwargs=dict(net_arch=net_arch), **common)
+
+
+def collect_demonstrations(args: Args, gamma: float) -> dict[str, np.ndarray]:
+    """Roll out ``args.teacher`` on training episodes (the second half of this run's seed block) and keep
+    its successful episodes: learning-wrapper features, relative actions, discounted returns."""
+    import agents
+    from tqdm import tqdm
+
+    env = gym.make("DynamicObstacle-v0", scenario="random", reward_collision=args.reward_collision, reward_proximity=args.reward_proximity)
+    first = training_seed_base(args.seed) + TRAINING_SEEDS_PER_RUN // 2
+    env = EpisodeSchedule(env, first_seed=first, delta_d=(0.0, args.delta_d_max), n_obstacles=(args.n_obstacles_min, args.n_obstacles_max))
+    facts = EnvFacts.of(env)
+    teacher = agents.make(args.teacher, env, seed=args.seed)
+    features, actions, returns = [], [], []
+    kept = episodes = steps = 0
+    with tqdm(total=args.teacher_steps, desc=f"{args.teacher} demonstrations", disable=not args.progress) as bar:
+        while steps < args.teacher_steps:
+            obs, _ = env.reset()
+            teacher.reset()
+            ep_features, ep_actions, rewards = [], [], []
+            while True:
+                action, _ = teacher.predict(obs, deterministic=True)
+                ep_features.append(egocentric_features(obs, facts, args.k_nearest))
+                ep_actions.append(waypoint_to_relative_action(obs, env.unwrapped.action_to_waypoint(action), facts))
+                obs, reward, terminated, truncated, info = env.step(action)
+                rewards.append(reward)
+                if terminated or truncated:
+                    break
+            episodes += 1
+            steps += len(rewards)
+            bar.update(len(rewards))
+            if not info["is_success"]:
+                continue
+            kept += 1
+            ret, discounted = 0.0, []
+            for r in reversed(rewards):
+                ret = r + gamma * ret
+                discounted.append(ret)
+            features += ep_features
+            actions += ep_actions
+            returns += discounted[::-1]
+    print(f"demonstrations: kept {kept} of {episodes} {args.teacher} episodes (the successful ones), {len(actions)} steps")
+    return {"features": np.array(features), "actions": np.array(actions), "returns": np.array(returns, np.float32)}
+
+
+def behaviour_cloning(model, demos: dict[str, np.ndarray], epochs: int, seed: int) -> None:
+    """Fit the policy's mean action and value to the demonstrations (regression, Adam, minibatches of 256)."""
+    import torch
+
+    policy = model.policy
+    obs = torch.as_tensor(demos["features"])
+    act = torch.as_tensor(demos["actions"])
+    ret = torch.as_tensor(demos["returns"])
+    optimizer = torch.optim.Adam(policy.parameters(), lr=1e-3)
+    generator = torch.Generator().manual_seed(seed)
+    policy.set_training_mode(True)
+    for epoch in range(epochs):
+        order = torch.randperm(len(obs), generator=generator)
+        total = 0.0
+        for start in range(0, len(obs), 256):
+            idx = order[start : start + 256]
+            distribution = policy.get_distribution(obs[idx])
+            values = policy.predict_values(obs[idx]).squeeze(-1)
+            loss = torch.nn.functional.mse_loss(distribution.distribution.mean, act[idx]) + 0.5 * torch.nn.functional.mse_loss(values, ret[idx])
+            optimizer.zero_grad()
+            loss.backward()
+            optimizer.step()
+            total += float(loss.detach()) * len(idx)
+        if epoch in (0, epochs - 1):
+            print(f"behaviour cloning epoch {epoch + 1}/{epochs}: loss {total / len(obs):.4f}")
+    policy.set_training_mode(False)
 
 
 def train(args: Args) -> dict:
@@ -165,6 +251,12 @@ def train(args: Args) -> dict:
     ])  # fmt: skip
     model = build_model(args, train_env, out)
     start = time.perf_counter()
+    if args.teacher:
+        if args.algo != "ppo":
+            raise ValueError("teacher: the behaviour-cloning warm start is implemented for ppo")
+        behaviour_cloning(model, collect_demonstrations(args, model.gamma), args.teacher_epochs, args.seed)
+        model.save(out / "cloned_model.zip")
+        print(f"cloned policy: validation success {validation_success(model, eval_env, args.eval_episodes):.2f}")
     model.learn(args.total_timesteps, callback=callbacks, progress_bar=args.progress, tb_log_name=args.algo)
     seconds = time.perf_counter() - start
     model.save(out / "final_model.zip")
@@ -196,6 +288,21 @@ def train(args: Args) -> dict:
         print(f"shipped {args.ship} model to {MODELS_DIR / (args.algo + '.zip')}")
     print(json.dumps({k: meta[k] for k in ("total_timesteps", "training_seconds", "env_steps_per_second", "validation")}, indent=2))
     return meta
+
+
+def validation_success(model, eval_env, episodes: int) -> float:
+    """Success rate on the validation episodes (rewound first), as EvalCallback measures it."""
+    from stable_baselines3.common.evaluation import evaluate_policy
+
+    eval_env.env_method("restart")
+    successes = []
+
+    def record(local_vars, _globals):
+        if local_vars["done"]:
+            successes.append(bool(local_vars["info"].get("is_success", False)))
+
+    evaluate_policy(model, eval_env, n_eval_episodes=episodes, deterministic=True, callback=record)
+    return float(np.mean(successes))
 
 
 def learning_curve(out: Path) -> dict:

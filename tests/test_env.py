@@ -199,9 +199,9 @@ def test_near_miss_by_one_percent_is_not_a_collision():
 def test_swept_contact_sees_a_crossing_that_both_endpoints_miss():
     a, b = np.array([[-3.0, 0.0, 0, 0]]), np.array([[3.0, 0.0, 0, 0]])
     robot = np.zeros(2)
-    gap, t = swept_contact(robot, robot, 0.2, a, b, np.array([0.5]))
+    gap, t = swept_contact(*robot, *robot, 0.2, a, b, np.array([0.5]))
     assert gap < 0 and math.isclose(t, (3.0 - 0.7) / 6.0)
-    gap, t = swept_contact(robot, robot, 0.2, a + [0, 0.71, 0, 0], b + [0, 0.71, 0, 0], np.array([0.5]))
+    gap, t = swept_contact(*robot, *robot, 0.2, a + [0, 0.71, 0, 0], b + [0, 0.71, 0, 0], np.array([0.5]))
     assert t > 1.0 and math.isclose(gap, 0.01)
 
 
@@ -210,17 +210,22 @@ def test_elastic_bounces_keep_each_obstacle_speed():
     env.reset(seed=2)
     scenario = env.unwrapped.scenario
     speeds = np.array([ob.speed for ob in scenario.obstacles])
-    directions = []
+    radii = scenario.arrays()["radii"]
+    xmin, ymin, xmax, ymax = scenario.bounds
+    directions, penetration = [], []
     for _ in range(150):
         obs, *_ = env.unwrapped.step(stand_still(env))  # the unwrapped env: no time limit, no termination check
         v = obs["obstacle_velocities"][: len(speeds)]
         np.testing.assert_allclose(np.linalg.norm(v, axis=1), speeds, rtol=1e-5)
         directions.append(v / speeds[:, None])
+        x, y = obs["obstacle_positions"][: len(speeds)].T
+        penetration.append(np.max([xmin - (x - radii), x + radii - xmax, ymin - (y - radii), y + radii - ymax]))
     turned = np.abs(np.diff(np.array(directions), axis=0)).max(axis=2) > 1e-3
     assert turned.any(axis=0).all(), "every obstacle should have bounced at least once"
-    xmin, ymin, xmax, ymax = scenario.bounds
-    p, r = obs["obstacle_positions"][: len(speeds)], obs["obstacle_radii"][: len(speeds)]
-    assert (p[:, 0] - r >= xmin - 1e-2).all() and (p[:, 0] + r <= xmax + 1e-2).all()
+    # Chipmunk detects contacts discretely: an obstacle may dip into a wall by about one substep's
+    # displacement before it bounces, never more (and never through it)
+    substep_displacement = speeds.max() * scenario.dt / env.unwrapped._world.substeps
+    assert 0 < max(penetration) < 1.5 * substep_displacement
 
 
 def test_robot_never_pushes_obstacles():

@@ -1,0 +1,125 @@
+"""RL: the shipped PPO policy, a tiny end-to-end training run, the training episode schedule and seed splits."""
+
+import json
+import sys
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from stable_baselines3.common.env_util import make_vec_env
+from stable_baselines3.common.evaluation import evaluate_policy
+
+import agents
+import pathplan_env  # noqa: F401
+from agents.rl import MODELS_DIR
+from pathplan_env.splits import VALIDATION_SEED_BASE, heldout_seeds, is_training_seed, is_validation_seed, training_seed_base
+from pathplan_env.wrappers import EpisodeSchedule, make_learning_env
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
+import train_rl  # noqa: E402
+
+
+def test_shipped_ppo_loads_and_acts_on_raw_observations():
+    assert (MODELS_DIR / "ppo.zip").stat().st_size < 10e6
+    meta = json.loads((MODELS_DIR / "ppo.json").read_text())
+    assert meta["algo"] == "ppo" and "train_rl.py" in meta["command"]
+    env = gym.make("DynamicObstacle-v0", scenario="random", delta_d=0.25)
+    agent = agents.make("ppo", env)
+    obs, _ = env.reset(seed=0)
+    action, state = agent.predict(obs, deterministic=True)
+    assert env.action_space.contains(action) and state is None
+    again, _ = agent.predict(obs, deterministic=True)
+    np.testing.assert_array_equal(action, again)  # the mean action is deterministic
+    # batched, through a vector env, as evaluate_policy drives it
+    vec = make_vec_env(lambda: gym.make("DynamicObstacle-v0", scenario="random", delta_d=0.25), n_envs=2, seed=0)
+    mean_reward, _ = evaluate_policy(agents.make("ppo", vec), vec, n_eval_episodes=4)
+    assert np.isfinite(mean_reward)
+
+
+def test_shipped_ppo_beats_going_straight():
+    # 30 held-out episodes at Δd = 0.25: a trained policy must avoid obstacles that a straight run hits
+    env = gym.make("DynamicObstacle-v0", scenario="random", delta_d=0.25)
+    rates = {}
+    for name in ("straight", "ppo"):
+        agent = agents.make(name, env)
+        rates[name] = np.mean([agents.rollout(agent, env, seed)["is_success"] for seed in heldout_seeds(0, 30)])
+    assert rates["ppo"] >= rates["straight"] + 0.3, rates
+
+
+def test_tiny_training_run_end_to_end(tmp_path):
+    args = train_rl.Args(
+        total_timesteps=512, n_envs=2, n_steps=128, eval_freq=256, eval_episodes=2, checkpoint_freq=256,
+        out=str(tmp_path / "run"), progress=False,
+    )  # fmt: skip
+    meta = train_rl.train(args)
+    run = tmp_path / "run"
+    for name in ("final_model.zip", "final_model.json", "best_model.zip", "evaluations.npz", "learning_curve.png"):
+        assert (run / name).exists(), name
+    assert list((run / "checkpoints").glob("ppo_*_steps.zip")) and list((run / "tb").iterdir())
+    assert meta["total_timesteps"] >= 512 and meta["env_steps_per_second"] > 0
+    env = gym.make("DynamicObstacle-v0")
+    agent = agents.make("ppo", env, path=run / "final_model.zip")
+    info = agents.rollout(agent, env, seed=heldout_seeds(0, 1)[0])
+    assert "is_success" in info
+
+
+def test_training_arguments_are_checked():
+    with pytest.raises(ValueError, match="algo"):
+        train_rl.Args(algo="dqn")
+    with pytest.raises(ValueError, match="delta_d"):
+        train_rl.Args(delta_d_start=1.0, delta_d_max=0.5)
+    with pytest.raises(ValueError, match="seed"):
+        train_rl.Args(seed=10_000)
+    assert train_rl.parse_args(["--total-timesteps", "1000", "--no-progress", "--net-arch", "64,64"]).total_timesteps == 1000
+
+
+def test_missing_model_is_a_clear_error(tmp_path):
+    with pytest.raises(ValueError, match="path"):
+        agents.make("ppo", gym.make("DynamicObstacle-v0"), path=tmp_path / "none.zip")
+
+
+def _episode(env, seed=None):
+    obs, _ = env.reset(seed=seed)
+    return env.unwrapped.scenario, env.unwrapped._delta_d, obs
+
+
+def test_episode_schedule_is_reproducible_and_strided():
+    make = lambda first: EpisodeSchedule(gym.make("DynamicObstacle-v0"), first_seed=first, stride=2, delta_d=(0.0, 1.0), n_obstacles=(4, 12))  # noqa: E731
+    a, b = make(10), make(10)
+    episodes_a = [_episode(a) for _ in range(5)]
+    episodes_b = [_episode(b) for _ in range(5)]
+    for (sa, da, oa), (sb, db, ob) in zip(episodes_a, episodes_b):
+        assert sa == sb and da == db
+        np.testing.assert_array_equal(oa["obstacle_positions"], ob["obstacle_positions"])
+    assert a.next_seed() == 10 + 5 * 2
+    deltas = [d for _, d, _ in episodes_a]
+    counts = [s.n_obstacles for s, _, _ in episodes_a]
+    assert all(0 <= d <= 1 for d in deltas) and len(set(deltas)) == 5 and all(4 <= n <= 12 for n in counts)
+    # an episode depends on its seed only: rewinding replays it, and env index 1 of 2 sees other seeds
+    a.restart()
+    np.testing.assert_array_equal(_episode(a)[2]["obstacle_positions"], episodes_a[0][2]["obstacle_positions"])
+    assert make(11).next_seed() == 11
+    a.set_delta_d(0.5)
+    assert _episode(a)[1] == 0.5
+    with pytest.raises(ValueError, match="delta_d"):
+        a.set_delta_d((1.0, 0.5))
+
+
+def test_seed_splits_are_disjoint():
+    assert all(is_training_seed(training_seed_base(s) + 9_999_999) for s in (0, 89))
+    assert is_validation_seed(VALIDATION_SEED_BASE) and not is_training_seed(VALIDATION_SEED_BASE)
+    assert not any(is_training_seed(s) or is_validation_seed(s) for s in heldout_seeds(0, 10))
+
+
+@pytest.mark.parametrize("scenario, n_obstacles", [("random", 3), ("random", 20), ("paper-case-3", 0)])
+def test_learning_wrapper_output_is_in_its_space(scenario, n_obstacles):
+    # fewer obstacles than k_nearest (padding), more (truncation), and a paper case
+    env = make_learning_env(gym.make("DynamicObstacle-v0", scenario=scenario, n_obstacles=n_obstacles, delta_d=1.0))
+    env.action_space.seed(0)
+    obs, _ = env.reset(seed=0)
+    for _ in range(60):
+        assert env.observation_space.contains(obs)
+        obs, _, terminated, truncated, _ = env.step(env.action_space.sample())
+        if terminated or truncated:
+            obs, _ = env.reset()

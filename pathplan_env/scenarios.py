@@ -10,6 +10,7 @@ scenario into a pymunk world at every reset; ``env.unwrapped.scenario`` is the o
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass, replace
 from typing import Callable
@@ -185,10 +186,17 @@ class Scenario:
             moving[:, None], velocities / np.where(moving, speeds, 1.0)[:, None], np.stack([np.cos(angles), np.sin(angles)], axis=1)
         )
         new_velocities = (delta_d * radii / self.dt)[:, None] * units
+        if len(radii) and delta_d * float(radii.max()) > self.arena_diagonal:
+            raise ValueError(f"delta_d {delta_d} makes obstacles cross the whole arena in one step; lower delta_d")
         moved = tuple(
             Obstacle._from_checked(ob.center, ob.radius, (vx, vy)) for ob, (vx, vy) in zip(self.obstacles, new_velocities.tolist())
         )
-        return replace(self, obstacles=moved)
+        # only the velocities change, and they were just checked: copy without re-validating the geometry
+        scenario = copy.copy(self)
+        object.__setattr__(scenario, "obstacles", moved)
+        new_velocities.flags.writeable = False
+        object.__setattr__(scenario, "_arrays", {**self._arrays, "velocities": new_velocities})
+        return scenario
 
     def arrays(self) -> dict[str, np.ndarray]:
         """Obstacle data as read-only float64 arrays: ``positions`` (N, 2), ``velocities`` (N, 2), ``radii`` (N,)."""

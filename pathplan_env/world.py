@@ -24,8 +24,6 @@ import pymunk.batch
 from .geometry import NO_CONTACT, swept_contact
 from .scenarios import Scenario
 
-OBSTACLE_TYPE = 1
-WALL_TYPE = 2
 #: Largest obstacle displacement per substep, in units of the smallest obstacle radius. Keeps
 #: Chipmunk's discrete collision detection from missing obstacle-obstacle and obstacle-wall
 #: contacts; robot contacts are exact at any substep size.
@@ -36,6 +34,7 @@ SPEED_TOLERANCE = 1e-9
 _STATE_FIELDS = pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.VELOCITY
 _batch = pymunk.batch  # its ffi and lib, for the per-substep read below
 _READ_BODY = _batch.ffi.addressof(_batch.lib, "pmSpaceBodyGetIteratorFuncBatched")
+_WRITE_BODY = _batch.ffi.addressof(_batch.lib, "pmSpaceBodySetIteratorFuncBatched")
 
 
 @numba.njit(cache=True)
@@ -104,7 +103,7 @@ class World:
             else:
                 body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)  # a resting obstacle is immovable
             shape = pymunk.Circle(body, r)
-            shape.elasticity, shape.friction, shape.collision_type = 1.0, 0.0, OBSTACLE_TYPE
+            shape.elasticity = 1.0  # friction is 0 by default
             objects += (body, shape)
         self.space.add(*objects)
         # positions and velocities in one batch write; the obstacles are the space's first bodies
@@ -112,9 +111,8 @@ class World:
         self._attach_state_view()
         self._pymunk_state[:, :2] = data["positions"]
         self._pymunk_state[:, 2:] = data["velocities"]
-        pymunk.batch.set_space_bodies(self.space, _STATE_FIELDS, self._buffer)
+        self._write_bodies()
         self.obstacle_state = self._pymunk_state.copy()  # (N, 4): x, y, vx, vy
-        self.space.step(0.0)  # runs pymunk's one-time checks on the new bodies; moves nothing
 
     # -- construction helpers ------------------------------------------------------------------
     def _add_walls(self, bounds, thickness: float) -> None:
@@ -130,7 +128,7 @@ class World:
         ]
         for a, b in segments:
             seg = pymunk.Segment(walls, a, b, h)
-            seg.elasticity, seg.friction, seg.collision_type = 1.0, 0.0, WALL_TYPE
+            seg.elasticity = 1.0
             self.space.add(seg)
 
     def _attach_state_view(self) -> None:
@@ -153,8 +151,16 @@ class World:
         self._pymunk_state = raw[: 4 * self.n_obstacles].reshape(self.n_obstacles, 4)
 
     def _read_bodies(self) -> None:
+        """``pymunk.batch.get_space_bodies`` into the view."""
         self._buffer._float_arr.num = 0  # Buffer.clear() for the float array, the only one we use
         _batch.lib.cpSpaceEachBody(self.space._space, _READ_BODY, self._request)
+
+    def _write_bodies(self) -> None:
+        """``pymunk.batch.set_space_bodies`` from the view (it reads the array from its start)."""
+        array = self._buffer._float_arr
+        filled, array.num = array.num, 0
+        _batch.lib.cpSpaceEachBody(self.space._space, _WRITE_BODY, self._request)
+        array.num = filled
 
     # -- stepping ------------------------------------------------------------------------------
     def step(self, dx: float, dy: float) -> StepContact:
@@ -166,15 +172,16 @@ class World:
         space = self.space._space
         for k in range(1, n + 1):
             # Chipmunk's step itself: Space.step's extra work (deferred adds and removals, post-step
-            # callbacks) never applies here, since nothing is added or removed after construction
+            # callbacks, mass checks of new bodies) never applies here: nothing is added or removed
+            # after construction, and every dynamic body has mass r^2 > 0 and infinite moment
             _batch.lib.cpSpaceStep(space, dt / n)
             self._read_bodies()
             bx, by = (x0 + dx, y0 + dy) if k == n else (x0 + (k / n) * dx, y0 + (k / n) * dy)
             gap, t, restored = _finish_substep(
                 self.obstacle_state, self._pymunk_state, ax, ay, bx, by, self.scenario.robot_radius, self.radii, self._speeds
             )
-            if restored:  # write the restored speeds back to pymunk
-                pymunk.batch.set_space_bodies(self.space, _STATE_FIELDS, self._buffer)
+            if restored:
+                self._write_bodies()
             min_gap = min(min_gap, gap)
             if t <= 1.0 and first_contact > 1.0:
                 first_contact = (k - 1 + t) / n

@@ -50,7 +50,7 @@ def test_shipped_ppo_beats_going_straight():
 def test_tiny_training_run_end_to_end(tmp_path):
     args = train_rl.Args(
         total_timesteps=512, n_envs=2, n_steps=128, eval_freq=256, eval_episodes=2, checkpoint_freq=256,
-        out=str(tmp_path / "run"), progress=False,
+        out=str(tmp_path / "run"), progress=False, teacher_steps=300, teacher_epochs=1,
     )  # fmt: skip
     meta = train_rl.train(args)
     run = tmp_path / "run"

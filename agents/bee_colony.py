@@ -19,25 +19,26 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from .fast_random import below, new_state, uniform
 from .objective import path_cost
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _try_neighbour(i, x, cost, pen, trials, lo, hi, robot, goal, centers, velocities, radii, speed, horizon, penalty_weight):
+def _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, robot, goal, centers, velocities, radii, speed, horizon, penalty_weight):
     SN, D = x.shape
-    k = np.random.randint(SN - 1)
+    k = below(rng, SN - 1)
     if k >= i:
         k += 1
-    j = np.random.randint(D)
-    candidate = x[i].copy()
-    phi = 2.0 * np.random.random() - 1.0
-    candidate[j] = min(max(x[i, j] + phi * (x[i, j] - x[k, j]), lo[j]), hi[j])
-    c, p = path_cost(candidate, robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
+    j = below(rng, D)
+    phi = 2.0 * uniform(rng) - 1.0
+    old = x[i, j]  # the candidate differs from source i in one coordinate: try it in place
+    x[i, j] = min(max(old + phi * (old - x[k, j]), lo[j]), hi[j])
+    c, p = path_cost(x[i], robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
     if c < cost[i]:
-        x[i] = candidate
         cost[i], pen[i] = c, p
         trials[i] = 0
     else:
+        x[i, j] = old
         trials[i] += 1
 
 
@@ -52,7 +53,7 @@ def abc_run(
         the best cost after cycle ``c`` (trailing entries unused are NaN); ``scouted`` counts the
         sources the scouts replaced.
     """
-    np.random.seed(seed)
+    rng = new_state(seed)
     SN, D = x0.shape
     x = x0.copy()
     cost = np.empty(SN)
@@ -68,12 +69,12 @@ def abc_run(
     scouted = 0
     while evaluations + 2 * SN <= max_evaluations:
         for i in range(SN):  # employed bees
-            _try_neighbour(i, x, cost, pen, trials, lo, hi, robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
+            _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
         fitness = 1.0 / (1.0 + cost)
         cumulative = np.cumsum(fitness / fitness.sum())
         for _ in range(SN):  # onlooker bees: roulette-wheel choice of a source
-            i = min(np.searchsorted(cumulative, np.random.random()), SN - 1)
-            _try_neighbour(i, x, cost, pen, trials, lo, hi, robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
+            i = min(np.searchsorted(cumulative, uniform(rng)), SN - 1)
+            _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
         evaluations += 2 * SN
         for i in range(SN):  # memorise the best before the scouts discard anything
             if cost[i] < best_cost:
@@ -85,7 +86,7 @@ def abc_run(
                 abandon = trials[i] > limit
             if abandon and evaluations < max_evaluations:
                 for j in range(D):
-                    x[i, j] = lo[j] + np.random.random() * (hi[j] - lo[j])
+                    x[i, j] = lo[j] + uniform(rng) * (hi[j] - lo[j])
                 cost[i], pen[i] = path_cost(x[i], robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
                 trials[i] = 0
                 evaluations += 1

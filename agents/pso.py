@@ -16,6 +16,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from .fast_random import new_state, uniform
 from .objective import path_cost
 
 
@@ -35,14 +36,14 @@ def pso_run(
     :return: ``(best_x, best_cost, best_penalty, history)``; ``history[it]`` is the best cost after
         iteration ``it``.
     """
-    np.random.seed(seed)
+    rng = new_state(seed)
     P, D = x0.shape
     x = x0.copy()
     v_max = v_max_fraction * (hi - lo)
     v = np.zeros((P, D))
     for i in range(P):
         for j in range(D):
-            v[i, j] = (2.0 * np.random.random() - 1.0) * v_max[j]
+            v[i, j] = (2.0 * uniform(rng) - 1.0) * v_max[j]
     pbest = x.copy()
     pbest_cost = np.empty(P)
     pbest_pen = np.empty(P)
@@ -58,7 +59,7 @@ def pso_run(
         w = inertia[it]
         for i in range(P):
             for j in range(D):
-                vij = w * v[i, j] + c1 * np.random.random() * (pbest[i, j] - x[i, j]) + c2 * np.random.random() * (gbest[j] - x[i, j])
+                vij = w * v[i, j] + c1 * uniform(rng) * (pbest[i, j] - x[i, j]) + c2 * uniform(rng) * (gbest[j] - x[i, j])
                 vij = min(max(vij, -v_max[j]), v_max[j])
                 v[i, j] = vij
                 x[i, j] = min(max(x[i, j] + vij, lo[j]), hi[j])

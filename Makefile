@@ -27,6 +27,9 @@ bench: $(STAMP)
 	$(PY) scripts/bench_env.py
 	$(PY) scripts/bench_planners.py
 
+train: $(STAMP)  ## retrain the shipped PPO policy (~35 min on 2 cores) and copy it to agents/models/
+	$(PY) scripts/train_rl.py --total-timesteps 4000000 --seed 0 --out runs/ppo --ship best
+
 reproduce: $(STAMP)
 	$(PY) scripts/reproduce_paper.py --out results/paper
 

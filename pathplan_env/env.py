@@ -327,31 +327,39 @@ class DynamicObstacleEnv(gym.Env):
         return min(max(ax, -1.0), 1.0), min(max(ay, -1.0), 1.0)
 
     def _prepare_observation_padding(self) -> None:
+        """The episode's observation template: one float32 block that every observation copies.
+
+        Layout: robot position (2), robot velocity (2), goal (2), obstacle positions (N, 2),
+        obstacle velocities (N, 2), radii (N), mask (N); padding rows sit at the arena's lower corner.
+        """
         n, n_max = self.scenario.n_obstacles, self.max_obstacles
         self._n_real = n
-        self._positions_pad = np.tile(self._arena_low.astype(np.float32), (n_max, 1))
-        self._velocities_pad = np.zeros((n_max, 2), np.float32)
-        self._radii_obs = np.zeros(n_max, np.float32)
-        self._radii_obs[:n] = self._world.radii
-        self._mask_obs = np.zeros(n_max, np.float32)
-        self._mask_obs[:n] = 1.0
-        self._goal_obs = self._goal.astype(np.float32)
+        template = np.zeros(6 + 6 * n_max, np.float32)
+        template[4:6] = self._goal
+        positions = template[6 : 6 + 2 * n_max].reshape(n_max, 2)
+        positions[n:] = self._arena_low
+        template[6 + 4 * n_max : 6 + 5 * n_max][:n] = self._world.radii
+        template[6 + 5 * n_max :][:n] = 1.0
+        self._observation_template = template
 
     def _observation(self) -> dict[str, np.ndarray]:
-        world, n = self._world, self._n_real
+        world, n, n_max = self._world, self._n_real, self.max_obstacles
+        block = self._observation_template.copy()  # one allocation per observation; the entries are views
+        block[0:2] = world.robot_position
+        block[2:4] = world.robot_velocity
+        positions = block[6 : 6 + 2 * n_max].reshape(n_max, 2)
+        velocities = block[6 + 2 * n_max : 6 + 4 * n_max].reshape(n_max, 2)
         state = world.obstacle_state
-        positions = self._positions_pad.copy()
         positions[:n] = state[:, :2]
-        velocities = self._velocities_pad.copy()
         velocities[:n] = state[:, 2:]
         return {
-            "robot_position": world.robot_position.astype(np.float32),
-            "robot_velocity": world.robot_velocity.astype(np.float32),
-            "goal": self._goal_obs.copy(),
+            "robot_position": block[0:2],
+            "robot_velocity": block[2:4],
+            "goal": block[4:6],
             "obstacle_positions": positions,
             "obstacle_velocities": velocities,
-            "obstacle_radii": self._radii_obs.copy(),
-            "obstacle_mask": self._mask_obs.copy(),
+            "obstacle_radii": block[6 + 4 * n_max : 6 + 5 * n_max],
+            "obstacle_mask": block[6 + 5 * n_max :],
         }
 
     def _info(self, min_clearance: float, rewards, success: bool = False, collision: bool = False) -> dict:

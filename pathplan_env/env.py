@@ -6,6 +6,7 @@ import math
 from typing import Any
 
 import gymnasium as gym
+import numba
 import numpy as np
 from gymnasium import spaces
 
@@ -343,21 +344,15 @@ class DynamicObstacleEnv(gym.Env):
         self._observation_template = template
 
     def _observation(self) -> dict[str, np.ndarray]:
-        world, n, n_max = self._world, self._n_real, self.max_obstacles
+        world, n_max = self._world, self.max_obstacles
         block = self._observation_template.copy()  # one allocation per observation; the entries are views
-        block[0:2] = world.robot_position
-        block[2:4] = world.robot_velocity
-        positions = block[6 : 6 + 2 * n_max].reshape(n_max, 2)
-        velocities = block[6 + 2 * n_max : 6 + 4 * n_max].reshape(n_max, 2)
-        state = world.obstacle_state
-        positions[:n] = state[:, :2]
-        velocities[:n] = state[:, 2:]
+        _fill_observation(block, world.robot_position, world.robot_velocity, world.obstacle_state, n_max)
         return {
             "robot_position": block[0:2],
             "robot_velocity": block[2:4],
             "goal": block[4:6],
-            "obstacle_positions": positions,
-            "obstacle_velocities": velocities,
+            "obstacle_positions": block[6 : 6 + 2 * n_max].reshape(n_max, 2),
+            "obstacle_velocities": block[6 + 2 * n_max : 6 + 4 * n_max].reshape(n_max, 2),
             "obstacle_radii": block[6 + 4 * n_max : 6 + 5 * n_max],
             "obstacle_mask": block[6 + 5 * n_max :],
         }
@@ -379,6 +374,19 @@ class DynamicObstacleEnv(gym.Env):
         state = self.__dict__.copy()
         state["_renderer"] = None  # a pygame window does not pickle; it reopens on the next render()
         return state
+
+
+@numba.njit(cache=True)
+def _fill_observation(block, robot_position, robot_velocity, obstacle_state, n_max):
+    """Write the robot's and the obstacles' state into an observation block (float32), in one
+    compiled call instead of six numpy slice assignments."""
+    block[0], block[1] = robot_position[0], robot_position[1]
+    block[2], block[3] = robot_velocity[0], robot_velocity[1]
+    for i in range(obstacle_state.shape[0]):
+        block[6 + 2 * i] = obstacle_state[i, 0]
+        block[7 + 2 * i] = obstacle_state[i, 1]
+        block[6 + 2 * n_max + 2 * i] = obstacle_state[i, 2]
+        block[7 + 2 * n_max + 2 * i] = obstacle_state[i, 3]
 
 
 def _reach_fraction(px: float, py: float, dx: float, dy: float, goal: np.ndarray, radius: float) -> float:

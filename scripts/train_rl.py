@@ -36,7 +36,8 @@ import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
 from pathplan_env.splits import TRAINING_SEEDS_PER_RUN, VALIDATION_SEED_BASE, training_seed_base
 from pathplan_env.wrappers import EnvFacts, EpisodeSchedule, egocentric_features, make_learning_env, waypoint_to_relative_action
 
-MODELS_DIR = Path(__file__).resolve().parents[1] / "agents" / "models"
+ROOT = Path(__file__).resolve().parents[1]
+MODELS_DIR = ROOT / "agents" / "models"
 
 
 @dataclass
@@ -80,7 +81,7 @@ class Args:
     torch_threads: int = 1
     out: str = "runs/ppo"
     ship: str = ""
-    """'best' or 'final': copy that model to agents/models/<algo>.zip with its metadata"""
+    """'best' or 'final': copy that model to agents/models/<algo>.zip with its metadata (curve to docs/results/)"""
     progress: bool = True
 
     def __post_init__(self):
@@ -284,7 +285,7 @@ def train(args: Args) -> dict:
         MODELS_DIR.mkdir(exist_ok=True)
         shutil.copyfile(out / f"{args.ship}_model.zip", MODELS_DIR / f"{args.algo}.zip")
         shutil.copyfile(out / f"{args.ship}_model.json", MODELS_DIR / f"{args.algo}.json")
-        shutil.copyfile(out / "learning_curve.png", MODELS_DIR / f"{args.algo}_learning_curve.png")
+        shutil.copyfile(out / "learning_curve.png", ROOT / "docs" / "results" / f"{args.algo}_learning_curve.png")
         print(f"shipped {args.ship} model to {MODELS_DIR / (args.algo + '.zip')}")
     print(json.dumps({k: meta[k] for k in ("total_timesteps", "training_seconds", "env_steps_per_second", "validation")}, indent=2))
     return meta

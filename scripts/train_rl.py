@@ -251,20 +251,22 @@ def train(args: Args) -> dict:
         CheckpointCallback(save_freq=every(args.checkpoint_freq), save_path=str(out / "checkpoints"), name_prefix=args.algo),
     ])  # fmt: skip
     model = build_model(args, train_env, out)
+    cloned_success = None
     start = time.perf_counter()
     if args.teacher:
         if args.algo != "ppo":
             raise ValueError("teacher: the behaviour-cloning warm start is implemented for ppo")
         behaviour_cloning(model, collect_demonstrations(args, model.gamma), args.teacher_epochs, args.seed)
         model.save(out / "cloned_model.zip")
-        print(f"cloned policy: validation success {validation_success(model, eval_env, args.eval_episodes):.2f}")
+        cloned_success = validation_success(model, eval_env, args.eval_episodes)
+        print(f"cloned policy: validation success {cloned_success:.2f}")
     model.learn(args.total_timesteps, callback=callbacks, progress_bar=args.progress, tb_log_name=args.algo)
     seconds = time.perf_counter() - start
     model.save(out / "final_model.zip")
     train_env.close()
     eval_env.close()
 
-    curve = learning_curve(out)
+    curve = learning_curve(out, args.eval_delta_d, cloned_success)
     meta = {
         "algo": args.algo,
         "k_nearest": args.k_nearest,
@@ -273,7 +275,7 @@ def train(args: Args) -> dict:
         "total_timesteps": int(model.num_timesteps),
         "training_seconds": round(seconds, 1),
         "env_steps_per_second": round(model.num_timesteps / seconds, 1),
-        "validation": {"delta_d": args.eval_delta_d, "episodes": args.eval_episodes, **curve},
+        "validation": {"delta_d": args.eval_delta_d, "episodes": args.eval_episodes, "cloned_success_rate": cloned_success, **curve},
         "git_commit": _git_commit(),
         "versions": _versions(),
         "machine": f"{platform.machine()}, {platform.python_version()}",
@@ -306,8 +308,9 @@ def validation_success(model, eval_env, episodes: int) -> float:
     return float(np.mean(successes))
 
 
-def learning_curve(out: Path) -> dict:
-    """Plot validation success rate against env steps from EvalCallback's ``evaluations.npz``."""
+def learning_curve(out: Path, delta_d: float, cloned_success: float | None = None) -> dict:
+    """Plot validation success rate against env steps from EvalCallback's ``evaluations.npz``
+    (step 0: the behaviour-cloned policy, when there is one)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -315,9 +318,12 @@ def learning_curve(out: Path) -> dict:
 
     data = np.load(out / "evaluations.npz")
     steps, success = data["timesteps"], data["successes"].mean(axis=1)
+    if cloned_success is not None:
+        steps, success = np.concatenate([[0], steps]), np.concatenate([[cloned_success], success])
     fig, ax = plt.subplots(figsize=(6, 3.5))
     ax.plot(steps, success, marker="o", ms=3)
-    ax.set(xlabel="env steps", ylabel="validation success rate", ylim=(0, 1.02), title=f"{out.name}: success on the validation episodes")
+    ax.set(xlabel="PPO env steps", ylabel="validation success rate", ylim=(0, 1.02),
+           title=f"{out.name}: validation episodes at Δd = {delta_d:g}")  # fmt: skip
     ax.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(out / "learning_curve.png", dpi=120)

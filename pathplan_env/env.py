@@ -224,7 +224,7 @@ class DynamicObstacleEnv(gym.Env):
         if scenario.n_obstacles > self.max_obstacles:
             raise ValueError(f"scenario has {scenario.n_obstacles} obstacles, more than max_obstacles={self.max_obstacles}")
         self.scenario = scenario
-        self._world = World(scenario)
+        self._world = World(scenario, recycle=self._world)
         self._goal = np.array(scenario.goal, np.float64)
         self._goal_xy = scenario.goal
         r = scenario.robot_radius

@@ -79,7 +79,10 @@ class World:
     (``pymunk.batch``), not one Python attribute access per body.
     """
 
-    def __init__(self, scenario: Scenario):
+    def __init__(self, scenario: Scenario, recycle: "World | None" = None):
+        """Build the world of ``scenario``; ``recycle`` (the previous episode's world, which is
+        emptied) lends its moving obstacles' pymunk bodies and shapes, since creating them was the
+        largest cost of a reset. The episode is the same bit for bit either way (tested)."""
         self.scenario = scenario
         data = scenario.arrays()
         self.radii = data["radii"]
@@ -96,15 +99,23 @@ class World:
         self.space = pymunk.Space()
         self.space.collision_slop = 1e-4 * min_radius  # default 0.1 m is a fifth of a small obstacle
         self._add_walls(scenario.bounds, thickness=max(scenario.arena_diagonal, 1.0))
-        objects = []
+        spare = recycle._release_moving_obstacles() if recycle is not None else []
+        objects, self._moving = [], []
         for r, speed in zip(self.radii.tolist(), self._speeds.tolist()):
-            if speed > 0:
-                body = pymunk.Body(mass=r * r, moment=math.inf)  # equal density; discs never spin
+            if speed > 0 and spare:
+                body, shape = spare.pop()
+                body.mass = r * r
+                shape.unsafe_set_radius(r)
             else:
-                body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)  # a resting obstacle is immovable
-            shape = pymunk.Circle(body, r)
-            shape.elasticity = 1.0  # friction is 0 by default
+                if speed > 0:
+                    body = pymunk.Body(mass=r * r, moment=math.inf)  # equal density; discs never spin
+                else:
+                    body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)  # a resting obstacle is immovable
+                shape = pymunk.Circle(body, r)
+                shape.elasticity = 1.0  # friction is 0 by default
             objects += (body, shape)
+            self._moving.append(speed > 0)
+        self._objects = objects
         self.space.add(*objects)
         # positions and velocities in one batch write; the obstacles are the space's first bodies
         self._buffer = pymunk.batch.Buffer()
@@ -113,6 +124,25 @@ class World:
         self._pymunk_state[:, 2:] = data["velocities"]
         self._write_bodies()
         self.obstacle_state = self._pymunk_state.copy()  # (N, 4): x, y, vx, vy
+
+    def _release_moving_obstacles(self) -> list:
+        """Empty this world and hand over its moving obstacles' (body, shape) pairs for reuse.
+
+        A body must leave exactly as a new one arrives, or the next episode would depend on history:
+        - a contact leaves a bias velocity that Chipmunk spends in the next position update; a
+          step without shapes spends it;
+        - positions and velocities are zeroed (one batch write), so that the bodies enter the next
+          space's spatial index at the origin as new bodies do (the index's structure decides the
+          order of contacts, which decides the last bits of every bounce).
+        """
+        self.space.remove(*self._objects[1::2])
+        _batch.lib.cpSpaceStep(self.space._space, 1e-9)
+        self._pymunk_state[:] = 0.0
+        self._write_bodies()
+        self.space.remove(*self._objects[0::2])
+        pairs = [(self._objects[2 * i], self._objects[2 * i + 1]) for i, moving in enumerate(self._moving) if moving]
+        self._objects, self._moving = [], []
+        return pairs
 
     # -- construction helpers ------------------------------------------------------------------
     def _add_walls(self, bounds, thickness: float) -> None:

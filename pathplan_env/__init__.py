@@ -8,7 +8,7 @@ from gymnasium.envs.registration import register
 from .env import DynamicObstacleEnv
 from .geometry import shortest_path
 from .scenarios import PAPER_CASES, PRESETS, Obstacle, Scenario, make_scenario, paper_case, sample_random_scenario
-from .wrappers import EgocentricObservation
+from .wrappers import EgocentricObservation, EpisodeSchedule, RelativeWaypointAction, make_learning_env
 
 #: Episode time limit of the registered env (20 s at dt = 0.1 s): 4-6x the straight-line time.
 MAX_EPISODE_STEPS = 200
@@ -22,11 +22,14 @@ register(
 __all__ = [
     "DynamicObstacleEnv",
     "EgocentricObservation",
+    "EpisodeSchedule",
     "MAX_EPISODE_STEPS",
     "Obstacle",
     "PAPER_CASES",
     "PRESETS",
+    "RelativeWaypointAction",
     "Scenario",
+    "make_learning_env",
     "make_scenario",
     "paper_case",
     "sample_random_scenario",

@@ -12,7 +12,6 @@ import time
 from functools import lru_cache
 from pathlib import Path
 
-import numpy as np
 
 from pathplan_env.wrappers import egocentric_features, feature_size, relative_action_to_waypoint
 

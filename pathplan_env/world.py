@@ -73,7 +73,7 @@ class StepContact(NamedTuple):
 
 
 class World:
-    """One episode's simulation, built fresh from a :class:`Scenario` (as LunarLander does on reset).
+    """One episode's simulation: a new pymunk space built from a :class:`Scenario` at every reset.
 
     Obstacle state moves between pymunk and numpy in one batch call per substep
     (``pymunk.batch``), not one Python attribute access per body.

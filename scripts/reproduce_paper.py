@@ -132,7 +132,7 @@ def main() -> None:
     print(f"wrote {plot_fig5(histories, out)}")
 
     names = ["abc", "pso", "abc-predictive", "pso-predictive"]
-    print(f"\nTable 2: verdict (success rate, episodes) over the three paper cases; success = Wilson 95% lower bound >= 0.9")
+    print("\nTable 2: verdict (success rate, episodes) over the three paper cases; success = Wilson 95% lower bound >= 0.9")
     print("| Δd | paper (both) | " + " | ".join(names) + " |")
     print("|---:|---|" + "---|" * len(names))
     for row in table_2(args.episodes, names):

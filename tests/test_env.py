@@ -310,13 +310,3 @@ def test_bad_configuration_raises_naming_the_field(kwargs, field):
 def test_negative_obstacle_radius_raises():
     with pytest.raises(ValueError, match="Obstacle.radius"):
         Obstacle(center=(1, 1), radius=-0.5)
-
-
-def test_wrapper_output_is_in_its_space():
-    env = make_learning_env(gym.make("DynamicObstacle-v0", delta_d=1.0))
-    obs, _ = env.reset(seed=0)
-    for _ in range(50):
-        assert env.observation_space.contains(obs)
-        obs, _, terminated, truncated, _ = env.step(env.action_space.sample())
-        if terminated or truncated:
-            obs, _ = env.reset()

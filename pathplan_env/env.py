@@ -251,7 +251,7 @@ class DynamicObstacleEnv(gym.Env):
         wx = min(max(self._arena_low[0] + (ax + 1.0) * self._half_size[0], low_x), high_x)
         wy = min(max(self._arena_low[1] + (ay + 1.0) * self._half_size[1], low_y), high_y)
         self.waypoint = np.array((wx, wy))
-        px, py = world.robot_position
+        px, py = world.robot_xy
         dx, dy = wx - px, wy - py
         dist = math.hypot(dx, dy)
         reach = self._reach
@@ -275,7 +275,7 @@ class DynamicObstacleEnv(gym.Env):
         }
         self._distance = distance
         if self.render_mode is not None:
-            self.trail.append((float(world.robot_position[0]), float(world.robot_position[1])))
+            self.trail.append(world.robot_xy)
         info = self._info(min_clearance=min_gap, rewards=rewards, success=success, collision=collision)
         if self.render_mode == "human":
             self.render()
@@ -346,7 +346,8 @@ class DynamicObstacleEnv(gym.Env):
     def _observation(self) -> dict[str, np.ndarray]:
         world, n_max = self._world, self.max_obstacles
         block = self._observation_template.copy()  # one allocation per observation; the entries are views
-        _fill_observation(block, world.robot_position, world.robot_velocity, world.obstacle_state, n_max)
+        (x, y), (vx, vy) = world.robot_xy, world.robot_velocity_xy
+        _fill_observation(block, x, y, vx, vy, world.obstacle_state, n_max)
         return {
             "robot_position": block[0:2],
             "robot_velocity": block[2:4],
@@ -377,11 +378,10 @@ class DynamicObstacleEnv(gym.Env):
 
 
 @numba.njit(cache=True)
-def _fill_observation(block, robot_position, robot_velocity, obstacle_state, n_max):
+def _fill_observation(block, x, y, vx, vy, obstacle_state, n_max):
     """Write the robot's and the obstacles' state into an observation block (float32), in one
     compiled call instead of six numpy slice assignments."""
-    block[0], block[1] = robot_position[0], robot_position[1]
-    block[2], block[3] = robot_velocity[0], robot_velocity[1]
+    block[0], block[1], block[2], block[3] = x, y, vx, vy
     for i in range(obstacle_state.shape[0]):
         block[6 + 2 * i] = obstacle_state[i, 0]
         block[7 + 2 * i] = obstacle_state[i, 1]

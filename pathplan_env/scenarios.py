@@ -266,6 +266,7 @@ RANDOM_RADIUS_RANGE = (0.4, 0.6)
 RANDOM_MIN_START_GOAL = 6.0
 RANDOM_OBSTACLE_GAP = 0.1
 RANDOM_START_CLEARANCE = 0.5
+RANDOM_ROBOT_SPEED = ROBOT_STEP_IN_RADII * 0.5 * (RANDOM_RADIUS_RANGE[0] + RANDOM_RADIUS_RANGE[1]) / DT  # half a mean radius a step
 _CANDIDATES = 64
 
 
@@ -340,7 +341,7 @@ def sample_random_scenario(rng: np.random.Generator, n_obstacles: int = 8, delta
     return Scenario._from_checked(
         {"positions": centers, "velocities": velocities, "radii": radii},
         bounds=bounds, start=tuple(start.tolist()), goal=tuple(goal.tolist()), obstacles=obstacles, robot_radius=r,
-        robot_speed=ROBOT_STEP_IN_RADII * float(np.mean(RANDOM_RADIUS_RANGE)) / DT, dt=DT, goal_radius=r, name="random",
+        robot_speed=RANDOM_ROBOT_SPEED, dt=DT, goal_radius=r, name="random",
     )  # fmt: skip
 
 

@@ -14,7 +14,6 @@ otherwise cross the robot between two steps unseen).
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -33,6 +32,7 @@ MAX_SUBSTEP_DISPLACEMENT = 0.5
 SPEED_TOLERANCE = 1e-9
 _STATE_FIELDS = pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.VELOCITY
 _batch = pymunk.batch  # its ffi and lib, for the per-substep read below
+_space_step, _each_body = _batch.lib.cpSpaceStep, _batch.lib.cpSpaceEachBody
 _READ_BODY = _batch.ffi.addressof(_batch.lib, "pmSpaceBodyGetIteratorFuncBatched")
 _WRITE_BODY = _batch.ffi.addressof(_batch.lib, "pmSpaceBodySetIteratorFuncBatched")
 
@@ -59,19 +59,6 @@ def _finish_substep(state, new_state, ax, ay, bx, by, robot_radius, radii, speed
     return min_gap, t_contact, restored
 
 
-class StepContact(NamedTuple):
-    """What the robot met during one step."""
-
-    min_gap: float
-    """Smallest surface gap to any obstacle during the step (m); negative on contact; inf if none."""
-    contact_fraction: float
-    """Fraction of the step at which the first contact began; ``NO_CONTACT`` (> 1) if none."""
-
-    @property
-    def collided(self) -> bool:
-        return self.contact_fraction <= 1.0
-
-
 class World:
     """One episode's simulation: a new pymunk space built from a :class:`Scenario` at every reset.
 
@@ -88,8 +75,9 @@ class World:
         self.radii = data["radii"]
         self.n_obstacles = len(self.radii)
         self._speeds = np.hypot(data["velocities"][:, 0], data["velocities"][:, 1])
-        self.robot_position = np.array(scenario.start, dtype=np.float64)
-        self.robot_velocity = np.zeros(2)
+        # the robot's state as Python floats: the env's per-step arithmetic on numpy scalars cost more
+        self.robot_xy = (float(scenario.start[0]), float(scenario.start[1]))
+        self.robot_velocity_xy = (0.0, 0.0)
         self.time = 0.0
 
         max_displacement = float(self._speeds.max(initial=0.0)) * scenario.dt
@@ -136,7 +124,7 @@ class World:
           order of contacts, which decides the last bits of every bounce).
         """
         self.space.remove(*self._objects[1::2])
-        _batch.lib.cpSpaceStep(self.space._space, 1e-9)
+        _space_step(self.space._space, 1e-9)
         self._pymunk_state[:] = 0.0
         self._write_bodies()
         self.space.remove(*self._objects[0::2])
@@ -183,49 +171,65 @@ class World:
     def _read_bodies(self) -> None:
         """``pymunk.batch.get_space_bodies`` into the view."""
         self._buffer._float_arr.num = 0  # Buffer.clear() for the float array, the only one we use
-        _batch.lib.cpSpaceEachBody(self.space._space, _READ_BODY, self._request)
+        _each_body(self.space._space, _READ_BODY, self._request)
 
     def _write_bodies(self) -> None:
         """``pymunk.batch.set_space_bodies`` from the view (it reads the array from its start)."""
         array = self._buffer._float_arr
         filled, array.num = array.num, 0
-        _batch.lib.cpSpaceEachBody(self.space._space, _WRITE_BODY, self._request)
+        _each_body(self.space._space, _WRITE_BODY, self._request)
         array.num = filled
 
     # -- stepping ------------------------------------------------------------------------------
-    def step(self, dx: float, dy: float) -> StepContact:
-        """Advance by one ``dt``: move the robot by ``(dx, dy)``, obstacles by physics."""
+    @property
+    def robot_position(self) -> np.ndarray:
+        return np.array(self.robot_xy)
+
+    @property
+    def robot_velocity(self) -> np.ndarray:
+        return np.array(self.robot_velocity_xy)
+
+    def step(self, dx: float, dy: float) -> tuple[float, float]:
+        """Advance by one ``dt``: move the robot by ``(dx, dy)``, obstacles by physics.
+
+        :return: ``(min_gap, contact_fraction)``: the smallest surface gap to any obstacle during the
+            step (m; negative on contact, inf with no obstacles), and the fraction of the step at which
+            the first contact began (``NO_CONTACT``, > 1, if none).
+        """
         dt, n = self.scenario.dt, self.substeps
-        x0, y0 = self.robot_position
+        x0, y0 = self.robot_xy
         min_gap, first_contact = math.inf, NO_CONTACT
         ax, ay = x0, y0
-        space = self.space._space
+        space, array, request = self.space._space, self._buffer._float_arr, self._request
         for k in range(1, n + 1):
             # Chipmunk's step itself: Space.step's extra work (deferred adds and removals, post-step
             # callbacks, mass checks of new bodies) never applies here: nothing is added or removed
             # after construction, and every dynamic body has mass r^2 > 0 and infinite moment
-            _batch.lib.cpSpaceStep(space, dt / n)
-            self._read_bodies()
+            _space_step(space, dt / n)
+            array.num = 0  # _read_bodies, inlined on the hot path
+            _each_body(space, _READ_BODY, request)
             bx, by = (x0 + dx, y0 + dy) if k == n else (x0 + (k / n) * dx, y0 + (k / n) * dy)
             gap, t, restored = _finish_substep(
                 self.obstacle_state, self._pymunk_state, ax, ay, bx, by, self.scenario.robot_radius, self.radii, self._speeds
             )
             if restored:
                 self._write_bodies()
-            min_gap = min(min_gap, gap)
+            if gap < min_gap:
+                min_gap = gap
             if t <= 1.0 and first_contact > 1.0:
                 first_contact = (k - 1 + t) / n
             ax, ay = bx, by
-        self.robot_position = np.array((ax, ay))
-        self.robot_velocity = np.array((dx / dt, dy / dt))
+        self.robot_xy = (ax, ay)
+        self.robot_velocity_xy = (dx / dt, dy / dt)
         self.time += dt
-        return StepContact(float(min_gap), float(first_contact))
+        return float(min_gap), float(first_contact)
 
     def clearance(self) -> float:
         """Current smallest surface gap between the robot and any obstacle (inf with no obstacles)."""
         if self.n_obstacles == 0:
             return math.inf
-        d = np.hypot(*(self.obstacle_state[:, :2] - self.robot_position).T) - self.radii - self.scenario.robot_radius
+        x, y = self.robot_xy
+        d = np.hypot(self.obstacle_state[:, 0] - x, self.obstacle_state[:, 1] - y) - self.radii - self.scenario.robot_radius
         return float(d.min())
 
     # -- pickling: pymunk's Space pickles itself; the batch buffer and its view are rebuilt ----

@@ -84,7 +84,8 @@ class DynamicObstacleEnv(gym.Env):
     ## Info
     ``is_success``, ``collision``, ``cost`` (1.0 on a step with contact, as Safety-Gymnasium reports
     constraint costs), ``min_clearance`` (smallest surface gap to any obstacle during the step, m),
-    ``path_length`` (m flown so far), ``time`` (s), ``distance_to_goal``, ``waypoint`` and ``rewards``.
+    ``path_length`` (m flown so far), ``time`` (s), ``distance_to_goal``, ``waypoint`` (the ``(x, y)`` the
+    robot headed for) and ``rewards``.
 
     ## Arguments
     ```python
@@ -172,11 +173,10 @@ class DynamicObstacleEnv(gym.Env):
         self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
         self._arena_low = np.array([xmin, ymin], np.float64)
         self._arena_size = np.array([xmax - xmin, ymax - ymin], np.float64)
-        self._half_size = (0.5 * (xmax - xmin), 0.5 * (ymax - ymin))
         self._world: World | None = None
         self._renderer = None
         self.trail: list[tuple[float, float]] = []
-        self.waypoint: np.ndarray | None = None
+        self.waypoint: tuple[float, float] | None = None
 
     # -- static public facts (what planners may read besides the observation) -------------------
     @property
@@ -229,9 +229,10 @@ class DynamicObstacleEnv(gym.Env):
         self._goal_xy = scenario.goal
         r = scenario.robot_radius
         xmin, ymin, xmax, ymax = scenario.bounds
-        self._waypoint_box = ((xmin + r, ymin + r), (xmax - r, ymax - r))
+        # what _waypoint needs, in one array: arena corner, half size, the box where the robot's disc fits
+        self._waypoint_params = np.array([xmin, ymin, 0.5 * (xmax - xmin), 0.5 * (ymax - ymin), xmin + r, ymin + r, xmax - r, ymax - r])
         self._reach = scenario.robot_speed * scenario.dt
-        self._start_distance = max(float(np.hypot(*(self._goal - scenario.start))), 1e-9)
+        self._start_distance = max(float(np.hypot(self._goal[0] - scenario.start[0], self._goal[1] - scenario.start[1])), 1e-9)
         self._distance = self._start_distance
         self._path_length = 0.0
         self._prepare_observation_padding()
@@ -245,12 +246,12 @@ class DynamicObstacleEnv(gym.Env):
         world = self._world
         if world is None:
             raise RuntimeError("call reset() before step()")
-        ax, ay = self._parse_action(action)
-        (low_x, low_y), (high_x, high_y) = self._waypoint_box
-        # the waypoint on the arena, kept where the robot's disc fits
-        wx = min(max(self._arena_low[0] + (ax + 1.0) * self._half_size[0], low_x), high_x)
-        wy = min(max(self._arena_low[1] + (ay + 1.0) * self._half_size[1], low_y), high_y)
-        self.waypoint = np.array((wx, wy))
+        if type(action) is not np.ndarray or action.shape != (2,):
+            action = self._parse_action(action)
+        finite, wx, wy = _waypoint(action, self._waypoint_params)
+        if not finite:
+            raise ValueError(f"action must be finite, got {action!r} (NaN or infinite)")
+        self.waypoint = (wx, wy)
         px, py = world.robot_xy
         dx, dy = wx - px, wy - py
         dist = math.hypot(dx, dy)
@@ -258,7 +259,7 @@ class DynamicObstacleEnv(gym.Env):
         if dist > reach:
             dx, dy = dx * reach / dist, dy * reach / dist
         min_gap, contact_fraction = world.step(dx, dy)
-        goal_fraction = _reach_fraction(px, py, dx, dy, self._goal_xy, self.scenario.goal_radius)
+        goal_fraction = _reach_fraction(px, py, dx, dy, self._goal_xy[0], self._goal_xy[1], self.scenario.goal_radius)
         collision = contact_fraction <= 1.0 and contact_fraction <= goal_fraction
         success = goal_fraction <= 1.0 and not collision
 
@@ -276,7 +277,17 @@ class DynamicObstacleEnv(gym.Env):
         self._distance = distance
         if self.render_mode is not None:
             self.trail.append(world.robot_xy)
-        info = self._info(min_clearance=min_gap, rewards=rewards, success=success, collision=collision)
+        info = {  # as _info() builds it, inlined on the hot path
+            "is_success": success,
+            "collision": collision,
+            "cost": 1.0 if collision else 0.0,
+            "min_clearance": min_gap,
+            "path_length": self._path_length,
+            "time": world.time,
+            "distance_to_goal": distance,
+            "waypoint": self.waypoint,
+            "rewards": rewards,
+        }
         if self.render_mode == "human":
             self.render()
         reward = rewards["progress"] + rewards["goal"] + rewards["collision"] + rewards["time"] + rewards["proximity"]
@@ -316,16 +327,14 @@ class DynamicObstacleEnv(gym.Env):
         return int(n)
 
     @staticmethod
-    def _parse_action(action) -> tuple[float, float]:
-        if type(action) is np.ndarray and action.shape == (2,):  # the common case, checked cheaply
-            ax, ay = action.tolist()
-        elif np.shape(action) == (2,):
-            ax, ay = float(action[0]), float(action[1])
-        else:
+    def _parse_action(action) -> np.ndarray:
+        """Any array-like of shape (2,) as a float64 array (the common case, a float32 array, skips this)."""
+        if np.shape(action) != (2,):
             raise ValueError(f"action must have shape (2,), got shape {np.shape(action)}")
-        if not (math.isfinite(ax) and math.isfinite(ay)):
-            raise ValueError(f"action must be finite, got {action!r} (NaN or infinite)")
-        return min(max(ax, -1.0), 1.0), min(max(ay, -1.0), 1.0)
+        try:
+            return np.asarray(action, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ValueError(f"action must be two numbers, got {action!r}") from None
 
     def _prepare_observation_padding(self) -> None:
         """The episode's observation template: one float32 block that every observation copies.
@@ -389,9 +398,23 @@ def _fill_observation(block, x, y, vx, vy, obstacle_state, n_max):
         block[7 + 2 * n_max + 2 * i] = obstacle_state[i, 3]
 
 
-def _reach_fraction(px: float, py: float, dx: float, dy: float, goal: np.ndarray, radius: float) -> float:
-    """First fraction t in [0, 1] at which p + t d comes within ``radius`` of the goal (2.0 if never)."""
-    fx, fy = px - goal[0], py - goal[1]
+@numba.njit(cache=True)
+def _waypoint(action, params):
+    """``(finite, x, y)``: the action clipped to [-1, 1] and mapped linearly onto the arena, then
+    kept where the robot's disc fits (``params`` from reset). Compiled: it runs every step."""
+    ax, ay = float(action[0]), float(action[1])
+    if not (math.isfinite(ax) and math.isfinite(ay)):
+        return False, 0.0, 0.0
+    ax, ay = min(max(ax, -1.0), 1.0), min(max(ay, -1.0), 1.0)
+    x = min(max(params[0] + (ax + 1.0) * params[2], params[4]), params[6])
+    y = min(max(params[1] + (ay + 1.0) * params[3], params[5]), params[7])
+    return True, x, y
+
+
+@numba.njit(cache=True)
+def _reach_fraction(px: float, py: float, dx: float, dy: float, gx: float, gy: float, radius: float) -> float:
+    """First fraction t in [0, 1] at which p + t d comes within ``radius`` of the goal g (2.0 if never)."""
+    fx, fy = px - gx, py - gy
     c = fx * fx + fy * fy - radius * radius
     if c <= 0.0:
         return 0.0

@@ -133,8 +133,10 @@ class Scenario:
         about a fifth of a reset with 50 obstacles. Fields left out take their defaults.
         """
         scenario = object.__new__(cls)
-        for f in dataclasses.fields(cls):
-            object.__setattr__(scenario, f.name, fields.pop(f.name, f.default))
+        for name, default in _SCENARIO_DEFAULTS.items():
+            if default is dataclasses.MISSING and name not in fields:
+                raise TypeError(f"Scenario field {name!r} is required")
+            object.__setattr__(scenario, name, fields.pop(name, default))
         if fields:
             raise TypeError(f"unknown Scenario fields {sorted(fields)}")
         for a in arrays.values():
@@ -219,6 +221,9 @@ class Scenario:
     def arrays(self) -> dict[str, np.ndarray]:
         """Obstacle data as read-only float64 arrays: ``positions`` (N, 2), ``velocities`` (N, 2), ``radii`` (N,)."""
         return dict(self._arrays)
+
+
+_SCENARIO_DEFAULTS = {f.name: f.default for f in dataclasses.fields(Scenario)}
 
 
 # ---------------------------------------------------------------------------------------------

@@ -185,11 +185,16 @@ class EpisodeSchedule(gym.Wrapper):
     ``n_obstacles`` (an int or an inclusive ``(low, high)`` range), by a generator seeded with that
     episode seed, so every episode is reproducible from its seed alone, whatever the vector env's
     autoreset order. Seeds or options passed to ``reset`` explicitly take precedence.
-    ``set_delta_d`` changes the range (for a curriculum); ``restart`` rewinds the stream.
+    ``set_delta_d`` changes the range (for a curriculum); ``restart`` rewinds the stream. A
+    ``static_fraction`` of the episodes have Δd = 0 instead (static scenes are a point of measure
+    zero in a uniform range).
     """
 
-    def __init__(self, env: gym.Env, first_seed: int, stride: int = 1, delta_d=0.25, n_obstacles=8):
+    def __init__(self, env: gym.Env, first_seed: int, stride: int = 1, delta_d=0.25, n_obstacles=8, static_fraction: float = 0.0):
         super().__init__(env)
+        if not 0.0 <= static_fraction <= 1.0:
+            raise ValueError(f"static_fraction must be in [0, 1], got {static_fraction!r}")
+        self.static_fraction = float(static_fraction)
         if int(stride) < 1:
             raise ValueError(f"stride must be >= 1, got {stride!r}")
         if int(first_seed) < 0:
@@ -219,8 +224,11 @@ class EpisodeSchedule(gym.Wrapper):
             seed = self.next_seed()
             self.episodes += 1
         draw = np.random.default_rng([int(seed), 0x5EED])  # independent of the env's own stream
+        delta_d = float(draw.uniform(*self.delta_d_range))
+        if self.static_fraction and draw.uniform() < self.static_fraction:
+            delta_d = 0.0
         episode = {
-            "delta_d": float(draw.uniform(*self.delta_d_range)),
+            "delta_d": delta_d,
             "n_obstacles": int(draw.integers(self.n_obstacles_range[0], self.n_obstacles_range[1] + 1)),
         }
         return self.env.reset(seed=int(seed), options={**episode, **(options or {})})

@@ -55,6 +55,8 @@ class Args:
     delta_d_start: float = 0.25
     delta_d_max: float = 1.0
     curriculum_fraction: float = 0.3
+    static_fraction: float = 0.0
+    """share of training episodes with Δd = 0 (static obstacles)"""
     k_nearest: int = 8
     learning_rate: float = 1e-4
     """gentle by default: PPO fine-tunes the behaviour-cloned policy"""
@@ -115,12 +117,12 @@ def parse_args(argv=None) -> Args:
     return Args(**vars(parser.parse_args(argv)))
 
 
-def make_env(args: Args, first_seed: int, stride: int, delta_d, n_obstacles):
+def make_env(args: Args, first_seed: int, stride: int, delta_d, n_obstacles, static_fraction: float = 0.0):
     def thunk():
         from stable_baselines3.common.monitor import Monitor
 
         env = gym.make("DynamicObstacle-v0", scenario="random", reward_collision=args.reward_collision, reward_proximity=args.reward_proximity)
-        env = EpisodeSchedule(env, first_seed=first_seed, stride=stride, delta_d=delta_d, n_obstacles=n_obstacles)
+        env = EpisodeSchedule(env, first_seed=first_seed, stride=stride, delta_d=delta_d, n_obstacles=n_obstacles, static_fraction=static_fraction)
         return Monitor(make_learning_env(env, k_nearest=args.k_nearest))
 
     return thunk
@@ -148,7 +150,10 @@ def collect_demonstrations(args: Args, gamma: float) -> dict[str, np.ndarray]:
 
     env = gym.make("DynamicObstacle-v0", scenario="random", reward_collision=args.reward_collision, reward_proximity=args.reward_proximity)
     first = training_seed_base(args.seed) + TRAINING_SEEDS_PER_RUN // 2
-    env = EpisodeSchedule(env, first_seed=first, delta_d=(0.0, args.delta_d_max), n_obstacles=(args.n_obstacles_min, args.n_obstacles_max))
+    env = EpisodeSchedule(
+        env, first_seed=first, delta_d=(0.0, args.delta_d_max), n_obstacles=(args.n_obstacles_min, args.n_obstacles_max),
+        static_fraction=args.static_fraction,
+    )  # fmt: skip
     facts = EnvFacts.of(env)
     teacher = agents.make(args.teacher, env, seed=args.seed)
     features, actions, returns = [], [], []
@@ -221,7 +226,7 @@ def train(args: Args) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     n_obstacles = (args.n_obstacles_min, args.n_obstacles_max)
     base = training_seed_base(args.seed)
-    thunks = [make_env(args, base + i, args.n_envs, (0.0, args.delta_d_start), n_obstacles) for i in range(args.n_envs)]
+    thunks = [make_env(args, base + i, args.n_envs, (0.0, args.delta_d_start), n_obstacles, args.static_fraction) for i in range(args.n_envs)]
     train_env = (DummyVecEnv if args.vec_env == "dummy" else SubprocVecEnv)(thunks)
     # one validation env: its episodes run in seed order, and are rewound before every evaluation
     eval_env = DummyVecEnv([make_env(args, VALIDATION_SEED_BASE, 1, args.eval_delta_d, n_obstacles)])

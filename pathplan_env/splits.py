@@ -18,6 +18,16 @@ def heldout_seeds(split_seed: int, episodes: int) -> list[int]:
     return [base + i for i in range(episodes)]
 
 
+def validation_seeds(split_seed: int, episodes: int) -> list[int]:
+    """Episode seeds of the validation split ``split_seed``, for model selection (never the test split)."""
+    if episodes > EPISODES_PER_SPLIT_SEED:
+        raise ValueError(f"episodes must be <= {EPISODES_PER_SPLIT_SEED}, got {episodes}")
+    base = VALIDATION_SEED_BASE + int(split_seed) * EPISODES_PER_SPLIT_SEED
+    if not VALIDATION_SEED_BASE <= base < TEST_SEED_BASE:
+        raise ValueError(f"split_seed must be in [0, {(TEST_SEED_BASE - VALIDATION_SEED_BASE) // EPISODES_PER_SPLIT_SEED - 1}], got {split_seed!r}")
+    return [base + i for i in range(episodes)]
+
+
 def training_seed_base(run_seed: int) -> int:
     """First episode seed of the training run ``run_seed``; its episodes take the next ``TRAINING_SEEDS_PER_RUN`` seeds."""
     base = int(run_seed) * TRAINING_SEEDS_PER_RUN

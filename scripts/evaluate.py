@@ -242,7 +242,9 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--scenarios", help="comma-separated presets")
     parser.add_argument("--delta-d", help="comma-separated Δd values")
     parser.add_argument("--episodes", type=int, help="episodes per cell")
-    parser.add_argument("--seed", type=int, default=0, help="test split seed")
+    parser.add_argument("--seed", type=int, default=0, help="split seed")
+    parser.add_argument("--split", choices=("test", "validation"), default="test",
+                        help="test episodes (reports) or validation episodes (model selection, e.g. between RL checkpoints)")
     parser.add_argument("--n-obstacles", type=int, default=8, help="obstacles of the random preset")
     parser.add_argument("--workers", type=int, default=os.cpu_count(), help="parallel processes")
     parser.add_argument("--agent-kwargs", default="{}", help='JSON overrides for every agent, e.g. \'{"n_waypoints": 3}\'')
@@ -260,7 +262,7 @@ def main(argv=None) -> list[dict]:
     args = parse_args(argv)
     import agents
     import pathplan_env
-    from pathplan_env.splits import heldout_seeds
+    from pathplan_env.splits import heldout_seeds, validation_seeds
 
     agent_names = [a.strip() for a in args.agents.split(",") if a.strip()]
     unknown = [a for a in agent_names if a not in agents.available()]
@@ -280,7 +282,7 @@ def main(argv=None) -> list[dict]:
         raise SystemExit("--episodes must be >= 1")
     overrides = json.loads(args.agent_kwargs)
 
-    seeds = heldout_seeds(args.seed, args.episodes)
+    seeds = (heldout_seeds if args.split == "test" else validation_seeds)(args.seed, args.episodes)
     jobs = [
         (a, s, d, i, seed, args.n_obstacles, overrides) for a in agent_names for s in scenarios for d in deltas for i, seed in enumerate(seeds)
     ]

@@ -13,7 +13,9 @@ from stable_baselines3.common.evaluation import evaluate_policy
 import agents
 import pathplan_env  # noqa: F401
 from agents.rl import MODELS_DIR
-from pathplan_env.splits import VALIDATION_SEED_BASE, heldout_seeds, is_training_seed, is_validation_seed, training_seed_base
+from pathplan_env.splits import (
+    VALIDATION_SEED_BASE, heldout_seeds, is_training_seed, is_validation_seed, training_seed_base, validation_seeds,
+)  # fmt: skip
 from pathplan_env.wrappers import EpisodeSchedule, make_learning_env
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
@@ -110,6 +112,9 @@ def test_seed_splits_are_disjoint():
     assert all(is_training_seed(training_seed_base(s) + 9_999_999) for s in (0, 89))
     assert is_validation_seed(VALIDATION_SEED_BASE) and not is_training_seed(VALIDATION_SEED_BASE)
     assert not any(is_training_seed(s) or is_validation_seed(s) for s in heldout_seeds(0, 10))
+    assert all(is_validation_seed(s) for s in validation_seeds(0, 10) + validation_seeds(99, 10))
+    with pytest.raises(ValueError, match="split_seed"):
+        validation_seeds(100, 10)
 
 
 @pytest.mark.parametrize("scenario, n_obstacles", [("random", 8), ("random", 3), ("random", 20), ("paper-case-3", 0)])

@@ -1,6 +1,6 @@
 """Train a stable-baselines3 agent (PPO by default, or SAC) on DynamicObstacle-v0.
 
-    python scripts/train_rl.py --total-timesteps 3000000 --seed 0 --out runs/ppo
+    python scripts/train_rl.py --total-timesteps 4000000 --seed 0 --out runs/ppo
     python scripts/train_rl.py --algo sac --n-envs 4 --total-timesteps 500000 --out runs/sac
     python scripts/train_rl.py ... --ship            # also copy the model to agents/models/<algo>.zip
 
@@ -44,7 +44,7 @@ MODELS_DIR = ROOT / "agents" / "models"
 class Args:
     algo: str = "ppo"
     """ppo or sac"""
-    total_timesteps: int = 3_000_000
+    total_timesteps: int = 4_000_000
     seed: int = 0
     """run seed: torch, and the training episode seeds (pathplan_env.splits.training_seed_base)"""
     n_envs: int = 8
@@ -68,12 +68,12 @@ class Args:
     reward_collision: float = -1.0
     """the env's collision penalty during training (evaluation always uses the env's default)"""
     reward_proximity: float = -0.1
+    """CrowdNav-style discomfort penalty within 0.5 m of an obstacle, for training only (0 = off)"""
     teacher: str = "velocity-obstacle"
     """warm start: behaviour-clone this planner's successful episodes before RL (CrowdNav's IL + RL); '' = none"""
     teacher_steps: int = 200_000
     """env steps of teacher demonstrations"""
     teacher_epochs: int = 20
-    """CrowdNav-style discomfort penalty within 0.5 m of an obstacle, for training only (0 = off)"""
     net_arch: str = "128,128"
     eval_freq: int = 100_000
     """env steps between validation evaluations"""

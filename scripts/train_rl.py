@@ -1,8 +1,8 @@
 """Train a stable-baselines3 agent (PPO by default, or SAC) on DynamicObstacle-v0.
 
     python scripts/train_rl.py --total-timesteps 4000000 --seed 0 --out runs/ppo
-    python scripts/train_rl.py --algo sac --n-envs 4 --total-timesteps 500000 --out runs/sac
-    python scripts/train_rl.py ... --ship            # also copy the model to agents/models/<algo>.zip
+    python scripts/train_rl.py --algo sac --teacher '' --n-envs 4 --total-timesteps 500000 --out runs/sac
+    python scripts/train_rl.py ... --ship best       # also copy the best model to agents/models/<algo>.zip
 
 The policy sees ``pathplan_env.wrappers.make_learning_env``'s egocentric features and acts in its
 relative-waypoint action space, the same transforms ``agents.make("ppo", env)`` applies at test time.

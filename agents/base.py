@@ -93,7 +93,7 @@ def rollout(agent: Agent, env, seed: int | None = None) -> dict:
     """Run one episode of ``agent`` on ``env`` from ``reset(seed=seed)``; return the last step's info."""
     obs, info = env.reset(seed=seed)
     while True:
-        action, _ = agent.predict(obs)
+        action, _ = agent.predict(obs, deterministic=True)
         obs, _, terminated, truncated, info = env.step(action)
         if terminated or truncated:
             return info

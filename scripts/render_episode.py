@@ -52,7 +52,7 @@ def main() -> None:
     obs, info = env.reset(seed=args.seed)
     frames = [env.render()]
     while True:
-        action, _ = agent.predict(obs)
+        action, _ = agent.predict(obs, deterministic=True)
         obs, _, terminated, truncated, info = env.step(action)
         frames.append(env.render())
         if terminated or truncated:

@@ -225,14 +225,13 @@ class DynamicObstacleEnv(gym.Env):
             raise ValueError(f"scenario has {scenario.n_obstacles} obstacles, more than max_obstacles={self.max_obstacles}")
         self.scenario = scenario
         self._world = World(scenario, recycle=self._world)
-        self._goal = np.array(scenario.goal, np.float64)
         self._goal_xy = scenario.goal
         r = scenario.robot_radius
         xmin, ymin, xmax, ymax = scenario.bounds
         # what _waypoint needs, in one array: arena corner, half size, the box where the robot's disc fits
         self._waypoint_params = np.array([xmin, ymin, 0.5 * (xmax - xmin), 0.5 * (ymax - ymin), xmin + r, ymin + r, xmax - r, ymax - r])
         self._reach = scenario.robot_speed * scenario.dt
-        self._start_distance = max(float(np.hypot(self._goal[0] - scenario.start[0], self._goal[1] - scenario.start[1])), 1e-9)
+        self._start_distance = max(float(np.hypot(self._goal_xy[0] - scenario.start[0], self._goal_xy[1] - scenario.start[1])), 1e-9)
         self._distance = self._start_distance
         self._path_length = 0.0
         self._prepare_observation_padding()
@@ -343,9 +342,8 @@ class DynamicObstacleEnv(gym.Env):
         obstacle velocities (N, 2), radii (N), mask (N); padding rows sit at the arena's lower corner.
         """
         n, n_max = self.scenario.n_obstacles, self.max_obstacles
-        self._n_real = n
         template = np.zeros(6 + 6 * n_max, np.float32)
-        template[4:6] = self._goal
+        template[4:6] = self._goal_xy
         positions = template[6 : 6 + 2 * n_max].reshape(n_max, 2)
         positions[n:] = self._arena_low
         template[6 + 4 * n_max : 6 + 5 * n_max][:n] = self._world.radii

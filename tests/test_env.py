@@ -247,6 +247,28 @@ def test_elastic_bounces_keep_each_obstacle_speed():
     assert 0 < max(penetration) < 1.5 * substep_displacement
 
 
+@pytest.mark.parametrize("delta_d", [1.0, 4.0])
+def test_no_obstacle_moves_farther_than_its_speed_allows(delta_d):
+    """Δd holds for displacement: Chipmunk's overlap correction would push touching bodies farther."""
+    env = gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=50, delta_d=delta_d)
+    steps, bounced = 0, 0
+    for seed in range(2):
+        env.reset(seed=seed)
+        world = env.unwrapped._world
+        limit = world._speeds * env.unwrapped.dt
+        world.robot_xy = (-1e3, -1e3)  # far away: the robot never ends the episode
+        start_velocities = world.obstacle_state[:, 2:].copy()
+        for _ in range(1000):
+            before = world.obstacle_state.copy()
+            world.step(0.0, 0.0)
+            moved = np.hypot(*(world.obstacle_state[:, :2] - before[:, :2]).T)
+            assert (moved <= limit * (1 + 1e-6)).all(), f"moved {np.max(moved / limit):.6f}x its step"
+            np.testing.assert_allclose(np.hypot(*world.obstacle_state[:, 2:].T), world._speeds, rtol=1e-9)
+            steps += 1
+        bounced += int((np.abs(world.obstacle_state[:, 2:] - start_velocities) > 1e-6).any(axis=1).sum())
+    assert steps == 2000 and bounced > 90  # nearly all 100 obstacles changed direction
+
+
 def test_robot_never_pushes_obstacles():
     # a resting obstacle stays exactly where it is while the robot drives into it
     scenario = Scenario(bounds=(0, 0, 10, 10), start=(2, 5), goal=(9, 5), obstacles=(Obstacle((5, 5), 1.0),))

@@ -10,6 +10,7 @@ import numba
 import numpy as np
 from gymnasium import spaces
 
+from .kinematics import reach_fraction, robot_move
 from .scenarios import Scenario, check_delta_d, make_scenario
 from .world import World
 
@@ -228,7 +229,7 @@ class DynamicObstacleEnv(gym.Env):
         self._goal_xy = scenario.goal
         r = scenario.robot_radius
         xmin, ymin, xmax, ymax = scenario.bounds
-        # what _waypoint needs, in one array: arena corner, half size, the box where the robot's disc fits
+        # what robot_move needs, in one array: arena corner, half size, the box where the robot's disc fits
         self._waypoint_params = np.array([xmin, ymin, 0.5 * (xmax - xmin), 0.5 * (ymax - ymin), xmin + r, ymin + r, xmax - r, ymax - r])
         self._reach = scenario.robot_speed * scenario.dt
         self._start_distance = max(float(np.hypot(self._goal_xy[0] - scenario.start[0], self._goal_xy[1] - scenario.start[1])), 1e-9)
@@ -247,18 +248,13 @@ class DynamicObstacleEnv(gym.Env):
             raise RuntimeError("call reset() before step()")
         if type(action) is not np.ndarray or action.shape != (2,):
             action = self._parse_action(action)
-        finite, wx, wy = _waypoint(action, self._waypoint_params)
+        px, py = world.robot_xy
+        finite, wx, wy, dx, dy = robot_move(action, self._waypoint_params, px, py, self._reach)
         if not finite:
             raise ValueError(f"action must be finite, got {action!r} (NaN or infinite)")
         self.waypoint = (wx, wy)
-        px, py = world.robot_xy
-        dx, dy = wx - px, wy - py
-        dist = math.hypot(dx, dy)
-        reach = self._reach
-        if dist > reach:
-            dx, dy = dx * reach / dist, dy * reach / dist
         min_gap, contact_fraction = world.step(dx, dy)
-        goal_fraction = _reach_fraction(px, py, dx, dy, self._goal_xy[0], self._goal_xy[1], self.scenario.goal_radius)
+        goal_fraction = reach_fraction(px, py, dx, dy, self._goal_xy[0], self._goal_xy[1], self.scenario.goal_radius)
         collision = contact_fraction <= 1.0 and contact_fraction <= goal_fraction
         success = goal_fraction <= 1.0 and not collision
 
@@ -394,32 +390,3 @@ def _fill_observation(block, x, y, vx, vy, obstacle_state, n_max):
         block[7 + 2 * i] = obstacle_state[i, 1]
         block[6 + 2 * n_max + 2 * i] = obstacle_state[i, 2]
         block[7 + 2 * n_max + 2 * i] = obstacle_state[i, 3]
-
-
-@numba.njit(cache=True)
-def _waypoint(action, params):
-    """``(finite, x, y)``: the action clipped to [-1, 1] and mapped linearly onto the arena, then
-    kept where the robot's disc fits (``params`` from reset). Compiled: it runs every step."""
-    ax, ay = float(action[0]), float(action[1])
-    if not (math.isfinite(ax) and math.isfinite(ay)):
-        return False, 0.0, 0.0
-    ax, ay = min(max(ax, -1.0), 1.0), min(max(ay, -1.0), 1.0)
-    x = min(max(params[0] + (ax + 1.0) * params[2], params[4]), params[6])
-    y = min(max(params[1] + (ay + 1.0) * params[3], params[5]), params[7])
-    return True, x, y
-
-
-@numba.njit(cache=True)
-def _reach_fraction(px: float, py: float, dx: float, dy: float, gx: float, gy: float, radius: float) -> float:
-    """First fraction t in [0, 1] at which p + t d comes within ``radius`` of the goal g (2.0 if never)."""
-    fx, fy = px - gx, py - gy
-    c = fx * fx + fy * fy - radius * radius
-    if c <= 0.0:
-        return 0.0
-    a = dx * dx + dy * dy
-    b = fx * dx + fy * dy
-    disc = b * b - a * c
-    if a == 0.0 or b >= 0.0 or disc < 0.0:
-        return 2.0
-    t = (-b - math.sqrt(disc)) / a
-    return t if t <= 1.0 else 2.0

@@ -21,6 +21,31 @@ from scipy.sparse.csgraph import dijkstra
 NO_CONTACT = 2.0  # returned as the contact fraction when nothing touches (any value > 1)
 
 
+@numba.njit(cache=True, inline="always")
+def swept_pair(ax, ay, bx, by, robot_radius, oax, oay, obx, oby, radius):
+    """Smallest surface gap and first contact fraction (``NO_CONTACT`` if none) of the robot moving
+    linearly from ``a`` to ``b`` and one obstacle from ``oa`` to ``ob`` over the same interval."""
+    d0x = oax - ax
+    d0y = oay - ay
+    ex = (obx - bx) - d0x
+    ey = (oby - by) - d0y
+    reach = robot_radius + radius
+    ee = ex * ex + ey * ey
+    d0e = d0x * ex + d0y * ey
+    t = 0.0
+    if ee > 0.0:
+        t = min(max(-d0e / ee, 0.0), 1.0)
+    gap = math.hypot(d0x + t * ex, d0y + t * ey) - reach
+    t_hit = NO_CONTACT
+    if gap <= 0.0:
+        c = d0x * d0x + d0y * d0y - reach * reach
+        if c <= 0.0:
+            t_hit = 0.0
+        else:  # smaller root of ee t^2 + 2 d0e t + c = 0; real because the minimum is <= 0
+            t_hit = (-d0e - math.sqrt(max(d0e * d0e - ee * c, 0.0))) / ee
+    return gap, t_hit
+
+
 @numba.njit(cache=True)
 def swept_contact(ax, ay, bx, by, robot_radius, obstacles_a, obstacles_b, radii):
     """Smallest surface gap and first contact over one substep of linear motion.
@@ -38,27 +63,13 @@ def swept_contact(ax, ay, bx, by, robot_radius, obstacles_a, obstacles_b, radii)
     min_gap = np.inf
     t_contact = NO_CONTACT
     for i in range(radii.shape[0]):
-        d0x = obstacles_a[i, 0] - ax
-        d0y = obstacles_a[i, 1] - ay
-        ex = (obstacles_b[i, 0] - bx) - d0x
-        ey = (obstacles_b[i, 1] - by) - d0y
-        reach = robot_radius + radii[i]
-        ee = ex * ex + ey * ey
-        d0e = d0x * ex + d0y * ey
-        t = 0.0
-        if ee > 0.0:
-            t = min(max(-d0e / ee, 0.0), 1.0)
-        gap = math.hypot(d0x + t * ex, d0y + t * ey) - reach
+        gap, t_hit = swept_pair(
+            ax, ay, bx, by, robot_radius, obstacles_a[i, 0], obstacles_a[i, 1], obstacles_b[i, 0], obstacles_b[i, 1], radii[i]
+        )
         if gap < min_gap:
             min_gap = gap
-        if gap <= 0.0:
-            c = d0x * d0x + d0y * d0y - reach * reach
-            if c <= 0.0:
-                t_hit = 0.0
-            else:  # smaller root of ee t^2 + 2 d0e t + c = 0; real because the minimum is <= 0
-                t_hit = (-d0e - math.sqrt(max(d0e * d0e - ee * c, 0.0))) / ee
-            if t_hit < t_contact:
-                t_contact = t_hit
+        if t_hit < t_contact:
+            t_contact = t_hit
     return min_gap, t_contact
 
 

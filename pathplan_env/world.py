@@ -230,6 +230,29 @@ class World:
         self.time += dt
         return float(min_gap), float(first_contact)
 
+    def obstacle_trajectory(self, n_steps: int) -> np.ndarray:
+        """Advance the obstacles by ``n_steps`` steps and return their state at every substep.
+
+        The robot never moves an obstacle, so the obstacles of a fresh world built from an episode's
+        scenario follow this trajectory whatever the robot does: it is the future that the
+        privileged clairvoyant oracle reads. ``out[s]`` is the (N, 4) state after ``s`` substeps
+        (``out[0]`` now); the robot does not move.
+        """
+        n, dt = self.substeps, self.scenario.dt
+        out = np.empty((n_steps * n + 1, self.n_obstacles, 4))
+        out[0] = self.obstacle_state
+        space, array, request = self.space._space, self._buffer._float_arr, self._request
+        for s in range(1, n_steps * n + 1):  # World.step's obstacle half, substep for substep
+            _space_step(space, dt / n)
+            array.num = 0
+            _each_body(space, _READ_BODY, request)
+            _, _, restored = _finish_substep(self.obstacle_state, self._pymunk_state, 0.0, 0.0, 0.0, 0.0, 0.0, self.radii, self._speeds)
+            if restored:
+                self._write_bodies()
+            out[s] = self.obstacle_state
+        self.time += n_steps * dt
+        return out
+
     def clearance(self) -> float:
         """Current smallest surface gap between the robot and any obstacle (inf with no obstacles)."""
         if self.n_obstacles == 0:

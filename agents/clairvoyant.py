@@ -1,0 +1,96 @@
+"""``oracle-clairvoyant``: the physical limit of an episode. PRIVILEGED: it reads the simulator.
+
+Not a policy anyone could deploy, and the only agent allowed to look past the observation: it
+reads the episode's :class:`~pathplan_env.Scenario` from the env and steps a fresh copy of the
+world ahead, which gives every obstacle's position at every substep of the episode (the robot
+never moves an obstacle, so that future does not depend on what the robot does). It then searches
+(step, position) for the earliest collision-free arrival (:mod:`agents.spacetime_search`) and flies
+the plan, which replays exactly because every move was made with the env's own kinematics and
+contact test. The evaluation harness runs it on every cell's episodes to report the ``limit``.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+import pathplan_env
+from pathplan_env.env import DynamicObstacleEnv
+from pathplan_env.world import World
+
+from .base import Agent
+from .spacetime_search import FOUND, heading_moves, provably_lost, search
+
+#: What the oracle concludes about an episode: a plan, provably no plan, or a failed search.
+VERDICTS = ("plan", "lost", "undetermined")
+
+
+class ClairvoyantOracle(Agent):
+    """Earliest-arrival plan against the obstacles' true future. **Reads the simulator.**
+
+    :param n_headings: move directions per node (evenly spaced).
+    :param speed_fractions: move lengths, as fractions of the robot's step (waiting and a move
+        onto the goal are always tried too).
+    :param cell: grid (m) on which positions reached at the same step are merged.
+    :param max_expansions: node budget of one search; past it the episode is "undetermined"
+        unless the reachable-set test proves it lost.
+    :param lost_cell: grid (m) of that reachable-set test.
+    """
+
+    def __init__(self, env, seed: int | None = None, *, n_headings: int = 32, speed_fractions=(1.0, 0.5),
+                 cell: float = 0.03, max_expansions: int = 100_000, lost_cell: float = 0.005, h_weight: float = 3.0):  # fmt: skip
+        super().__init__(env, seed)
+        if not isinstance(getattr(env, "unwrapped", None), DynamicObstacleEnv):
+            raise ValueError("oracle-clairvoyant reads the simulator: it needs one DynamicObstacleEnv, not a vector env")
+        if int(n_headings) != n_headings or n_headings < 4:
+            raise ValueError(f"n_headings must be an integer >= 4, got {n_headings!r}")
+        if not (cell > 0 and lost_cell > 0):
+            raise ValueError(f"cell and lost_cell must be > 0, got {cell!r}, {lost_cell!r}")
+        self._env: DynamicObstacleEnv = env.unwrapped
+        spec = getattr(env, "spec", None)
+        self.max_steps = int(spec.max_episode_steps) if spec is not None and spec.max_episode_steps else pathplan_env.MAX_EPISODE_STEPS
+        self.moves = heading_moves(int(n_headings), speed_fractions)
+        self.cell, self.max_expansions, self.lost_cell, self.h_weight = float(cell), int(max_expansions), float(lost_cell), float(h_weight)
+        self.verdict: str | None = None  # of the episode planned last
+        self.last_search: dict = {}
+
+    def solve(self) -> dict:
+        """Search from the env's current state; returns the memory entries the episode flies."""
+        env = self._env
+        scenario, world = env.scenario, env._world
+        begin = time.perf_counter()
+        now = int(round(world.time / scenario.dt))
+        remaining = self.max_steps - now
+        future = World(scenario)  # the same episode, bit for bit, from its start
+        trajectory = future.obstacle_trajectory(self.max_steps)[now * future.substeps :]
+        r = scenario.robot_radius
+        xmin, ymin, xmax, ymax = scenario.bounds
+        start = np.array(world.robot_xy)
+        goal = np.array(scenario.goal)
+        outcome, targets, expansions = search(
+            trajectory, future.substeps, r, world.radii, start, goal, scenario.goal_radius, env._waypoint_params,
+            self._arena_low, self._arena_size, env._reach, self.moves, remaining, self.cell, self.max_expansions, self.h_weight,
+        )  # fmt: skip
+        if outcome == FOUND:
+            verdict, lost_at = "plan", None
+        else:
+            lost, lost_at = provably_lost(
+                trajectory, future.substeps, world.radii, r, start, goal, scenario.goal_radius,
+                (xmin + r, ymin + r, xmax - r, ymax - r), env._reach, self.lost_cell,
+            )  # fmt: skip
+            verdict = "lost" if lost else "undetermined"
+        self.verdict = verdict
+        self.last_search = {"verdict": verdict, "steps": len(targets), "expansions": int(expansions),
+                            "lost_at_step": lost_at, "seconds": time.perf_counter() - begin}  # fmt: skip
+        return {"targets": targets, "next": 0}
+
+    def plan(self, obs, memory):
+        if "targets" not in memory:
+            memory.update(self.solve())
+        i = memory["next"]
+        memory["next"] = i + 1
+        targets = memory["targets"]
+        if i < len(targets):
+            return targets[i]
+        return np.asarray(obs["goal"], np.float64)  # past a failed search's deepest node: head for the goal

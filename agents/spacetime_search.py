@@ -1,0 +1,226 @@
+"""A* over (step, position) against known obstacle trajectories: the earliest arrival at the goal.
+
+Shared by the privileged clairvoyant oracle (the env's own future obstacle states) and by the
+model-based ``astar-spacetime`` planner (obstacles predicted from the observation). Every move is a
+waypoint action made exactly as the env makes it (``pathplan_env.kinematics``: float32 action,
+clipping, the one-step reach) and checked with the env's swept contact test at every substep, so a
+plan found against the env's own trajectory replays bit for bit.
+
+Moves from each node: ``headings`` x ``speed_fractions`` of the robot's step, waiting, and a
+waypoint on the goal itself. Nodes are merged per (step, grid cell of ``cell`` metres): the search
+is complete only up to that resolution, which is why a failed search is "undetermined" unless
+:func:`provably_lost` says otherwise. The heuristic (steps still needed at top speed) is admissible,
+so the first goal node popped arrives earliest; ties go to the deeper node.
+
+Compiled with numba: one search expands thousands of nodes with dozens of moves each.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+
+import numba
+import numpy as np
+
+from pathplan_env.geometry import swept_pair
+from pathplan_env.kinematics import reach_fraction, robot_move, substep_point
+
+FOUND, HORIZON, EXHAUSTED, BUDGET = 0, 1, 2, 3  # search outcomes
+
+
+def heading_moves(n_headings: int, speed_fractions) -> np.ndarray:
+    """Move directions and lengths as an (M, 3) array ``(ux, uy, fraction of the robot's step)``."""
+    angles = 2.0 * np.pi * np.arange(n_headings) / n_headings
+    rows = [(math.cos(a), math.sin(a), float(f)) for f in speed_fractions for a in angles]
+    return np.array(rows, dtype=np.float64).reshape(-1, 3)
+
+
+@numba.njit(cache=True, inline="always")
+def _to_action(tx, ty, low, size):
+    """``Agent.waypoint_to_action`` for one point, with the same arithmetic (float64, then float32)."""
+    a = np.empty(2, np.float32)
+    a[0] = min(max(2.0 * (tx - low[0]) / size[0] - 1.0, -1.0), 1.0)
+    a[1] = min(max(2.0 * (ty - low[1]) / size[1] - 1.0, -1.0), 1.0)
+    return a
+
+
+@numba.njit(cache=True)
+def _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, gx, gy, goal_radius):
+    """One step from ``(x, y)`` by ``(dx, dy)`` starting at substep ``first``: 1 goal, 0 free, -1 contact.
+
+    Only the obstacles ``near[:n_near]`` are tested (the others cannot reach the robot this step);
+    for those the test is the env's ``swept_contact``, pair by pair."""
+    contact = 2.0
+    ax, ay = x, y
+    for j in range(1, n + 1):
+        bx, by = substep_point(x, dx, j, n), substep_point(y, dy, j, n)
+        a, b = traj[first + j - 1], traj[first + j]
+        t = 2.0
+        for q in range(n_near):
+            o = near[q]
+            _, t_hit = swept_pair(ax, ay, bx, by, robot_radius, a[o, 0], a[o, 1], b[o, 0], b[o, 1], radii[o])
+            t = min(t, t_hit)
+        if t <= 1.0:
+            contact = (j - 1 + t) / n
+            break
+        ax, ay = bx, by
+    goal = reach_fraction(x, y, dx, dy, gx, gy, goal_radius)
+    if contact <= 1.0 and contact <= goal:
+        return -1
+    return 1 if goal <= 1.0 else 0
+
+
+@numba.njit(cache=True)
+def search(
+    traj, n, robot_radius, radii, start, goal, goal_radius, params, low, size, reach,
+    moves, max_steps, cell, max_expansions, h_weight,
+):  # fmt: skip
+    """Earliest-arrival A* from ``start`` at substep 0 of ``traj`` ((S + 1, N, 4), ``n`` substeps a step).
+
+    A node at depth ``max_steps`` (where ``traj`` or the episode ends) counts as a leaf: when one is
+    popped before any goal node, the search stops there (``HORIZON``), its path the most promising.
+
+    :return: ``(outcome, targets, expansions)``: ``targets`` (steps, 2) are the waypoints to aim at,
+        one per step (found plan, horizon leaf, or the deepest node reached when the search fails).
+    """
+    bx0, by0 = params[4], params[5]
+    gx_cells = int((params[6] - bx0) / cell) + 2
+    gy_cells = int((params[7] - by0) / cell) + 2
+    capacity = max_expansions * (moves.shape[0] + 2) + 1
+    cap = min(capacity, 2_000_000)
+    node_x = np.empty(cap)
+    node_y = np.empty(cap)
+    node_k = np.empty(cap, np.int64)
+    node_parent = np.empty(cap, np.int64)
+    node_tx = np.empty(cap)
+    node_ty = np.empty(cap)
+    seen = numba.typed.Dict.empty(numba.types.int64, numba.types.int64)
+    near = np.empty(radii.shape[0], np.int64)
+
+    def h(x, y):
+        d = math.hypot(x - goal[0], y - goal[1]) - goal_radius
+        return 0.0 if d <= 0.0 else math.ceil(d / reach - 1e-9)
+
+    node_x[0], node_y[0], node_k[0], node_parent[0] = start[0], start[1], 0, -1
+    count = 1
+    heap = [(h_weight * h(start[0], start[1]), 0, 0)]
+    deepest, deepest_k, deepest_h = 0, 0, h(start[0], start[1])
+    expansions = 0
+    found = -1
+    outcome = EXHAUSTED
+    while len(heap) > 0:
+        f, negk, i = heapq.heappop(heap)
+        k = node_k[i]
+        if k == max_steps:
+            found, outcome = i, HORIZON
+            break
+        if expansions >= max_expansions:
+            outcome = BUDGET
+            break
+        expansions += 1
+        x, y = node_x[i], node_y[i]
+        first = k * n
+        # broad phase: an obstacle farther than the robot's step plus its own path this step is out of reach
+        n_near = 0
+        for o in range(radii.shape[0]):
+            travel = 0.0
+            for j in range(1, n + 1):
+                travel += math.hypot(traj[first + j, o, 0] - traj[first + j - 1, o, 0], traj[first + j, o, 1] - traj[first + j - 1, o, 1])
+            gap = math.hypot(x - traj[first, o, 0], y - traj[first, o, 1]) - robot_radius - radii[o]
+            if gap <= reach + travel + 1e-9 * (1.0 + travel):
+                near[n_near] = o
+                n_near += 1
+        m_total = moves.shape[0] + 2
+        for m in range(m_total):
+            if m < moves.shape[0]:
+                tx = x + moves[m, 0] * moves[m, 2] * reach
+                ty = y + moves[m, 1] * moves[m, 2] * reach
+            elif m == moves.shape[0]:
+                tx, ty = x, y  # wait
+            else:
+                tx, ty = goal[0], goal[1]
+            action = _to_action(tx, ty, low, size)
+            _, _, _, dx, dy = robot_move(action, params, x, y, reach)
+            result = _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, goal[0], goal[1], goal_radius)
+            if result < 0:
+                continue
+            nx, ny = x + dx, y + dy
+            if result == 0:
+                key = ((k + 1) * gx_cells + int((nx - bx0) / cell)) * gy_cells + int((ny - by0) / cell)
+                if key in seen or count >= cap:
+                    continue
+                seen[key] = 1
+            node_x[count], node_y[count], node_k[count], node_parent[count] = nx, ny, k + 1, i
+            node_tx[count], node_ty[count] = tx, ty
+            if result == 1:
+                found, outcome = count, FOUND
+                count += 1
+                break
+            hn = h(nx, ny)
+            heapq.heappush(heap, (k + 1 + h_weight * hn, -(k + 1), count))
+            if k + 1 > deepest_k or (k + 1 == deepest_k and hn < deepest_h):
+                deepest, deepest_k, deepest_h = count, k + 1, hn
+            count += 1
+        if outcome == FOUND:
+            break
+    last = found if found >= 0 else deepest
+    steps = node_k[last]
+    targets = np.empty((steps, 2))
+    j = last
+    for s in range(steps - 1, -1, -1):
+        targets[s, 0], targets[s, 1] = node_tx[j], node_ty[j]
+        j = node_parent[j]
+    return outcome, targets, expansions
+
+
+def provably_lost(trajectory: np.ndarray, substeps: int, radii: np.ndarray, robot_radius: float, start, goal,
+                  goal_radius: float, robot_box, reach: float, cell: float = 0.005, max_steps: int = 6) -> tuple[bool | None, int]:
+    """Whether no path can reach the goal, by an outer approximation of the reachable set.
+
+    ``trajectory[s]`` (S + 1, N, >= 2) are the obstacle centres after ``s`` substeps. The set of
+    positions the robot can occupy after each substep is over-approximated on a grid of ``cell``
+    metres: a cell is kept if its centre lies within one substep's reach plus one cell diagonal of a
+    kept cell's centre, and inside the box where the robot's disc fits; it is dropped only if the
+    whole cell lies inside an obstacle inflated by the robot radius. The true set is inside the kept
+    one, so when the kept set empties the episode is lost whatever the robot does.
+
+    :return: ``(lost, step)``: ``(True, step)`` when the set empties during ``step``; ``(False, step)``
+        when the goal's disc comes within reach; ``(None, max_steps)`` when neither happens within
+        ``max_steps`` steps (undecided: the approximation's slack grows with every substep).
+    """
+    from scipy.ndimage import distance_transform_edt
+
+    xmin, ymin, xmax, ymax = robot_box
+    gx = max(1, int(math.ceil((xmax - xmin) / cell)))
+    gy = max(1, int(math.ceil((ymax - ymin) / cell)))
+    cx = xmin + (np.arange(gx) + 0.5) * cell
+    cy = ymin + (np.arange(gy) + 0.5) * cell
+    diag = cell * math.sqrt(2.0)
+    inflated = radii + robot_radius
+    move = reach / substeps + diag  # centre-to-centre bound: the move plus half a diagonal at each end
+    lo = np.array([min(max(int((start[0] - xmin) / cell), 0), gx - 1), min(max(int((start[1] - ymin) / cell), 0), gy - 1)])
+    hi = lo + 1
+    kept = np.ones((1, 1), bool)
+    grow = int(math.ceil(move / cell)) + 1
+    last = min(len(trajectory) - 1, max_steps * substeps)
+    for s in range(1, last + 1):
+        new_lo = np.maximum(lo - grow, 0)
+        new_hi = np.minimum(hi + grow, [gx, gy])
+        window = np.zeros(tuple(new_hi - new_lo), bool)
+        window[lo[0] - new_lo[0] : hi[0] - new_lo[0], lo[1] - new_lo[1] : hi[1] - new_lo[1]] = kept
+        candidate = distance_transform_edt(~window, sampling=cell) <= move
+        wx = cx[new_lo[0] : new_hi[0]][:, None]
+        wy = cy[new_lo[1] : new_hi[1]][None, :]
+        if (candidate & (np.hypot(wx - goal[0], wy - goal[1]) <= goal_radius + diag / 2)).any():
+            return False, (s - 1) // substeps + 1  # the goal may be reached during this step
+        for o in range(len(radii)):
+            ox, oy = trajectory[s][o, 0], trajectory[s][o, 1]
+            candidate &= np.hypot(wx - ox, wy - oy) + diag / 2 >= inflated[o]
+        if not candidate.any():
+            return True, (s - 1) // substeps + 1
+        rows, cols = np.nonzero(candidate)
+        lo = new_lo + [rows.min(), cols.min()]
+        hi = new_lo + [rows.max() + 1, cols.max() + 1]
+        kept = candidate[rows.min() : rows.max() + 1, cols.min() : cols.max() + 1]
+    return (True, last // substeps) if last == len(trajectory) - 1 else (None, max_steps)

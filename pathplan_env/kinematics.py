@@ -1,0 +1,52 @@
+"""The robot's kinematics, compiled: action -> waypoint -> one step's move, and the goal test.
+
+One module because two callers must agree to the last bit: the env, every step, and the
+privileged clairvoyant oracle (``agents.clairvoyant``), whose searched plans replay exactly only
+if it moves the robot with the env's own arithmetic.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+
+
+@numba.njit(cache=True)
+def robot_move(action, params, px, py, reach):
+    """``(finite, wx, wy, dx, dy)``: the action clipped to [-1, 1] and mapped linearly onto the arena,
+    kept where the robot's disc fits (``params``: arena corner, half size, the box where the disc
+    fits), then the move from ``(px, py)`` toward that waypoint, at most ``reach`` long."""
+    ax, ay = float(action[0]), float(action[1])
+    if not (math.isfinite(ax) and math.isfinite(ay)):
+        return False, 0.0, 0.0, 0.0, 0.0
+    ax, ay = min(max(ax, -1.0), 1.0), min(max(ay, -1.0), 1.0)
+    wx = min(max(params[0] + (ax + 1.0) * params[2], params[4]), params[6])
+    wy = min(max(params[1] + (ay + 1.0) * params[3], params[5]), params[7])
+    dx, dy = wx - px, wy - py
+    dist = math.hypot(dx, dy)
+    if dist > reach:
+        dx, dy = dx * reach / dist, dy * reach / dist
+    return True, wx, wy, dx, dy
+
+
+@numba.njit(cache=True)
+def reach_fraction(px: float, py: float, dx: float, dy: float, gx: float, gy: float, radius: float) -> float:
+    """First fraction t in [0, 1] at which p + t d comes within ``radius`` of the goal g (2.0 if never)."""
+    fx, fy = px - gx, py - gy
+    c = fx * fx + fy * fy - radius * radius
+    if c <= 0.0:
+        return 0.0
+    a = dx * dx + dy * dy
+    b = fx * dx + fy * dy
+    disc = b * b - a * c
+    if a == 0.0 or b >= 0.0 or disc < 0.0:
+        return 2.0
+    t = (-b - math.sqrt(disc)) / a
+    return t if t <= 1.0 else 2.0
+
+
+@numba.njit(cache=True)
+def substep_point(x0: float, d: float, k: int, n: int) -> float:
+    """The robot's coordinate after substep ``k`` of ``n`` of a step from ``x0`` by ``d`` (as ``World.step``)."""
+    return x0 + d if k == n else x0 + (k / n) * d

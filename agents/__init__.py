@@ -11,15 +11,17 @@ from .classical import StraightAgent, VelocityObstacleAgent
 from .metaheuristic import MetaheuristicAgent
 from .oracle import StaticOracleAgent
 from .rl import RLAgent
+from .spacetime import SpacetimeAStarAgent
 
 register("straight", StraightAgent)
 register("velocity-obstacle", VelocityObstacleAgent)
 register("oracle-static", StaticOracleAgent)
 register("oracle-clairvoyant", ClairvoyantOracle)  # privileged: reads the simulator
 register("ppo", partial(RLAgent, algo="ppo"))
+register("astar-spacetime", SpacetimeAStarAgent)
 for _optimizer in ("pso", "abc"):
     register(_optimizer, partial(MetaheuristicAgent, optimizer=_optimizer, variant="paper"))
     register(f"{_optimizer}-vanilla", partial(MetaheuristicAgent, optimizer=_optimizer, variant="vanilla"))
     register(f"{_optimizer}-predictive", partial(MetaheuristicAgent, optimizer=_optimizer, variant="paper", predictive=True))
 
-__all__ = ["Agent", "ClairvoyantOracle", "MetaheuristicAgent", "RLAgent", "StaticOracleAgent", "StraightAgent", "VelocityObstacleAgent", "available", "make", "register", "rollout"]
+__all__ = ["Agent", "ClairvoyantOracle", "MetaheuristicAgent", "RLAgent", "SpacetimeAStarAgent", "StaticOracleAgent", "StraightAgent", "VelocityObstacleAgent", "available", "make", "register", "rollout"]

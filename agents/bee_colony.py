@@ -20,11 +20,11 @@ import numba
 import numpy as np
 
 from .fast_random import below, new_state, uniform
-from .objective import path_cost
+from .objective import objective
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, robot, goal, centers, velocities, radii, speed, horizon, penalty_weight):
+def _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, problem):
     SN, D = x.shape
     k = below(rng, SN - 1)
     if k >= i:
@@ -33,7 +33,7 @@ def _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, robot, goal, centers, v
     phi = 2.0 * uniform(rng) - 1.0
     old = x[i, j]  # the candidate differs from source i in one coordinate: try it in place
     x[i, j] = min(max(old + phi * (old - x[k, j]), lo[j]), hi[j])
-    c, p = path_cost(x[i], robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
+    c, p = objective(x[i], problem)
     if c < cost[i]:
         cost[i], pen[i] = c, p
         trials[i] = 0
@@ -43,11 +43,8 @@ def _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, robot, goal, centers, v
 
 
 @numba.njit(cache=True, error_model="numpy")
-def abc_run(
-    x0, lo, hi, max_evaluations, limit, scouts_replace_infeasible, seed,
-    robot, goal, centers, velocities, radii, speed, horizon, penalty_weight,
-):  # fmt: skip
-    """Run ABC from the food sources ``x0`` (SN, D).
+def abc_run(x0, lo, hi, max_evaluations, limit, scouts_replace_infeasible, seed, problem):
+    """Run ABC from the food sources ``x0`` (SN, D), minimising :func:`agents.objective.objective` for ``problem``.
 
     :return: ``(best_x, best_cost, best_penalty, history, evaluations, scouted)``: ``history[c]`` is
         the best cost after cycle ``c`` (trailing entries unused are NaN); ``scouted`` counts the
@@ -60,7 +57,7 @@ def abc_run(
     pen = np.empty(SN)
     trials = np.zeros(SN, dtype=np.int64)
     for i in range(SN):
-        cost[i], pen[i] = path_cost(x[i], robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
+        cost[i], pen[i] = objective(x[i], problem)
     evaluations = SN
     b = np.argmin(cost)
     best_x, best_cost, best_pen = x[b].copy(), cost[b], pen[b]
@@ -69,12 +66,12 @@ def abc_run(
     scouted = 0
     while evaluations + 2 * SN <= max_evaluations:
         for i in range(SN):  # employed bees
-            _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
+            _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, problem)
         fitness = 1.0 / (1.0 + cost)
         cumulative = np.cumsum(fitness / fitness.sum())
         for _ in range(SN):  # onlooker bees: roulette-wheel choice of a source
             i = min(np.searchsorted(cumulative, uniform(rng)), SN - 1)
-            _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
+            _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, problem)
         evaluations += 2 * SN
         for i in range(SN):  # memorise the best before the scouts discard anything
             if cost[i] < best_cost:
@@ -87,7 +84,7 @@ def abc_run(
             if abandon and evaluations < max_evaluations:
                 for j in range(D):
                     x[i, j] = lo[j] + uniform(rng) * (hi[j] - lo[j])
-                cost[i], pen[i] = path_cost(x[i], robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
+                cost[i], pen[i] = objective(x[i], problem)
                 trials[i] = 0
                 evaluations += 1
                 scouted += 1

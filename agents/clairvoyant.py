@@ -85,6 +85,11 @@ class ClairvoyantOracle(Agent):
                             "lost_at_step": lost_at, "seconds": time.perf_counter() - begin}  # fmt: skip
         return {"targets": targets, "next": 0}
 
+    def predict(self, observation, state=None, episode_start=None, deterministic: bool = False):
+        if np.ndim(observation["robot_position"]) != 1:
+            raise ValueError("oracle-clairvoyant reads the simulator of the one env it was made for: it cannot act on a batch")
+        return super().predict(observation, state, episode_start, deterministic)
+
     def plan(self, obs, memory):
         if "targets" not in memory:
             memory.update(self.solve())

@@ -100,23 +100,33 @@ class MetaheuristicAgent(Agent):
             penalty_weight=self.penalty_weight,
         )
 
+    def straight_line(self, robot: np.ndarray, goal: np.ndarray) -> np.ndarray:
+        """The k waypoints evenly spaced on the straight line to the goal (2k,)."""
+        fractions = np.arange(1, self.n_waypoints + 1) / (self.n_waypoints + 1)
+        return np.clip((robot + fractions[:, None] * (goal - robot)).ravel(), self._lo, self._hi)
+
     def optimize(self, scene: Scene, memory: dict[str, Any]) -> np.ndarray:
         """One replan: the best candidate (2k,). Records ``last_cost``, ``last_penalty``, ``last_history``."""
+        return self.run_optimizer(scene.args(), self._lo, self._hi, memory, self.straight_line(scene.robot, scene.goal))
+
+    def run_optimizer(self, problem: tuple, lo: np.ndarray, hi: np.ndarray, memory: dict[str, Any], straight: np.ndarray) -> np.ndarray:
+        """The optimiser on any objective (``agents.objective.objective``) in the box ``[lo, hi]``.
+
+        With ``warm_start``, the population holds the previous best (``memory["best"]``) and
+        ``straight`` (the straight line to the goal); the rest is uniform in the box.
+        """
         seed = int(self.rng.integers(2**31 - 1))
         size = self.population if self.optimizer == "pso" else self.population // 2
-        x0 = self.rng.uniform(self._lo, self._hi, size=(size, self._lo.size))
+        x0 = self.rng.uniform(lo, hi, size=(size, lo.size))
         if self.warm_start:
             if "best" in memory:  # the previous plan, as the paper's modified ABC does
                 x0[0] = memory["best"]
-            fractions = np.arange(1, self.n_waypoints + 1) / (self.n_waypoints + 1)
-            x0[1] = np.clip((scene.robot + fractions[:, None] * (scene.goal - scene.robot)).ravel(), self._lo, self._hi)
+            x0[1] = straight
         if self.optimizer == "pso":
-            best, cost, penalty, history = pso_run(
-                x0, self._lo, self._hi, self.inertia, self.c1, self.c2, self.v_max_fraction, seed, *scene.args()
-            )
+            best, cost, penalty, history = pso_run(x0, lo, hi, self.inertia, self.c1, self.c2, self.v_max_fraction, seed, problem)
         else:
             best, cost, penalty, history, _, self.last_scouted = abc_run(
-                x0, self._lo, self._hi, self.population * self.iterations, self.abc_limit, self.variant == "paper", seed, *scene.args()
+                x0, lo, hi, self.population * self.iterations, self.abc_limit, self.variant == "paper", seed, problem
             )
             history = history[~np.isnan(history)]
         memory["best"] = best

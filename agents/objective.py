@@ -23,6 +23,10 @@ from dataclasses import dataclass
 
 import numba
 import numpy as np
+from numba.extending import overload
+
+from pathplan_env.geometry import swept_pair
+from pathplan_env.kinematics import reach_fraction, substep_point
 
 TWO_PI = 2.0 * math.pi
 
@@ -82,6 +86,116 @@ def path_cost(x, robot, goal, centers, velocities, radii, speed, horizon, penalt
         t0 = t1
         ax, ay = bx, by
     return length + penalty, penalty
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _walk(pts, seg, px, py, distance):
+    """Advance ``distance`` metres along the polyline ``pts`` from ``(px, py)`` on segment ``seg``."""
+    last = pts.shape[0] - 1
+    while distance > 0.0 and seg < last:
+        tx, ty = pts[seg + 1, 0], pts[seg + 1, 1]
+        d = math.sqrt((tx - px) * (tx - px) + (ty - py) * (ty - py))
+        if d <= distance:
+            px, py, distance, seg = tx, ty, distance - d, seg + 1
+        else:
+            px, py, distance = px + (tx - px) * distance / d, py + (ty - py) * distance / d, 0.0
+    return seg, px, py
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def timed_path_cost(
+    x, traj, n, robot_radius, contact_radii, robot, goal, goal_radius, reach, horizon_steps, penalty_weight, travel,
+):  # fmt: skip
+    """Space-time objective of ``x`` = ``k`` waypoints (2k) then ``k + 1`` segment speeds (fractions of
+    the robot's top speed): ``(arrival + penalty, penalty)``, in metres (arrival time x top speed).
+
+    The robot flies robot -> w1 -> ... -> goal, each step a straight chord of ``speed x reach``
+    along the path. For the first ``horizon_steps`` steps every chord is checked against the
+    predicted obstacle states ``traj`` at every substep (the env's swept test, pairs beyond reach
+    skipped by ``travel``, each obstacle's path length per step); past the horizon the rest of the
+    path is flown at top speed and checked against the obstacles where the prediction leaves them.
+    Each obstacle cut into pays the paper's Eq. 4 penalty once: its circumference (of the contact
+    disc) plus ``penalty_weight`` times the deepest cut.
+    """
+    k = (x.shape[0] - 1) // 3
+    pts = np.empty((k + 2, 2))
+    pts[0, 0], pts[0, 1] = robot[0], robot[1]
+    for i in range(k):
+        pts[i + 1, 0], pts[i + 1, 1] = x[2 * i], x[2 * i + 1]
+    pts[k + 1, 0], pts[k + 1, 1] = goal[0], goal[1]
+    n_obs = contact_radii.shape[0]
+    depth = np.zeros(n_obs)
+    touched = np.zeros(n_obs, np.bool_)
+    seg, px, py = 0, robot[0], robot[1]
+    arrival = -1.0
+    for step in range(horizon_steps):
+        nseg, qx, qy = _walk(pts, seg, px, py, x[2 * k + seg] * reach)
+        dx, dy = qx - px, qy - py
+        goal_t = reach_fraction(px, py, dx, dy, goal[0], goal[1], goal_radius)
+        first = step * n
+        for o in range(n_obs):
+            ox, oy = traj[first, o, 0], traj[first, o, 1]
+            gap0 = math.sqrt((px - ox) * (px - ox) + (py - oy) * (py - oy)) - robot_radius - contact_radii[o]
+            if gap0 > reach + travel[step, o]:
+                continue
+            ax, ay = px, py
+            for j in range(1, n + 1):
+                bx, by = substep_point(px, dx, j, n), substep_point(py, dy, j, n)
+                a, b = traj[first + j - 1], traj[first + j]
+                gap, t_hit = swept_pair(ax, ay, bx, by, robot_radius, a[o, 0], a[o, 1], b[o, 0], b[o, 1], contact_radii[o])
+                if t_hit <= 1.0 and (j - 1 + t_hit) / n <= goal_t:  # a contact before the goal counts
+                    touched[o] = True
+                    depth[o] = max(depth[o], -gap)
+                ax, ay = bx, by
+        if goal_t <= 1.0:
+            arrival = step + goal_t
+            break
+        seg, px, py = nseg, qx, qy
+    penalty = 0.0
+    if arrival < 0.0:  # past the horizon: the rest of the path at top speed, against the horizon's obstacles
+        last = traj[horizon_steps * n]
+        rest = 0.0
+        ax, ay = px, py
+        for s in range(seg + 1, k + 2):
+            bx, by = pts[s, 0], pts[s, 1]
+            rest += math.sqrt((bx - ax) * (bx - ax) + (by - ay) * (by - ay))
+            for o in range(n_obs):
+                r = contact_radii[o] + robot_radius
+                d2 = _segment_origin_distance_sq(ax - last[o, 0], ay - last[o, 1], bx - last[o, 0], by - last[o, 1])
+                if d2 < r * r:
+                    touched[o] = True
+                    depth[o] = max(depth[o], r - math.sqrt(d2))
+            ax, ay = bx, by
+        arrival = horizon_steps + max(rest - goal_radius, 0.0) / reach
+    for o in range(n_obs):
+        if touched[o]:
+            penalty += TWO_PI * (contact_radii[o] + robot_radius) + penalty_weight * depth[o]
+    return arrival * reach + penalty, penalty
+
+
+def objective(x, problem):
+    """The cost of candidate ``x`` for ``problem``, the tuple of a :class:`Scene` (``Scene.args()``,
+    :func:`path_cost`) or of a timed path (:func:`timed_path_cost`). Usable only inside compiled
+    code, where numba picks the objective from the tuple's type: the optimisers are written once."""
+    raise NotImplementedError("objective() is dispatched by numba inside compiled code")
+
+
+@overload(objective)
+def _objective(x, problem):
+    if len(problem.types) == 8:
+
+        def static_or_predictive(x, problem):
+            return path_cost(x, problem[0], problem[1], problem[2], problem[3], problem[4], problem[5], problem[6], problem[7])
+
+        return static_or_predictive
+
+    def timed(x, problem):
+        return timed_path_cost(
+            x, problem[0], problem[1], problem[2], problem[3], problem[4], problem[5], problem[6], problem[7],
+            problem[8], problem[9], problem[10],
+        )  # fmt: skip
+
+    return timed
 
 
 @numba.njit(cache=True, error_model="numpy")

@@ -17,7 +17,7 @@ import numba
 import numpy as np
 
 from .fast_random import new_state, uniform
-from .objective import path_cost
+from .objective import objective
 
 
 def inertia_schedule(iterations: int, w_max: float, w_min: float) -> np.ndarray:
@@ -27,11 +27,9 @@ def inertia_schedule(iterations: int, w_max: float, w_min: float) -> np.ndarray:
 
 
 @numba.njit(cache=True, error_model="numpy")
-def pso_run(
-    x0, lo, hi, inertia, c1, c2, v_max_fraction, seed,
-    robot, goal, centers, velocities, radii, speed, horizon, penalty_weight,
-):  # fmt: skip
-    """Run PSO from the swarm ``x0`` (P, D), one iteration per entry of ``inertia`` (Eq. 7's w(it)).
+def pso_run(x0, lo, hi, inertia, c1, c2, v_max_fraction, seed, problem):
+    """Run PSO from the swarm ``x0`` (P, D), one iteration per entry of ``inertia`` (Eq. 7's w(it)),
+    minimising :func:`agents.objective.objective` for ``problem``.
 
     :return: ``(best_x, best_cost, best_penalty, history)``; ``history[it]`` is the best cost after
         iteration ``it``.
@@ -49,7 +47,7 @@ def pso_run(
     pbest_pen = np.empty(P)
     g = 0
     for i in range(P):
-        pbest_cost[i], pbest_pen[i] = path_cost(x[i], robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
+        pbest_cost[i], pbest_pen[i] = objective(x[i], problem)
         if pbest_cost[i] < pbest_cost[g]:
             g = i
     gbest = pbest[g].copy()
@@ -63,7 +61,7 @@ def pso_run(
                 vij = min(max(vij, -v_max[j]), v_max[j])
                 v[i, j] = vij
                 x[i, j] = min(max(x[i, j] + vij, lo[j]), hi[j])
-            cost, pen = path_cost(x[i], robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
+            cost, pen = objective(x[i], problem)
             if cost < pbest_cost[i]:
                 pbest_cost[i], pbest_pen[i] = cost, pen
                 pbest[i] = x[i]

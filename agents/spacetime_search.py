@@ -174,6 +174,28 @@ def search(
     return outcome, targets, expansions
 
 
+@numba.njit(cache=True)
+def replay(traj, n, robot_radius, radii, start, goal, goal_radius, params, low, size, reach, targets):
+    """Fly ``targets`` (one waypoint a step) from ``start`` through ``traj`` as the search would.
+
+    :return: ``(steps, reached)``: how many steps stay free of contact (all of them if none
+        touches) and whether the goal is reached within them.
+    """
+    x, y = start[0], start[1]
+    steps = min(targets.shape[0], (traj.shape[0] - 1) // n)
+    near = np.arange(radii.shape[0])
+    for k in range(steps):
+        action = _to_action(targets[k, 0], targets[k, 1], low, size)
+        _, _, _, dx, dy = robot_move(action, params, x, y, reach)
+        result = _fly(traj, k * n, n, x, y, dx, dy, robot_radius, radii, near, radii.shape[0], goal[0], goal[1], goal_radius)
+        if result < 0:
+            return k, False
+        if result == 1:
+            return k + 1, True
+        x, y = x + dx, y + dy
+    return steps, False
+
+
 def provably_lost(trajectory: np.ndarray, substeps: int, radii: np.ndarray, robot_radius: float, start, goal,
                   goal_radius: float, robot_box, reach: float, cell: float = 0.005, max_steps: int = 6) -> tuple[bool | None, int]:
     """Whether no path can reach the goal, by an outer approximation of the reachable set.

@@ -56,7 +56,8 @@ class DynamicObstacleEnv(gym.Env):
     | `obstacle_mask`       | (N,)   | 1 for a real obstacle, 0 for padding   | 0                  | 1                 |
 
     ``V`` is the arena diagonal divided by ``dt`` (crossing the arena in one step): no speed is higher.
-    Static public facts for planners: ``env.unwrapped.bounds``, ``dt``, ``robot_radius``, ``robot_speed``.
+    Static public facts for planners: ``env.unwrapped.bounds``, ``dt``, ``robot_radius``, ``robot_speed``,
+    ``goal_radius`` (``pathplan_env.wrappers.EnvFacts``).
 
     ## Rewards
     The sum of four components, each also reported in ``info["rewards"]``:
@@ -191,6 +192,10 @@ class DynamicObstacleEnv(gym.Env):
     @property
     def robot_speed(self) -> float:
         return self.scenario.robot_speed
+
+    @property
+    def goal_radius(self) -> float:
+        return self.scenario.goal_radius
 
     # -- action mapping ------------------------------------------------------------------------
     def action_to_waypoint(self, action) -> np.ndarray:

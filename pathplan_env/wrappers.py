@@ -29,19 +29,20 @@ class EnvFacts:
     robot_radius: float
     robot_speed: float
     dt: float
+    goal_radius: float
 
     @classmethod
     def of(cls, env) -> "EnvFacts":
         """Read the facts from an env, a wrapped env, a Gymnasium vector env or an SB3 VecEnv."""
-        names = ("bounds", "robot_radius", "robot_speed", "dt")
+        names = ("bounds", "robot_radius", "robot_speed", "dt", "goal_radius")
         if hasattr(env, "unwrapped") and hasattr(env.unwrapped, "robot_speed"):
             values = [getattr(env.unwrapped, name) for name in names]
         elif hasattr(env, "get_attr"):  # an SB3 VecEnv or a Gymnasium vector env
             values = [env.get_attr(name)[0] for name in names]
         else:
             raise ValueError(f"cannot read bounds, dt, robot radius and speed from {type(env).__name__}")
-        bounds, radius, speed, dt = values
-        return cls(tuple(float(b) for b in bounds), float(radius), float(speed), float(dt))
+        bounds, radius, speed, dt, goal_radius = values
+        return cls(tuple(float(b) for b in bounds), float(radius), float(speed), float(dt), float(goal_radius))
 
     @property
     def length_scale(self) -> float:

@@ -33,7 +33,7 @@ SUITES = {
     "default": dict(
         agents="straight,velocity-obstacle,oracle-static,pso,abc,pso-predictive,abc-predictive,ppo",
         scenarios="random,paper-case-3",
-        delta_d="0,0.1,0.25,0.5,1",
+        delta_d="0,0.1,0.25,0.5,1,2",
         episodes=50,
     ),
     "large": dict(
@@ -62,6 +62,7 @@ class EpisodeResult:
     time_to_goal: float
     min_clearance: float
     plan_ms: list[float] = field(repr=False)
+    verdict: str = ""  # the clairvoyant oracle's: plan, lost or undetermined
 
 
 def run_episode(agent_name: str, scenario: str, delta_d: float, episode: int, seed: int, n_obstacles: int, overrides: dict) -> EpisodeResult:
@@ -99,6 +100,7 @@ def run_episode(agent_name: str, scenario: str, delta_d: float, episode: int, se
         steps=steps, path_length=info["path_length"], shortest_path=shortest,
         path_length_ratio=info["path_length"] / reference if success and np.isfinite(reference) and reference > 0 else math.nan,
         time_to_goal=info["time"] if success else math.nan, min_clearance=clearance, plan_ms=plan_ms,
+        verdict=getattr(agent, "verdict", None) or "",
     )  # fmt: skip
 
 
@@ -117,10 +119,36 @@ def wilson_interval(successes: int, n: int) -> tuple[float, float]:
     return (float(ci.low), float(ci.high))
 
 
+#: The privileged agent whose success rate on a cell's episodes is that cell's physical limit.
+LIMIT_AGENT = "oracle-clairvoyant"
+
+
+def limits(results: list[EpisodeResult]) -> dict[tuple, dict]:
+    """Per (scenario, Δd): the clairvoyant oracle's success rate (the limit) and its verdict counts."""
+    out = {}
+    for res in results:
+        if res.agent == LIMIT_AGENT:
+            cell = out.setdefault((res.scenario, res.delta_d), {"episodes": 0, "wins": 0, "lost": 0, "undetermined": 0})
+            cell["episodes"] += 1
+            cell["wins"] += res.success
+            cell["lost"] += res.verdict == "lost"
+            cell["undetermined"] += res.verdict == "undetermined"
+    return {
+        key: {
+            "limit": c["wins"] / c["episodes"],
+            "limit_ci95": list(wilson_interval(c["wins"], c["episodes"])),
+            "limit_lost": c["lost"] / c["episodes"],
+            "limit_undetermined": c["undetermined"] / c["episodes"],
+        }
+        for key, c in out.items()
+    }
+
+
 def summarize(results: list[EpisodeResult]) -> list[dict]:
     cells: dict[tuple, list[EpisodeResult]] = {}
     for res in results:
         cells.setdefault((res.agent, res.scenario, res.delta_d), []).append(res)
+    limit_of = limits(results)
     rows = []
     for (agent, scenario, delta_d), eps in cells.items():
         n = len(eps)
@@ -145,6 +173,9 @@ def summarize(results: list[EpisodeResult]) -> list[dict]:
                 "min_clearance": float(np.mean([e.min_clearance for e in eps])),
             }
         )
+        limit = limit_of.get((scenario, delta_d))
+        if limit is not None:
+            rows[-1] |= limit | {"success_over_limit": rows[-1]["success_rate"] / limit["limit"] if limit["limit"] > 0 else None}
     rows.sort(key=lambda r: (r["scenario"], r["agent"], r["delta_d"]))
     return rows
 
@@ -152,13 +183,14 @@ def summarize(results: list[EpisodeResult]) -> list[dict]:
 def markdown_table(rows: list[dict]) -> str:
     fmt = lambda v, spec: "-" if v is None else format(v, spec)  # noqa: E731
     lines = [
-        "| scenario | agent | Δd | episodes | success [95% CI] | collision | timeout | length ratio | plan ms (median / p95) |",
-        "|---|---|---:|---:|---|---:|---:|---:|---:|",
+        "| scenario | agent | Δd | episodes | success [95% CI] | limit | success ÷ limit | collision | timeout | length ratio | plan ms (median / p95) |",
+        "|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|",
     ]
     for r in rows:
         lo, hi = r["success_ci95"]
         lines.append(
             f"| {r['scenario']} | {r['agent']} | {r['delta_d']:g} | {r['episodes']} | {r['success_rate']:.2f} [{lo:.2f}, {hi:.2f}] "
+            f"| {fmt(r.get('limit'), '.2f')} | {fmt(r.get('success_over_limit'), '.2f')} "
             f"| {r['collision_rate']:.2f} | {r['timeout_rate']:.2f} | {fmt(r['path_length_ratio'], '.3f')} "
             f"| {r['plan_ms_median']:.2f} / {r['plan_ms_p95']:.2f} |"
         )
@@ -180,7 +212,14 @@ def plot(rows: list[dict], out: Path) -> list[Path]:
     ):
         fig, axes = plt.subplots(1, len(scenarios), figsize=(5.5 * len(scenarios), 4.2), squeeze=False, sharey=True)
         for ax, scenario in zip(axes[0], scenarios):
+            band = sorted((r for r in rows if r["scenario"] == scenario and r["agent"] == LIMIT_AGENT), key=lambda r: r["delta_d"])
+            if metric == "success_rate" and band:
+                x = [r["delta_d"] for r in band]
+                ax.fill_between(x, [r["success_ci95"][0] for r in band], [r["success_ci95"][1] for r in band],
+                                color="0.8", alpha=0.7, label="physical limit (clairvoyant, 95% CI)")  # fmt: skip
             for name in agent_names:
+                if name == LIMIT_AGENT and metric == "success_rate":
+                    continue
                 cell = sorted((r for r in rows if r["scenario"] == scenario and r["agent"] == name), key=lambda r: r["delta_d"])
                 x = [r["delta_d"] for r in cell]
                 y = [np.nan if r[metric] is None else r[metric] for r in cell]
@@ -250,6 +289,8 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--agent-kwargs", default="{}", help='JSON overrides for every agent, e.g. \'{"n_waypoints": 3}\'')
     parser.add_argument("--out", default="results/latest", help="output directory")
     parser.add_argument("--no-plots", action="store_true")
+    parser.add_argument("--no-limit", action="store_true",
+                        help=f"skip the physical limit (by default {LIMIT_AGENT} runs on every cell's episodes too)")
     args = parser.parse_args(argv)
     defaults = SUITES[args.suite] if args.suite else SUITES["default"]
     for key in ("agents", "scenarios", "delta_d", "episodes"):
@@ -281,10 +322,14 @@ def main(argv=None) -> list[dict]:
     if args.episodes < 1:
         raise SystemExit("--episodes must be >= 1")
     overrides = json.loads(args.agent_kwargs)
+    own_overrides = {name: overrides for name in agent_names}
+    if not args.no_limit and LIMIT_AGENT not in agent_names:
+        agent_names.append(LIMIT_AGENT)
+        own_overrides[LIMIT_AGENT] = {}  # --agent-kwargs are meant for the agents asked for
 
     seeds = (heldout_seeds if args.split == "test" else validation_seeds)(args.seed, args.episodes)
     jobs = [
-        (a, s, d, i, seed, args.n_obstacles, overrides) for a in agent_names for s in scenarios for d in deltas for i, seed in enumerate(seeds)
+        (a, s, d, i, seed, args.n_obstacles, own_overrides[a]) for a in agent_names for s in scenarios for d in deltas for i, seed in enumerate(seeds)
     ]
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

@@ -11,7 +11,7 @@ from .classical import StraightAgent, VelocityObstacleAgent
 from .metaheuristic import MetaheuristicAgent
 from .oracle import StaticOracleAgent
 from .rl import RLAgent
-from .spacetime import SpacetimeAStarAgent
+from .spacetime import SpacetimeAStarAgent, SpacetimeMetaheuristicAgent
 
 register("straight", StraightAgent)
 register("velocity-obstacle", VelocityObstacleAgent)
@@ -23,5 +23,7 @@ for _optimizer in ("pso", "abc"):
     register(_optimizer, partial(MetaheuristicAgent, optimizer=_optimizer, variant="paper"))
     register(f"{_optimizer}-vanilla", partial(MetaheuristicAgent, optimizer=_optimizer, variant="vanilla"))
     register(f"{_optimizer}-predictive", partial(MetaheuristicAgent, optimizer=_optimizer, variant="paper", predictive=True))
+register("pso-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="pso"))
+register("abc-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="abc", population=40))  # 20 food sources
 
-__all__ = ["Agent", "ClairvoyantOracle", "MetaheuristicAgent", "RLAgent", "SpacetimeAStarAgent", "StaticOracleAgent", "StraightAgent", "VelocityObstacleAgent", "available", "make", "register", "rollout"]
+__all__ = ["Agent", "ClairvoyantOracle", "MetaheuristicAgent", "RLAgent", "SpacetimeAStarAgent", "SpacetimeMetaheuristicAgent", "StaticOracleAgent", "StraightAgent", "VelocityObstacleAgent", "available", "make", "register", "rollout"]

@@ -90,7 +90,10 @@ class Agent:
 
 
 def rollout(agent: Agent, env, seed: int | None = None) -> dict:
-    """Run one episode of ``agent`` on ``env`` from ``reset(seed=seed)``; return the last step's info."""
+    """Run one episode of ``agent`` on ``env`` from ``reset(seed=seed)``; return the last step's info.
+
+    The agent's memory is reset first, so no episode's warm start seeds the next."""
+    agent.reset()
     obs, info = env.reset(seed=seed)
     while True:
         action, _ = agent.predict(obs, deterministic=True)

@@ -109,11 +109,12 @@ class MetaheuristicAgent(Agent):
         """One replan: the best candidate (2k,). Records ``last_cost``, ``last_penalty``, ``last_history``."""
         return self.run_optimizer(scene.args(), self._lo, self._hi, memory, self.straight_line(scene.robot, scene.goal))
 
-    def run_optimizer(self, problem: tuple, lo: np.ndarray, hi: np.ndarray, memory: dict[str, Any], straight: np.ndarray) -> np.ndarray:
+    def run_optimizer(self, problem: tuple, lo: np.ndarray, hi: np.ndarray, memory: dict[str, Any], seeds: np.ndarray) -> np.ndarray:
         """The optimiser on any objective (``agents.objective.objective``) in the box ``[lo, hi]``.
 
-        With ``warm_start``, the population holds the previous best (``memory["best"]``) and
-        ``straight`` (the straight line to the goal); the rest is uniform in the box.
+        With ``warm_start``, the population holds the previous best (``memory["best"]``) and the
+        rows of ``seeds`` (the straight line to the goal first; as many as fit); the rest is
+        uniform in the box.
         """
         seed = int(self.rng.integers(2**31 - 1))
         size = self.population if self.optimizer == "pso" else self.population // 2
@@ -121,7 +122,8 @@ class MetaheuristicAgent(Agent):
         if self.warm_start:
             if "best" in memory:  # the previous plan, as the paper's modified ABC does
                 x0[0] = memory["best"]
-            x0[1] = straight
+            seeds = np.atleast_2d(seeds)[: size - 1]
+            x0[1 : 1 + len(seeds)] = seeds
         if self.optimizer == "pso":
             best, cost, penalty, history = pso_run(x0, lo, hi, self.inertia, self.c1, self.c2, self.v_max_fraction, seed, problem)
         else:

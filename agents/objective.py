@@ -107,7 +107,8 @@ def timed_path_cost(
     x, traj, n, robot_radius, contact_radii, robot, goal, goal_radius, reach, horizon_steps, penalty_weight, travel,
 ):  # fmt: skip
     """Space-time objective of ``x`` = ``k`` waypoints (2k) then ``k + 1`` segment speeds (fractions of
-    the robot's top speed): ``(arrival + penalty, penalty)``, in metres (arrival time x top speed).
+    the robot's top speed): ``(cost, penalty)`` in metres (arrival time x top speed), the penalty
+    counting only contacts within the horizon (the constraint the modified ABC's scouts test).
 
     The robot flies robot -> w1 -> ... -> goal, each step a straight chord of ``speed x reach``
     along the path. For the first ``horizon_steps`` steps every chord is checked against the
@@ -115,7 +116,9 @@ def timed_path_cost(
     skipped by ``travel``, each obstacle's path length per step); past the horizon the rest of the
     path is flown at top speed and checked against the obstacles where the prediction leaves them.
     Each obstacle cut into pays the paper's Eq. 4 penalty once: its circumference (of the contact
-    disc) plus ``penalty_weight`` times the deepest cut.
+    disc) plus ``penalty_weight`` times the deepest cut; a contact within the horizon also pays the
+    horizon's length, since in space-time a path can always wait instead (at a cost in arrival).
+    A cut past the horizon is added to the cost but is no constraint violation.
     """
     k = (x.shape[0] - 1) // 3
     pts = np.empty((k + 2, 2))
@@ -126,6 +129,7 @@ def timed_path_cost(
     n_obs = contact_radii.shape[0]
     depth = np.zeros(n_obs)
     touched = np.zeros(n_obs, np.bool_)
+    near = np.zeros(n_obs, np.bool_)  # touched within the horizon, against the step-by-step prediction
     seg, px, py = 0, robot[0], robot[1]
     arrival = -1.0
     for step in range(horizon_steps):
@@ -139,19 +143,25 @@ def timed_path_cost(
             if gap0 > reach + travel[step, o]:
                 continue
             ax, ay = px, py
+            sub_reach = math.sqrt(dx * dx + dy * dy) / n
             for j in range(1, n + 1):
                 bx, by = substep_point(px, dx, j, n), substep_point(py, dy, j, n)
                 a, b = traj[first + j - 1], traj[first + j]
+                # the same skip per substep: farther apart than both move in it
+                sx, sy = a[o, 0] - ax, a[o, 1] - ay
+                ox_move = math.sqrt((b[o, 0] - a[o, 0]) ** 2 + (b[o, 1] - a[o, 1]) ** 2)
+                if math.sqrt(sx * sx + sy * sy) - robot_radius - contact_radii[o] > sub_reach + ox_move:
+                    ax, ay = bx, by
+                    continue
                 gap, t_hit = swept_pair(ax, ay, bx, by, robot_radius, a[o, 0], a[o, 1], b[o, 0], b[o, 1], contact_radii[o])
                 if t_hit <= 1.0 and (j - 1 + t_hit) / n <= goal_t:  # a contact before the goal counts
-                    touched[o] = True
+                    touched[o] = near[o] = True
                     depth[o] = max(depth[o], -gap)
                 ax, ay = bx, by
         if goal_t <= 1.0:
             arrival = step + goal_t
             break
         seg, px, py = nseg, qx, qy
-    penalty = 0.0
     if arrival < 0.0:  # past the horizon: the rest of the path at top speed, against the horizon's obstacles
         last = traj[horizon_steps * n]
         rest = 0.0
@@ -167,10 +177,14 @@ def timed_path_cost(
                     depth[o] = max(depth[o], r - math.sqrt(d2))
             ax, ay = bx, by
         arrival = horizon_steps + max(rest - goal_radius, 0.0) / reach
+    penalty = 0.0  # the constraint: contacts within the horizon
+    detour = 0.0  # past it, a soft cost: where the obstacles will be is a guess
     for o in range(n_obs):
-        if touched[o]:
-            penalty += TWO_PI * (contact_radii[o] + robot_radius) + penalty_weight * depth[o]
-    return arrival * reach + penalty, penalty
+        if near[o]:  # Eq. 4, plus the horizon's length: waiting it out always costs less than a touch
+            penalty += TWO_PI * (contact_radii[o] + robot_radius) + penalty_weight * depth[o] + horizon_steps * reach
+        elif touched[o]:
+            detour += TWO_PI * (contact_radii[o] + robot_radius) + penalty_weight * depth[o]
+    return arrival * reach + detour + penalty, penalty
 
 
 def objective(x, problem):

@@ -23,36 +23,36 @@ from typing import Any
 
 import numpy as np
 
+from pathplan_env.wrappers import EnvFacts
+
 from .base import Agent, real_obstacles
-from .bee_colony import abc_run
+from .metaheuristic import MetaheuristicAgent
+from .objective import _walk
 from .prediction import predict_obstacles, substeps_for
-from .pso import inertia_schedule, pso_run
 from .spacetime_search import BUDGET, heading_moves, replay, search
 
 
-class _SpacetimeAgent(Agent):
-    """Common part: the static facts as the compiled kernels take them, and the prediction."""
+class SpacetimeModel:
+    """What every space-time planner builds from an observation: the predicted obstacles over the
+    horizon, the contact radii with the margin, and the env's action mapping from the static facts."""
 
-    def __init__(self, env, seed: int | None = None, *, horizon_steps: int, margin: float):
-        super().__init__(env, seed)
+    def __init__(self, facts: EnvFacts, horizon_steps: int, margin: float):
         if int(horizon_steps) != horizon_steps or horizon_steps < 1:
             raise ValueError(f"horizon_steps must be a positive integer, got {horizon_steps!r}")
         if not (0.0 <= margin < 1.0):
             raise ValueError(f"margin must be in [0, 1), got {margin!r}")
-        self.horizon_steps, self.margin = int(horizon_steps), float(margin)
-        f = self.facts
-        xmin, ymin, xmax, ymax = f.bounds
-        r = f.robot_radius
+        self.facts, self.horizon_steps, self.margin = facts, int(horizon_steps), float(margin)
+        xmin, ymin, xmax, ymax = facts.bounds
+        r = facts.robot_radius
         # the env's action mapping (``robot_move``'s params), from the static facts
-        self._move_params = np.array([xmin, ymin, 0.5 * (xmax - xmin), 0.5 * (ymax - ymin), xmin + r, ymin + r, xmax - r, ymax - r])
-        self._bounds = np.array(f.bounds, np.float64)
-        self.last_plan: np.ndarray | None = None  # the waypoints of the last plan, one per step
+        self.move_params = np.array([xmin, ymin, 0.5 * (xmax - xmin), 0.5 * (ymax - ymin), xmin + r, ymin + r, xmax - r, ymax - r])
+        self.bounds = np.array(facts.bounds, np.float64)
 
     def predict_scene(self, obs):
         """``(trajectory, substeps, contact_radii, robot, goal)`` for one observation."""
         centers, velocities, radii = real_obstacles(obs)
         n = substeps_for(velocities, radii, self.facts.dt)
-        trajectory = predict_obstacles(centers, velocities, radii, self._bounds, self.facts.dt, self.horizon_steps, n)
+        trajectory = predict_obstacles(centers, velocities, radii, self.bounds, self.facts.dt, self.horizon_steps, n)
         rr = self.facts.robot_radius
         contact_radii = (radii + rr) * (1.0 + self.margin) - rr  # the margin on the contact distance
         robot = np.asarray(obs["robot_position"], np.float64)
@@ -60,7 +60,7 @@ class _SpacetimeAgent(Agent):
         return trajectory, n, contact_radii, robot, goal
 
 
-class SpacetimeAStarAgent(_SpacetimeAgent):
+class SpacetimeAStarAgent(Agent):
     """A* over (step, position) on the predicted obstacles, replanned every step.
 
     :param horizon_steps: steps predicted and searched; a node this deep is a leaf scored by its
@@ -77,15 +77,17 @@ class SpacetimeAStarAgent(_SpacetimeAgent):
     def __init__(self, env, seed: int | None = None, *, horizon_steps: int = 20, margin: float = 0.005, n_headings: int = 32,
                  speed_fractions=(1.0, 0.5), cell: float = 0.03, h_weight: float = 3.0, max_expansions: int = 2000,
                  retry_factor: int = 10, keep_plan_steps: int = 10):  # fmt: skip
-        super().__init__(env, seed, horizon_steps=horizon_steps, margin=margin)
+        super().__init__(env, seed)
+        self.model = SpacetimeModel(self.facts, horizon_steps, margin)
+        self.horizon_steps = self.model.horizon_steps
         self.moves = heading_moves(int(n_headings), speed_fractions)
         self.cell, self.h_weight, self.max_expansions = float(cell), float(h_weight), int(max_expansions)
         self.retry_factor, self.keep_plan_steps = int(retry_factor), int(keep_plan_steps)
 
     def plan(self, obs, memory):
-        trajectory, n, radii, robot, goal = self.predict_scene(obs)
+        trajectory, n, radii, robot, goal = self.model.predict_scene(obs)
         f = self.facts
-        common = (n, f.robot_radius, radii, robot, goal, f.goal_radius, self._move_params, self._arena_low, self._arena_size, self.step_length)
+        common = (n, f.robot_radius, radii, robot, goal, f.goal_radius, self.model.move_params, self._arena_low, self._arena_size, self.step_length)
         targets = memory.get("plan")
         if targets is not None and len(targets) > 0:
             free, reached = replay(trajectory, *common, targets)
@@ -103,3 +105,62 @@ class SpacetimeAStarAgent(_SpacetimeAgent):
         if len(targets) == 0:  # every move is predicted to touch: hold still and replan
             return robot
         return targets[0]
+
+
+class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
+    """``pso-spacetime`` / ``abc-spacetime``: the paper's optimisers on a timed path.
+
+    A candidate is the ``k`` waypoints of the paper's planners plus a speed for each of the ``k + 1``
+    segments (a fraction of the top speed: the robot may slow down or wait). Its cost is the
+    predicted arrival time (as metres at top speed) plus the paper's penalty on every predicted
+    contact within ``horizon_steps`` and on the rest of the path against the obstacles where the
+    prediction leaves them (:func:`agents.objective.timed_path_cost`). Each replan warm-starts from
+    the previous best and the straight line at top speed; the robot flies the first step of the best.
+
+    :param horizon_steps: steps of predicted obstacle motion checked step by step.
+    :param margin: relative margin on the contact distance.
+    :param n_dodges, dodge_steps: warm-start candidates besides the straight line (:meth:`seed_paths`).
+    Every other parameter is :class:`~agents.metaheuristic.MetaheuristicAgent`'s.
+    """
+
+    def __init__(self, env, seed: int | None = None, *, optimizer: str = "pso", horizon_steps: int = 10, margin: float = 0.005,
+                 n_dodges: int = 8, dodge_steps: float = 2.0, **kwargs):  # fmt: skip
+        kwargs.setdefault("warm_start", True)
+        kwargs.setdefault("iterations", 50)
+        self.n_dodges, self.dodge_steps = int(n_dodges), float(dodge_steps)
+        super().__init__(env, seed, optimizer=optimizer, variant="paper", predictive=True, **kwargs)
+        self.model = SpacetimeModel(self.facts, horizon_steps, margin)
+        speeds = self.n_waypoints + 1
+        self._timed_lo = np.concatenate([self._lo, np.zeros(speeds)])
+        self._timed_hi = np.concatenate([self._hi, np.ones(speeds)])
+
+    def timed_problem(self, obs) -> tuple:
+        """The objective's arguments for one observation (``timed_path_cost`` after ``x``)."""
+        trajectory, n, radii, robot, goal = self.model.predict_scene(obs)
+        # each obstacle's path length in each step: pairs farther apart than both can travel are skipped
+        moves = np.hypot(*np.diff(trajectory[:, :, :2], axis=0).transpose(2, 0, 1))
+        travel = np.ascontiguousarray(moves.reshape(self.model.horizon_steps, n, -1).sum(axis=1))
+        f = self.facts
+        return (trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.step_length,
+                self.model.horizon_steps, self.penalty_weight, travel)  # fmt: skip
+
+    def seed_paths(self, robot: np.ndarray, goal: np.ndarray) -> np.ndarray:
+        """Warm-start candidates at top speed: the straight line, then a first waypoint
+        ``dodge_steps`` steps away in each of ``n_dodges`` directions, the rest straight to the goal."""
+        k = self.n_waypoints
+        rows = [np.concatenate([self.straight_line(robot, goal), np.ones(k + 1)])]
+        for angle in 2 * np.pi * np.arange(self.n_dodges) / self.n_dodges:
+            w1 = np.clip(robot + self.dodge_steps * self.step_length * np.array([np.cos(angle), np.sin(angle)]), self._lo[:2], self._hi[:2])
+            rest = w1 + np.arange(1, k)[:, None] / k * (goal - w1)
+            rows.append(np.concatenate([w1, rest.ravel(), np.ones(k + 1)]))
+        return np.clip(np.array(rows), self._timed_lo, self._timed_hi)
+
+    def plan(self, obs, memory):
+        problem = self.timed_problem(obs)
+        robot, goal = problem[4], problem[5]
+        best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, self.seed_paths(robot, goal))
+        k = self.n_waypoints
+        path = np.vstack([robot, best[: 2 * k].reshape(-1, 2), goal])
+        self.last_plan = path
+        _, x, y = _walk(path, 0, robot[0], robot[1], best[2 * k] * self.step_length)
+        return np.array([x, y])

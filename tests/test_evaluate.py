@@ -25,12 +25,15 @@ def tiny_run(tmp_path_factory):
 def test_summary_schema_and_rates(tiny_run):
     summary = json.loads((tiny_run / "summary.json").read_text())
     assert set(summary) == {"results", "config", "versions"}
-    assert len(summary["results"]) == 4
+    assert len(summary["results"]) == 6  # the two agents and the clairvoyant limit, at two Δd
     for cell in summary["results"]:
         for key in ("agent", "scenario", "delta_d", "episodes", "success_rate", "success_ci95", "collision_rate",
                     "timeout_rate", "path_length", "path_length_ratio", "time_to_goal", "plan_ms_median",
-                    "plan_ms_p95", "min_clearance"):  # fmt: skip
+                    "plan_ms_p95", "min_clearance", "limit", "limit_ci95", "limit_lost", "limit_undetermined",
+                    "success_over_limit"):  # fmt: skip
             assert key in cell
+        assert cell["limit"] == 1.0  # a way around one obstacle always exists on paper-case-1
+        assert cell["success_over_limit"] == pytest.approx(cell["success_rate"] / cell["limit"])
         rates = [cell["success_rate"], cell["collision_rate"], cell["timeout_rate"]]
         assert all(0 <= r <= 1 for r in rates) and sum(rates) == pytest.approx(1.0)
         lo, hi = cell["success_ci95"]
@@ -39,7 +42,8 @@ def test_summary_schema_and_rates(tiny_run):
     straight = [c for c in summary["results"] if c["agent"] == "straight" and c["delta_d"] == 0][0]
     assert straight["collision_rate"] == 1.0  # the obstacle blocks the direct line
     rows = list(csv.DictReader(open(tiny_run / "episodes.csv")))
-    assert len(rows) == 16
+    assert len(rows) == 24
+    assert {r["verdict"] for r in rows if r["agent"] == "oracle-clairvoyant"} == {"plan"}
 
 
 def test_same_seed_same_results_with_any_worker_count(tiny_run, tmp_path):

@@ -29,6 +29,9 @@ from pathplan_env.geometry import swept_pair
 from pathplan_env.kinematics import reach_fraction, substep_point
 
 TWO_PI = 2.0 * math.pi
+#: Added to a timed plan's cost per obstacle it is predicted to touch within the horizon (m): more
+#: than any contact-free plan can cost (its arrival and detours are bounded by a few arena crossings).
+INFEASIBLE = 1e4
 
 
 @dataclass
@@ -116,9 +119,12 @@ def timed_path_cost(
     skipped by ``travel``, each obstacle's path length per step); past the horizon the rest of the
     path is flown at top speed and checked against the obstacles where the prediction leaves them.
     Each obstacle cut into pays the paper's Eq. 4 penalty once: its circumference (of the contact
-    disc) plus ``penalty_weight`` times the deepest cut; a contact within the horizon also pays the
-    horizon's length, since in space-time a path can always wait instead (at a cost in arrival).
-    A cut past the horizon is added to the cost but is no constraint violation.
+    disc) plus ``penalty_weight`` times the deepest cut. A contact within the horizon is the
+    constraint: it also pays the rest of the horizon after it (as metres at top speed; a touch
+    predicted later leaves replanning more time to avoid it) and ``INFEASIBLE``, so that every
+    plan free of predicted contact costs less than any plan with one (Deb's feasibility rule in
+    penalty form: in space-time a plan can always wait, and waiting must never look dearer than a
+    touch). A cut past the horizon, where the prediction is a guess, adds to the cost only.
     """
     k = (x.shape[0] - 1) // 3
     pts = np.empty((k + 2, 2))
@@ -130,6 +136,7 @@ def timed_path_cost(
     depth = np.zeros(n_obs)
     touched = np.zeros(n_obs, np.bool_)
     near = np.zeros(n_obs, np.bool_)  # touched within the horizon, against the step-by-step prediction
+    first_touch = np.zeros(n_obs)  # when, in steps
     seg, px, py = 0, robot[0], robot[1]
     arrival = -1.0
     for step in range(horizon_steps):
@@ -155,6 +162,8 @@ def timed_path_cost(
                     continue
                 gap, t_hit = swept_pair(ax, ay, bx, by, robot_radius, a[o, 0], a[o, 1], b[o, 0], b[o, 1], contact_radii[o])
                 if t_hit <= 1.0 and (j - 1 + t_hit) / n <= goal_t:  # a contact before the goal counts
+                    if not near[o]:
+                        first_touch[o] = step + (j - 1 + t_hit) / n
                     touched[o] = near[o] = True
                     depth[o] = max(depth[o], -gap)
                 ax, ay = bx, by
@@ -180,8 +189,9 @@ def timed_path_cost(
     penalty = 0.0  # the constraint: contacts within the horizon
     detour = 0.0  # past it, a soft cost: where the obstacles will be is a guess
     for o in range(n_obs):
-        if near[o]:  # Eq. 4, plus the horizon's length: waiting it out always costs less than a touch
-            penalty += TWO_PI * (contact_radii[o] + robot_radius) + penalty_weight * depth[o] + horizon_steps * reach
+        if near[o]:  # Eq. 4, plus the rest of the horizon (a later touch costs less), plus the feasibility offset
+            penalty += (TWO_PI * (contact_radii[o] + robot_radius) + penalty_weight * depth[o]
+                        + (horizon_steps - first_touch[o]) * reach + INFEASIBLE)  # fmt: skip
         elif touched[o]:
             detour += TWO_PI * (contact_radii[o] + robot_radius) + penalty_weight * depth[o]
     return arrival * reach + detour + penalty, penalty

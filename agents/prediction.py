@@ -3,7 +3,7 @@
 What the env documents and the observation shows is enough to predict the obstacles: each moves
 at constant speed, bounces elastically off the arena's walls and off the other obstacles (masses
 ``r²``: equal density), and keeps its own speed after every bounce (the env restores it). The
-prediction replays that with the env's own substep count (``MAX_SUBSTEP_DISPLACEMENT``) in the
+prediction replays that with the env's own substep count (``world.substeps_for``) in the
 order Chipmunk uses: move, then resolve contacts. Chipmunk solves simultaneous contacts
 iteratively and remembers ongoing ones between steps, which an observation cannot carry, so
 predictions drift near bounces; replanning every step absorbs that.
@@ -18,15 +18,12 @@ import math
 import numba
 import numpy as np
 
-from pathplan_env.world import MAX_SUBSTEP_DISPLACEMENT
+from pathplan_env.world import substeps_for as world_substeps
 
 
 def substeps_for(velocities: np.ndarray, radii: np.ndarray, dt: float) -> int:
-    """The env's substep count for these obstacles (``World``'s rule)."""
-    if len(radii) == 0:
-        return 1
-    fastest = float(np.hypot(velocities[:, 0], velocities[:, 1]).max()) * dt
-    return max(1, math.ceil(fastest / (MAX_SUBSTEP_DISPLACEMENT * float(radii.min()))))
+    """The env's substep count for these obstacles (its documented rule, ``world.substeps_for``)."""
+    return world_substeps(np.hypot(velocities[:, 0], velocities[:, 1]), radii, dt)
 
 
 #: Chipmunk's default solver iterations (``pymunk.Space.iterations``).

@@ -197,7 +197,8 @@ def replay(traj, n, robot_radius, radii, start, goal, goal_radius, params, low, 
 
 
 def provably_lost(trajectory: np.ndarray, substeps: int, radii: np.ndarray, robot_radius: float, start, goal,
-                  goal_radius: float, robot_box, reach: float, cell: float = 0.005, max_steps: int = 6) -> tuple[bool | None, int]:
+                  goal_radius: float, robot_box, reach: float, cell: float = 0.005, max_steps: int = 6,
+                  history: list | None = None) -> tuple[bool | None, int]:
     """Whether no path can reach the goal, by an outer approximation of the reachable set.
 
     ``trajectory[s]`` (S + 1, N, >= 2) are the obstacle centres after ``s`` substeps. The set of
@@ -207,6 +208,8 @@ def provably_lost(trajectory: np.ndarray, substeps: int, radii: np.ndarray, robo
     whole cell lies inside an obstacle inflated by the robot radius. The true set is inside the kept
     one, so when the kept set empties the episode is lost whatever the robot does.
 
+    :param history: if given, receives ``(cell_centres_x, cell_centres_y, kept)`` after every
+        substep (for pictures of the set shrinking).
     :return: ``(lost, step)``: ``(True, step)`` when the set empties during ``step``; ``(False, step)``
         when the goal's disc comes within reach; ``(None, max_steps)`` when neither happens within
         ``max_steps`` steps (undecided: the approximation's slack grows with every substep).
@@ -239,6 +242,8 @@ def provably_lost(trajectory: np.ndarray, substeps: int, radii: np.ndarray, robo
         for o in range(len(radii)):
             ox, oy = trajectory[s][o, 0], trajectory[s][o, 1]
             candidate &= np.hypot(wx - ox, wy - oy) + diag / 2 >= inflated[o]
+        if history is not None:
+            history.append((wx[:, 0], wy[0], candidate.copy()))
         if not candidate.any():
             return True, (s - 1) // substeps + 1
         rows, cols = np.nonzero(candidate)

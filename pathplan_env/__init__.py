@@ -5,10 +5,14 @@
 
 from gymnasium.envs.registration import register
 
-from .env import DynamicObstacleEnv
-from .geometry import shortest_path
-from .scenarios import PAPER_CASES, PRESETS, Obstacle, Scenario, make_scenario, paper_case, sample_random_scenario
-from .wrappers import EgocentricObservation, EpisodeSchedule, RelativeWaypointAction, make_learning_env
+from ._numba_cache import configure as _configure_numba_cache
+
+_configure_numba_cache()  # before any compiled function is defined
+
+from .env import DynamicObstacleEnv  # noqa: E402
+from .geometry import shortest_path  # noqa: E402
+from .scenarios import PAPER_CASES, PRESETS, Obstacle, Scenario, make_scenario, paper_case, sample_random_scenario  # noqa: E402
+from .wrappers import EgocentricObservation, EpisodeSchedule, RelativeWaypointAction, make_learning_env  # noqa: E402
 
 #: Episode time limit of the registered env (20 s at dt = 0.1 s): 4-6x the straight-line time.
 MAX_EPISODE_STEPS = 200

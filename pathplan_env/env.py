@@ -11,8 +11,12 @@ import numpy as np
 from gymnasium import spaces
 
 from .kinematics import reach_fraction, robot_move
-from .scenarios import Scenario, check_delta_d, make_scenario
-from .world import World
+from .scenarios import MIN_LENGTH, Scenario, check_delta_d, make_scenario
+from .world import World, substeps_for
+
+
+#: Largest reward weight accepted: beyond it sums of rewards lose their meaning (and 1e308 overflows).
+MAX_REWARD_WEIGHT = 1e6
 
 
 class DynamicObstacleEnv(gym.Env):
@@ -23,6 +27,13 @@ class DynamicObstacleEnv(gym.Env):
     each keeps its own speed). It is the dynamic path-planning benchmark of the paper "A Constraint
     Optimization path planning for Dynamic Environment" (modified ABC, adaptive constraint PSO),
     made a Gymnasium environment: a policy picks a waypoint every step, and the robot heads for it.
+
+    The physics, for planners that predict it (``agents.prediction`` does, from observations
+    alone): obstacles are frictionless discs of mass ``r²`` (equal density) that move at constant
+    speed and bounce with restitution 1 off the arena's walls and off each other, Chipmunk solving
+    simultaneous contacts by sequential impulses; after every substep each obstacle gets its own
+    speed back, so only directions change. Resting obstacles are immovable (infinite mass). No
+    overlap correction: no obstacle ever moves farther than ``speed * dt`` in a step.
 
     The obstacles' speed is set by **Δd** (``delta_d``), the paper's Eq. 8: the distance an obstacle
     moves in one step divided by its radius. The robot covers half an obstacle radius per step by
@@ -85,7 +96,8 @@ class DynamicObstacleEnv(gym.Env):
 
     ## Info
     ``is_success``, ``collision``, ``cost`` (1.0 on a step with contact, as Safety-Gymnasium reports
-    constraint costs), ``min_clearance`` (smallest surface gap to any obstacle during the step, m),
+    constraint costs), ``min_clearance`` (smallest surface gap to any obstacle during the step, m; the
+    arena diagonal with no obstacles, so that every field is finite),
     ``path_length`` (m flown so far), ``time`` (s), ``distance_to_goal``, ``waypoint`` (the ``(x, y)`` the
     robot headed for) and ``rewards``.
 
@@ -98,7 +110,8 @@ class DynamicObstacleEnv(gym.Env):
     - ``delta_d``: obstacle displacement per step in radii, applied to every scenario (directions
       kept; resting obstacles get random ones). ``0`` freezes the obstacles; ``None`` keeps the
       scenario's own velocities.
-    - ``n_obstacles``: obstacle count of the ``"random"`` preset.
+    - ``n_obstacles``: obstacle count of the ``"random"`` preset (at most 100: its arena grows with the
+      count, and past 100 it outgrows what the robot can cross in the 200-step time limit).
     - ``max_obstacles``: padding size ``N`` of the obstacle arrays; default ``max(16, obstacles)``.
     - ``reward_progress``, ``reward_goal``, ``reward_collision``, ``reward_time``, ``reward_proximity``:
       reward weights; ``proximity_distance`` (m, default 0.5) is the surface gap below which the
@@ -134,18 +147,22 @@ class DynamicObstacleEnv(gym.Env):
         self._scenario_spec = scenario
         self._delta_d = check_delta_d(delta_d)
         self._n_obstacles = self._check_n_obstacles(n_obstacles)
-        self.reward_weights = {
-            "progress": float(reward_progress),
-            "goal": float(reward_goal),
-            "collision": float(reward_collision),
-            "time": float(reward_time),
-            "proximity": float(reward_proximity),
-        }
-        if not (math.isfinite(proximity_distance) and proximity_distance > 0):
-            raise ValueError(f"proximity_distance must be finite and > 0, got {proximity_distance!r}")
+        weights = {"progress": reward_progress, "goal": reward_goal, "collision": reward_collision,
+                   "time": reward_time, "proximity": reward_proximity}  # fmt: skip
+        for name, value in weights.items():
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) or not (
+                math.isfinite(value) and abs(value) <= MAX_REWARD_WEIGHT
+            ):
+                raise ValueError(f"reward_{name} must be a finite number with |w| <= {MAX_REWARD_WEIGHT:g}, got {value!r}")
+        self.reward_weights = {name: float(value) for name, value in weights.items()}
+        if not (isinstance(proximity_distance, (int, float, np.integer, np.floating)) and math.isfinite(proximity_distance)
+                and MIN_LENGTH <= proximity_distance):  # fmt: skip
+            raise ValueError(f"proximity_distance must be finite and >= {MIN_LENGTH:g} m, got {proximity_distance!r}")
         self.proximity_distance = float(proximity_distance)
         # Build one scenario now so that bad input fails when the env is made, and to fix the spaces.
         self.scenario: Scenario = make_scenario(scenario, np.random.default_rng(0), self._n_obstacles, self._delta_d)
+        arrays = self.scenario.arrays()
+        substeps_for(np.hypot(*arrays["velocities"].T), arrays["radii"], self.scenario.dt)
         self.bounds = self.scenario.bounds
         if max_obstacles is None:
             max_obstacles = max(16, self._n_obstacles, self.scenario.n_obstacles)
@@ -176,6 +193,7 @@ class DynamicObstacleEnv(gym.Env):
         self._arena_low = np.array([xmin, ymin], np.float64)
         self._arena_size = np.array([xmax - xmin, ymax - ymin], np.float64)
         self._world: World | None = None
+        self._moves: list[tuple[float, float]] | None = None
         self._renderer = None
         self.trail: list[tuple[float, float]] = []
         self.waypoint: tuple[float, float] | None = None
@@ -210,27 +228,17 @@ class DynamicObstacleEnv(gym.Env):
 
     # -- Gymnasium API -------------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+        spec, delta_d, n_obstacles = self._scenario_spec, self._delta_d, self._n_obstacles
+        if options:  # validated in full before anything changes: a rejected reset leaves the env as it was
+            spec, delta_d, n_obstacles = self._parse_options(options)
+            self._check_fits(make_scenario(spec, np.random.default_rng(0), n_obstacles, delta_d), physics=True)
         super().reset(seed=seed)
-        options = options or {}
-        unknown = set(options) - {"scenario", "delta_d", "n_obstacles"}
-        if unknown:
-            raise ValueError(f"reset options: unknown keys {sorted(unknown)}; known: scenario, delta_d, n_obstacles")
-        if "scenario" in options:
-            self._scenario_spec = options["scenario"]
-        if "delta_d" in options:
-            self._delta_d = check_delta_d(options["delta_d"])
-        if "n_obstacles" in options:
-            self._n_obstacles = self._check_n_obstacles(options["n_obstacles"])
-        scenario = make_scenario(self._scenario_spec, self.np_random, self._n_obstacles, self._delta_d)
-        if scenario.bounds != self.bounds:
-            raise ValueError(
-                f"scenario bounds {scenario.bounds} differ from this env's arena {self.bounds}; "
-                "the arena fixes the observation space, so make a new env for another arena"
-            )
-        if scenario.n_obstacles > self.max_obstacles:
-            raise ValueError(f"scenario has {scenario.n_obstacles} obstacles, more than max_obstacles={self.max_obstacles}")
+        scenario = make_scenario(spec, self.np_random, n_obstacles, delta_d)
+        self._check_fits(scenario)
+        world = World(scenario, recycle=self._world)  # checks the substeps before it touches the old world
+        self._scenario_spec, self._delta_d, self._n_obstacles = spec, delta_d, n_obstacles
         self.scenario = scenario
-        self._world = World(scenario, recycle=self._world)
+        self._world = world
         self._goal_xy = scenario.goal
         r = scenario.robot_radius
         xmin, ymin, xmax, ymax = scenario.bounds
@@ -243,6 +251,7 @@ class DynamicObstacleEnv(gym.Env):
         self._prepare_observation_padding()
         self.waypoint = None
         self.trail = [scenario.start]
+        self._moves: list[tuple[float, float]] = []  # what a copy of this env replays
         if self.render_mode == "human":
             self.render()
         return self._observation(), self._info(min_clearance=self._world.clearance(), rewards=None)
@@ -251,7 +260,7 @@ class DynamicObstacleEnv(gym.Env):
         world = self._world
         if world is None:
             raise RuntimeError("call reset() before step()")
-        if type(action) is not np.ndarray or action.shape != (2,):
+        if type(action) is not np.ndarray or action.shape != (2,) or action.dtype.kind != "f":
             action = self._parse_action(action)
         px, py = world.robot_xy
         finite, wx, wy, dx, dy = robot_move(action, self._waypoint_params, px, py, self._reach)
@@ -259,6 +268,7 @@ class DynamicObstacleEnv(gym.Env):
             raise ValueError(f"action must be finite, got {action!r} (NaN or infinite)")
         self.waypoint = (wx, wy)
         min_gap, contact_fraction = world.step(dx, dy)
+        self._moves.append((dx, dy))
         goal_fraction = reach_fraction(px, py, dx, dy, self._goal_xy[0], self._goal_xy[1], self.scenario.goal_radius)
         collision = contact_fraction <= 1.0 and contact_fraction <= goal_fraction
         success = goal_fraction <= 1.0 and not collision
@@ -320,6 +330,29 @@ class DynamicObstacleEnv(gym.Env):
             self._renderer = None
 
     # -- helpers -------------------------------------------------------------------------------
+    def _parse_options(self, options: dict[str, Any]):
+        unknown = set(options) - {"scenario", "delta_d", "n_obstacles"}
+        if unknown:
+            raise ValueError(f"reset options: unknown keys {sorted(unknown)}; known: scenario, delta_d, n_obstacles")
+        spec = options.get("scenario", self._scenario_spec)
+        delta_d = check_delta_d(options["delta_d"]) if "delta_d" in options else self._delta_d
+        n_obstacles = self._check_n_obstacles(options["n_obstacles"]) if "n_obstacles" in options else self._n_obstacles
+        return spec, delta_d, n_obstacles
+
+    def _check_fits(self, scenario: Scenario, physics: bool = False) -> None:
+        """A scenario this env can run: its arena (which fixes the observation space), its obstacle
+        count within ``max_obstacles``, and (``physics``) within the substep bound."""
+        if scenario.bounds != self.bounds:
+            raise ValueError(
+                f"scenario bounds {scenario.bounds} differ from this env's arena {self.bounds}; "
+                "the arena fixes the observation space, so make a new env for another arena"
+            )
+        if scenario.n_obstacles > self.max_obstacles:
+            raise ValueError(f"scenario has {scenario.n_obstacles} obstacles, more than max_obstacles={self.max_obstacles}")
+        if physics:
+            arrays = scenario.arrays()
+            substeps_for(np.hypot(*arrays["velocities"].T), arrays["radii"], scenario.dt)
+
     @staticmethod
     def _check_n_obstacles(n) -> int:
         if isinstance(n, bool) or int(n) != n or n < 0:
@@ -328,13 +361,16 @@ class DynamicObstacleEnv(gym.Env):
 
     @staticmethod
     def _parse_action(action) -> np.ndarray:
-        """Any array-like of shape (2,) as a float64 array (the common case, a float32 array, skips this)."""
-        if np.shape(action) != (2,):
-            raise ValueError(f"action must have shape (2,), got shape {np.shape(action)}")
+        """Any array-like of two real numbers as a float64 array (the common case, a float array, skips this)."""
         try:
-            return np.asarray(action, dtype=np.float64)
+            array = np.asarray(action)
         except (TypeError, ValueError):
-            raise ValueError(f"action must be two numbers, got {action!r}") from None
+            raise ValueError(f"action must be two real numbers, got {action!r}") from None
+        if array.shape != (2,):
+            raise ValueError(f"action must have shape (2,), got shape {array.shape}")
+        if array.dtype.kind not in "iuf":  # bools, complex numbers and strings are no coordinates
+            raise ValueError(f"action must be two real numbers, got {action!r} (dtype {array.dtype})")
+        return array.astype(np.float64)
 
     def _prepare_observation_padding(self) -> None:
         """The episode's observation template: one float32 block that every observation copies.
@@ -380,9 +416,21 @@ class DynamicObstacleEnv(gym.Env):
         }
 
     def __getstate__(self):
+        # The world travels as its scenario and the robot's moves since reset, and is replayed on
+        # arrival: pymunk's own pickle drops Chipmunk's cache of ongoing contacts, so a copy made
+        # while two bodies touched used to drift from the original.
         state = self.__dict__.copy()
         state["_renderer"] = None  # a pygame window does not pickle; it reopens on the next render()
+        state["_world"] = None
         return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        if self._moves is not None:
+            world = World(self.scenario)
+            for dx, dy in self._moves:
+                world.step(dx, dy)
+            self._world = world
 
 
 @numba.njit(cache=True)

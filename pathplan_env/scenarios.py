@@ -32,11 +32,21 @@ def _vec2(value, name: str) -> Vec2:
     return (x, y)
 
 
-def _positive(value, name: str, allow_zero: bool = False) -> float:
-    value = float(value)
-    ok = value >= 0 if allow_zero else value > 0
+#: Smallest length (m) accepted for radii and distances: below it, masses r² and squared distances
+#: underflow toward subnormals and zero.
+MIN_LENGTH = 1e-6
+#: Largest coordinate magnitude (m): observations are float32, which keeps ~6 cm resolution here.
+MAX_COORDINATE = 1e6
+
+
+def _positive(value, name: str, allow_zero: bool = False, minimum: float = 0.0) -> float:
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    ok = value >= 0 if allow_zero else value > minimum
     if not (math.isfinite(value) and ok):
-        bound = ">= 0" if allow_zero else "> 0"
+        bound = ">= 0" if allow_zero else f"> {minimum:g}"
         raise ValueError(f"{name} must be finite and {bound}, got {value!r}")
     return value
 
@@ -51,7 +61,7 @@ class Obstacle:
 
     def __post_init__(self):
         object.__setattr__(self, "center", _vec2(self.center, "Obstacle.center"))
-        object.__setattr__(self, "radius", _positive(self.radius, "Obstacle.radius"))
+        object.__setattr__(self, "radius", _positive(self.radius, "Obstacle.radius", minimum=MIN_LENGTH))
         object.__setattr__(self, "velocity", _vec2(self.velocity, "Obstacle.velocity"))
 
     @property
@@ -100,15 +110,17 @@ class Scenario:
             raise ValueError(f"Scenario.bounds must be (xmin, ymin, xmax, ymax), got {self.bounds!r}") from None
         if not all(map(math.isfinite, (xmin, ymin, xmax, ymax))) or xmax <= xmin or ymax <= ymin:
             raise ValueError(f"Scenario.bounds must be finite with xmin < xmax and ymin < ymax, got {self.bounds!r}")
+        if max(map(abs, (xmin, ymin, xmax, ymax))) > MAX_COORDINATE:
+            raise ValueError(f"Scenario.bounds must lie within +-{MAX_COORDINATE:g} m (observations are float32), got {self.bounds!r}")
         set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731 (frozen dataclass normalisation)
         set_("bounds", (xmin, ymin, xmax, ymax))
         set_("start", _vec2(self.start, "Scenario.start"))
         set_("goal", _vec2(self.goal, "Scenario.goal"))
-        set_("robot_radius", _positive(self.robot_radius, "Scenario.robot_radius"))
+        set_("robot_radius", _positive(self.robot_radius, "Scenario.robot_radius", minimum=MIN_LENGTH))
         set_("robot_speed", _positive(self.robot_speed, "Scenario.robot_speed"))
         set_("dt", _positive(self.dt, "Scenario.dt"))
         goal_radius = self.robot_radius if self.goal_radius is None else self.goal_radius
-        set_("goal_radius", _positive(goal_radius, "Scenario.goal_radius"))
+        set_("goal_radius", _positive(goal_radius, "Scenario.goal_radius", minimum=MIN_LENGTH))
         obstacles = tuple(self.obstacles)
         for i, ob in enumerate(obstacles):
             if not isinstance(ob, Obstacle):
@@ -153,6 +165,8 @@ class Scenario:
                     f"Scenario.{label} {(x, y)} is outside the arena {self.bounds} "
                     f"(the robot's disc of radius {r} must fit inside)"
                 )
+        if math.dist(self.start, self.goal) <= self.goal_radius:
+            raise ValueError(f"Scenario.goal {self.goal} is within goal_radius {self.goal_radius} of the start {self.start}: nothing to plan")
         max_step = math.hypot(xmax - xmin, ymax - ymin)
         if self.robot_speed * self.dt > max_step:
             raise ValueError(f"Scenario.robot_speed {self.robot_speed} crosses the whole arena in one step")
@@ -168,6 +182,10 @@ class Scenario:
             overlap = np.hypot(pos[:, 0] - point[0], pos[:, 1] - point[1]) <= rad + r
             for i in np.flatnonzero(overlap)[:1]:
                 raise ValueError(f"Scenario.obstacles[{i}] at {self.obstacles[i].center} overlaps the robot at the {label} {point}")
+        gaps = np.hypot(pos[:, None, 0] - pos[None, :, 0], pos[:, None, 1] - pos[None, :, 1]) - rad[:, None] - rad[None, :]
+        np.fill_diagonal(gaps, np.inf)
+        for i, j in np.argwhere(gaps < 0)[:1]:
+            raise ValueError(f"Scenario.obstacles[{i}] at {self.obstacles[i].center} overlaps Scenario.obstacles[{j}] at {self.obstacles[j].center}")
         too_fast = np.hypot(vel[:, 0], vel[:, 1]) * self.dt > max_step
         for i in np.flatnonzero(too_fast)[:1]:
             raise ValueError(
@@ -217,6 +235,25 @@ class Scenario:
         new_velocities.flags.writeable = False
         object.__setattr__(scenario, "_arrays", {**self._arrays, "velocities": new_velocities})
         return scenario
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "Scenario":
+        """A scenario from its ``dataclasses.asdict`` form (what a JSON ``EnvSpec`` holds), validated."""
+        if not isinstance(data, dict):
+            raise ValueError(f"scenario must be a preset name, a Scenario or its dict form, got {type(data).__name__}")
+        fields = {f.name for f in dataclasses.fields(cls)}
+        unknown = set(data) - fields
+        if unknown:
+            raise ValueError(f"scenario dict: unknown fields {sorted(unknown)}; known: {sorted(fields)}")
+        obstacles = []
+        for i, ob in enumerate(data.get("obstacles", ())):
+            if isinstance(ob, dict):
+                try:
+                    ob = Obstacle(**ob)
+                except TypeError as error:
+                    raise ValueError(f"Scenario.obstacles[{i}]: {error}") from None
+            obstacles.append(ob)
+        return cls(**{**data, "obstacles": tuple(obstacles)})
 
     def arrays(self) -> dict[str, np.ndarray]:
         """Obstacle data as read-only float64 arrays: ``positions`` (N, 2), ``velocities`` (N, 2), ``radii`` (N,)."""
@@ -271,6 +308,9 @@ RANDOM_RADIUS_RANGE = (0.4, 0.6)
 RANDOM_MIN_START_GOAL = 6.0
 RANDOM_OBSTACLE_GAP = 0.1
 RANDOM_START_CLEARANCE = 0.5
+#: Most obstacles of the random preset: 100 make a 28.9 m arena whose diagonal (41 m) the robot
+#: crosses in 163 of the 200 steps; more would make most episodes impossible in time.
+RANDOM_MAX_OBSTACLES = 100
 RANDOM_ROBOT_SPEED = ROBOT_STEP_IN_RADII * 0.5 * (RANDOM_RADIUS_RANGE[0] + RANDOM_RADIUS_RANGE[1]) / DT  # half a mean radius a step
 _CANDIDATES = 64
 
@@ -319,6 +359,11 @@ def sample_random_scenario(rng: np.random.Generator, n_obstacles: int = 8, delta
     """
     if isinstance(n_obstacles, bool) or int(n_obstacles) != n_obstacles or n_obstacles < 0:
         raise ValueError(f"n_obstacles must be a non-negative integer, got {n_obstacles!r}")
+    if n_obstacles > RANDOM_MAX_OBSTACLES:
+        raise ValueError(
+            f"n_obstacles must be <= {RANDOM_MAX_OBSTACLES} for the random preset, got {n_obstacles}: its arena grows with the "
+            f"count (side 10 m x sqrt(n / 12)) and past that outgrows what the robot can cross in the 200-step time limit"
+        )
     n = int(n_obstacles)
     bounds = random_arena_bounds(n)
     xmin, ymin, xmax, ymax = bounds
@@ -359,7 +404,9 @@ PRESETS: dict[str, Callable[[np.random.Generator, int], Scenario]] = {
 def make_scenario(
     spec: "str | Scenario", rng: np.random.Generator, n_obstacles: int = 8, delta_d: float | None = None
 ) -> Scenario:
-    """Resolve a preset name or a :class:`Scenario`, then apply ``delta_d`` (``None`` keeps the velocities)."""
+    """Resolve a preset name, a :class:`Scenario` or its dict form, then apply ``delta_d`` (``None`` keeps the velocities)."""
+    if isinstance(spec, dict):
+        spec = Scenario.from_dict(spec)
     if isinstance(spec, Scenario):
         scenario = spec
     elif isinstance(spec, str):
@@ -389,6 +436,7 @@ def check_delta_d(delta_d) -> float | None:
 
 
 __all__ = [
+    "MIN_LENGTH",
     "Obstacle",
     "Scenario",
     "PRESETS",

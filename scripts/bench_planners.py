@@ -7,8 +7,10 @@
 2. Quality: on static random scenes, the length each planner flies in the env divided by the exact
    shortest path (tangent graph, same inflation: robot radius + the planner's margin), for
    k = 1, 2, 3 waypoints.
+3. Space-time planners: every replan's time over whole test episodes (random scenes, 8
+   obstacles) at each Δd, median and p95, after a warm-up episode (compilation excluded).
 
-    python scripts/bench_planners.py [--replans 200] [--scenes 20]
+    python scripts/bench_planners.py [--replans 200] [--scenes 20] [--spacetime-episodes 20]
 """
 
 from __future__ import annotations
@@ -123,10 +125,39 @@ def optimality(n_scenes: int) -> list[tuple[str, int, float, float, float]]:
     return rows
 
 
+SPACETIME_PLANNERS = ("astar-spacetime", "pso-spacetime", "abc-spacetime")
+SPACETIME_TARGET_MS = (5.0, 50.0)  # median, p95
+
+
+def spacetime_replan_times(episodes: int, deltas=(0.25, 0.5, 1.0, 2.0)) -> list[tuple[str, float, float, float, int]]:
+    """``(planner, Δd, median ms, p95 ms, replans)`` over every replan of ``episodes`` test episodes."""
+    from pathplan_env.splits import heldout_seeds
+
+    rows = []
+    for name in tqdm(SPACETIME_PLANNERS, desc="space-time replans", leave=False):
+        for delta_d in deltas:
+            env = gym.make("DynamicObstacle-v0", scenario="random", delta_d=delta_d)
+            agent = agents.make(name, env, seed=0)
+            agents.rollout(agent, env, seed=heldout_seeds(9, 1)[0])  # warm-up: numba's cache loads here
+            times = []
+            for seed in heldout_seeds(0, episodes):
+                agent.reset()
+                obs, _ = env.reset(seed=seed)
+                while True:
+                    action, _ = agent.predict(obs, deterministic=True)
+                    times.append(1e3 * agent.last_plan_seconds)
+                    obs, _, terminated, truncated, _ = env.step(action)
+                    if terminated or truncated:
+                        break
+            rows.append((name, delta_d, float(np.median(times)), float(np.percentile(times, 95)), len(times)))
+    return rows
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--replans", type=int, default=200)
     parser.add_argument("--scenes", type=int, default=20)
+    parser.add_argument("--spacetime-episodes", type=int, default=20)
     args = parser.parse_args()
 
     times = replan_times(args.replans)
@@ -142,6 +173,13 @@ def main() -> None:
     print("|---|---:|---:|---:|---:|")
     for name, k, success, median, p90 in optimality(args.scenes):
         print(f"| {name} | {k} | {success:.2f} | {median:.4f} | {p90:.4f} |")
+
+    median_target, p95_target = SPACETIME_TARGET_MS
+    print(f"\nSpace-time planners: every replan of {args.spacetime_episodes} test episodes (random, 8 obstacles), ms")
+    print(f"| planner | Δd | replans | median (target <= {median_target:g}) | p95 (target <= {p95_target:g}) |")
+    print("|---|---:|---:|---:|---:|")
+    for name, delta_d, median, p95, count in spacetime_replan_times(args.spacetime_episodes):
+        print(f"| {name} | {delta_d:g} | {count} | {median:.2f} | {p95:.2f} |")
 
 
 if __name__ == "__main__":

@@ -197,6 +197,23 @@ def markdown_table(rows: list[dict]) -> str:
     return "\n".join(lines)
 
 
+def limit_table(rows: list[dict], scenario: str) -> str:
+    """Success ÷ limit against Δd for every agent of ``scenario``, under the limit itself."""
+    cells = [r for r in rows if r["scenario"] == scenario and "limit" in r]
+    deltas = sorted({r["delta_d"] for r in cells})
+    if not cells:
+        return ""
+    by = {(r["agent"], r["delta_d"]): r for r in cells}
+    fmt = lambda v: "-" if v is None else f"{v:.2f}"  # noqa: E731
+    lines = [f"| {scenario}: success ÷ limit | " + " | ".join(f"Δd = {d:g}" for d in deltas) + " |",
+             "|---|" + "---:|" * len(deltas)]  # fmt: skip
+    limit_row = [by[(LIMIT_AGENT, d)] if (LIMIT_AGENT, d) in by else next(r for r in cells if r["delta_d"] == d) for d in deltas]
+    lines.append("| **limit** (oracle-clairvoyant's success) | " + " | ".join(f"**{r['limit']:.2f}**" for r in limit_row) + " |")
+    for agent in sorted({r["agent"] for r in cells} - {LIMIT_AGENT}):
+        lines.append(f"| {agent} | " + " | ".join(fmt(by[(agent, d)]["success_over_limit"]) if (agent, d) in by else "-" for d in deltas) + " |")
+    return "\n".join(lines)
+
+
 def plot(rows: list[dict], out: Path) -> list[Path]:
     import matplotlib
 
@@ -355,6 +372,10 @@ def main(argv=None) -> list[dict]:
             row = {k: v for k, v in asdict(res).items() if k != "plan_ms"}
             writer.writerow(row | {"plan_ms_median": float(np.median(res.plan_ms))})
     print(markdown_table(rows))
+    for scenario in scenarios:
+        table = limit_table(rows, scenario)
+        if table:
+            print("\n" + table)
     if not args.no_plots:
         for path in plot(rows, out):
             print(f"wrote {path}")

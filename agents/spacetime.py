@@ -19,8 +19,6 @@ absorbs the prediction's drift at bounces.
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
 from pathplan_env.wrappers import EnvFacts

@@ -64,3 +64,26 @@ def test_bad_arguments_are_named(tmp_path):
         evaluate.main(["--agents", "nope", "--out", str(tmp_path)])
     with pytest.raises(SystemExit, match="--delta-d"):
         evaluate.main(["--delta-d", "-1", "--out", str(tmp_path)])
+
+
+def test_resume_continues_a_run_to_the_same_results(tmp_path):
+    small = ["--agents", "straight", "--scenarios", "paper-case-1", "--delta-d", "0.5", "--no-plots", "--workers", "1"]
+    evaluate.main(small + ["--episodes", "2", "--out", str(tmp_path / "run")])
+    resumed = evaluate.main(small + ["--episodes", "4", "--resume", "--out", str(tmp_path / "run")])
+    fresh = evaluate.main(small + ["--episodes", "4", "--out", str(tmp_path / "fresh")])
+    strip = lambda cells: [{k: v for k, v in c.items() if not k.startswith("plan_ms")} for c in cells]  # noqa: E731
+    assert strip(resumed) == strip(fresh)
+    lines = (tmp_path / "run" / "episodes.jsonl").read_text().splitlines()
+    assert len(lines) == 8  # 4 episodes x (straight + the limit), the first 2 of each kept from the first run
+
+
+def test_agent_kwargs_per_agent_and_errors_before_any_work(tmp_path):
+    with pytest.raises(SystemExit, match="'straight' does not take"):
+        evaluate.main(["--agents", "straight,pso", "--agent-kwargs", '{"n_waypoints": 3}', "--out", str(tmp_path / "a")])
+    assert not (tmp_path / "a" / "episodes.jsonl").exists()
+    with pytest.raises(SystemExit, match="not valid JSON"):
+        evaluate.main(["--agent-kwargs", "{oops", "--out", str(tmp_path / "b")])
+    rows = evaluate.main(["--agents", "straight,pso", "--scenarios", "paper-case-1", "--delta-d", "0", "--episodes", "1",
+                          "--agent-kwargs", '{"pso": {"n_waypoints": 3}}', "--no-plots", "--workers", "1",
+                          "--out", str(tmp_path / "c")])  # fmt: skip
+    assert {r["agent"] for r in rows} == {"straight", "pso", "oracle-clairvoyant"}

@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 from gymnasium.envs.registration import EnvSpec
 
-import pathplan_env
 from pathplan_env import Obstacle, Scenario
 
 

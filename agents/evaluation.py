@@ -1,0 +1,337 @@
+"""The evaluation harness as a library: agents x scenarios x Δd on fixed test episodes, with limits.
+
+    from agents.evaluation import evaluate
+    rows = evaluate(["pso-spacetime", "velocity-obstacle"], ["random"], [0.5, 1.0], episodes=100, out="results/mine")
+
+Every (agent, scenario, Δd) cell runs the same episodes: episode ``i`` uses seed
+``pathplan_env.splits.heldout_seeds(seed, episodes)[i]`` for the env (scene, directions) and the
+agent, so results do not depend on the number of workers. The privileged ``oracle-clairvoyant``
+runs on the same episodes to give each cell its physical limit. Episodes are appended to
+``episodes.jsonl`` as they finish, so a crash loses nothing and ``resume=True`` continues a run;
+``summary.json``, ``episodes.csv`` and plots are written at the end. ``scripts/evaluate.py`` is the
+command line over this module.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+import platform
+import subprocess
+import sys
+import time
+from dataclasses import asdict, dataclass, field
+from multiprocessing import get_context
+from pathlib import Path
+
+import numpy as np
+from scipy.stats import binomtest
+from tqdm import tqdm
+
+SUITES = {
+    "default": dict(
+        agents="straight,velocity-obstacle,oracle-static,pso,abc,pso-predictive,abc-predictive,ppo",
+        scenarios="random,paper-case-3",
+        delta_d="0,0.1,0.25,0.5,1,2",
+        episodes=50,
+    ),
+    "large": dict(
+        agents="straight,velocity-obstacle,oracle-static,pso,abc,pso-vanilla,abc-vanilla,pso-predictive,abc-predictive,ppo",
+        scenarios="random,paper-case-1,paper-case-2,paper-case-3",
+        delta_d="0,0.1,0.125,0.25,0.5,1,2",
+        episodes=100,
+    ),
+}
+
+
+@dataclass
+class EpisodeResult:
+    agent: str
+    scenario: str
+    delta_d: float
+    episode: int
+    seed: int
+    success: bool
+    collision: bool
+    timeout: bool
+    steps: int
+    path_length: float
+    shortest_path: float
+    path_length_ratio: float
+    time_to_goal: float
+    min_clearance: float
+    plan_ms: list[float] = field(repr=False)
+    verdict: str = ""  # the clairvoyant oracle's: plan, lost or undetermined
+
+
+_WARMED: set[str] = set()  # agents whose compiled code this process has already loaded
+
+
+def warm_up(agent_name: str, overrides: dict) -> None:
+    """One plan on a throwaway episode, so that numba's compilation or cache load (seconds) and
+    torch's first call never land in an episode's planning times."""
+    if agent_name in _WARMED:
+        return
+    import gymnasium as gym
+
+    import agents
+
+    env = gym.make("DynamicObstacle-v0", delta_d=0.5)
+    obs, _ = env.reset(seed=0)
+    agents.make(agent_name, env, seed=0, **overrides).predict(obs, deterministic=True)
+    _WARMED.add(agent_name)
+
+
+def run_episode(agent_name: str, scenario: str, delta_d: float, episode: int, seed: int, n_obstacles: int, overrides: dict) -> EpisodeResult:
+    """One episode of one agent (the unit of work every executor runs)."""
+    import gymnasium as gym
+
+    import agents
+    import pathplan_env
+
+    warm_up(agent_name, overrides)
+    env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=delta_d, n_obstacles=n_obstacles)
+    obs, info = env.reset(seed=seed)
+    agent = agents.make(agent_name, env, seed=seed, **overrides)
+    s = env.unwrapped.scenario
+    arrays = s.arrays()
+    xmin, ymin, xmax, ymax = s.bounds
+    r = s.robot_radius
+    _, shortest = pathplan_env.shortest_path(
+        s.start, s.goal, arrays["positions"], arrays["radii"] + r, bounds=(xmin + r, ymin + r, xmax - r, ymax - r)
+    )
+    plan_ms, clearance, steps = [], math.inf, 0
+    while True:
+        action, _ = agent.predict(obs, deterministic=True)
+        plan_ms.append(1e3 * agent.last_plan_seconds)
+        obs, _, terminated, truncated, info = env.step(action)
+        clearance = min(clearance, info["min_clearance"])
+        steps += 1
+        if terminated or truncated:
+            break
+    env.close()
+    success = bool(info["is_success"])
+    # the episode ends on the goal's disc: compare with the shortest path to that disc
+    reference = shortest - s.goal_radius
+    return EpisodeResult(
+        agent=agent_name, scenario=scenario, delta_d=delta_d, episode=episode, seed=seed,
+        success=success, collision=bool(info["collision"]), timeout=not terminated,
+        steps=steps, path_length=info["path_length"], shortest_path=shortest,
+        path_length_ratio=info["path_length"] / reference if success and np.isfinite(reference) and reference > 0 else math.nan,
+        time_to_goal=info["time"] if success else math.nan, min_clearance=clearance, plan_ms=plan_ms,
+        verdict=getattr(agent, "verdict", None) or "",
+    )  # fmt: skip
+
+
+def wilson_interval(successes: int, n: int) -> tuple[float, float]:
+    if n == 0:
+        return (0.0, 1.0)
+    ci = binomtest(successes, n).proportion_ci(confidence_level=0.95, method="wilson")
+    return (float(ci.low), float(ci.high))
+
+
+#: The privileged agent whose success rate on a cell's episodes is that cell's physical limit.
+LIMIT_AGENT = "oracle-clairvoyant"
+
+
+def limits(results: list[EpisodeResult]) -> dict[tuple, dict]:
+    """Per (scenario, Δd): the clairvoyant oracle's success rate (the limit) and its verdict counts."""
+    out = {}
+    for res in results:
+        if res.agent == LIMIT_AGENT:
+            cell = out.setdefault((res.scenario, res.delta_d), {"episodes": 0, "wins": 0, "lost": 0, "undetermined": 0})
+            cell["episodes"] += 1
+            cell["wins"] += res.success
+            cell["lost"] += res.verdict == "lost"
+            cell["undetermined"] += res.verdict == "undetermined"
+    return {
+        key: {
+            "limit": c["wins"] / c["episodes"],
+            "limit_ci95": list(wilson_interval(c["wins"], c["episodes"])),
+            "limit_lost": c["lost"] / c["episodes"],
+            "limit_undetermined": c["undetermined"] / c["episodes"],
+        }
+        for key, c in out.items()
+    }
+
+
+def summarize(results: list[EpisodeResult]) -> list[dict]:
+    cells: dict[tuple, list[EpisodeResult]] = {}
+    for res in results:
+        cells.setdefault((res.agent, res.scenario, res.delta_d), []).append(res)
+    limit_of = limits(results)
+    rows = []
+    for (agent, scenario, delta_d), eps in cells.items():
+        n = len(eps)
+        wins = [e for e in eps if e.success]
+        mean_over = lambda values: float(np.mean(values)) if len(values) else None  # noqa: E731
+        plans = np.concatenate([e.plan_ms for e in eps])
+        rows.append(
+            {
+                "agent": agent,
+                "scenario": scenario,
+                "delta_d": delta_d,
+                "episodes": n,
+                "success_rate": len(wins) / n,
+                "success_ci95": list(wilson_interval(len(wins), n)),
+                "collision_rate": sum(e.collision for e in eps) / n,
+                "timeout_rate": sum(e.timeout for e in eps) / n,
+                "path_length": mean_over([e.path_length for e in wins]),
+                "path_length_ratio": mean_over([e.path_length_ratio for e in wins if np.isfinite(e.path_length_ratio)]),
+                "time_to_goal": mean_over([e.time_to_goal for e in wins]),
+                "plan_ms_median": float(np.median(plans)),
+                "plan_ms_p95": float(np.percentile(plans, 95)),
+                "min_clearance": float(np.mean([e.min_clearance for e in eps])),
+            }
+        )
+        limit = limit_of.get((scenario, delta_d))
+        if limit is not None:
+            rows[-1] |= limit | {"success_over_limit": rows[-1]["success_rate"] / limit["limit"] if limit["limit"] > 0 else None}
+    rows.sort(key=lambda r: (r["scenario"], r["agent"], r["delta_d"]))
+    return rows
+
+
+def versions() -> dict:
+    import gymnasium
+    import numba
+    import pymunk
+
+    import pathplan_env
+
+    info = {
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "gymnasium": gymnasium.__version__,
+        "pymunk": pymunk.version,
+        "numba": numba.__version__,
+        "pathplan_env": pathplan_env.__version__,
+        "machine": f"{platform.machine()} {os.cpu_count()} cores",
+    }
+    try:
+        info["git_commit"] = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True, cwd=Path(__file__).parent).stdout.strip()
+    except OSError:
+        pass
+    return info
+
+
+
+# -- running ------------------------------------------------------------------------------------
+def resolve_agent_kwargs(agent_names: list[str], agent_kwargs: dict) -> dict[str, dict]:
+    """Per-agent overrides from either form, checked by building each agent once (before any work).
+
+    ``{"n_waypoints": 3}`` goes to every agent; ``{"pso": {"n_waypoints": 3}}`` to ``pso`` only.
+    :raises ValueError: naming the agent and the argument it does not take.
+    """
+    import gymnasium as gym
+
+    import agents
+
+    if not isinstance(agent_kwargs, dict):
+        raise ValueError(f"agent kwargs must be a JSON object, got {agent_kwargs!r}")
+    per_agent = bool(agent_kwargs) and all(isinstance(v, dict) for v in agent_kwargs.values())
+    if per_agent:
+        unknown = sorted(set(agent_kwargs) - set(agent_names))
+        if unknown:
+            raise ValueError(f"agent kwargs for agents not in the run: {unknown}")
+        own = {name: dict(agent_kwargs.get(name, {})) for name in agent_names}
+    else:
+        own = {name: dict(agent_kwargs) for name in agent_names}
+    env = gym.make("DynamicObstacle-v0")
+    for name, kwargs in own.items():
+        if kwargs:
+            try:
+                agents.make(name, env, seed=0, **kwargs)
+            except TypeError as error:
+                raise ValueError(f"agent {name!r} does not take {sorted(kwargs)}: {error}") from None
+    return own
+
+
+def _init_worker() -> None:
+    os.environ["OMP_NUM_THREADS"] = "1"  # one torch thread per worker: the workers already fill the cores
+
+
+def _run_job(job) -> EpisodeResult:
+    return run_episode(*job)
+
+
+def run_jobs(jobs: list[tuple], workers: int, on_result) -> None:
+    """Run ``jobs`` (``run_episode``'s arguments) on a local process pool, calling ``on_result``
+    with each finished episode as it arrives (any order)."""
+    if workers > 1:
+        with get_context("spawn").Pool(workers, initializer=_init_worker) as pool:
+            for res in tqdm(pool.imap_unordered(_run_job, jobs, chunksize=1), total=len(jobs), desc="episodes", file=sys.stderr):
+                on_result(res)
+    else:
+        for job in tqdm(jobs, desc="episodes", file=sys.stderr):
+            on_result(_run_job(job))
+
+
+def _job_key(job) -> tuple:
+    agent, scenario, delta_d, episode, seed, n_obstacles, overrides = job
+    return (agent, scenario, float(delta_d), int(episode), int(seed), int(n_obstacles), json.dumps(overrides, sort_keys=True))
+
+
+def evaluate(
+    agent_names: list[str], scenarios: list[str], deltas: list[float], episodes: int, out: str | Path, *,
+    seed: int = 0, split: str = "test", n_obstacles: int = 8, workers: int = 1, agent_kwargs: dict | None = None,
+    limit: bool = True, resume: bool = False, plots: bool = True, config: dict | None = None,
+) -> list[dict]:  # fmt: skip
+    """Run the cells, write the results to ``out`` and return the summary rows (see the module doc)."""
+    from pathplan_env.splits import heldout_seeds, validation_seeds
+
+    agent_names = list(agent_names)
+    own = resolve_agent_kwargs(agent_names, agent_kwargs or {})
+    if limit and LIMIT_AGENT not in agent_names:
+        agent_names.append(LIMIT_AGENT)
+        own[LIMIT_AGENT] = {}  # the kwargs are meant for the agents asked for
+    seeds = (heldout_seeds if split == "test" else validation_seeds)(seed, episodes)
+    jobs = [(a, s, d, i, e, n_obstacles, own[a]) for a in agent_names for s in scenarios for d in deltas for i, e in enumerate(seeds)]
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    log = out / "episodes.jsonl"
+    results: list[EpisodeResult] = []
+    if resume and log.exists():
+        wanted = {_job_key(job) for job in jobs}
+        for line in log.read_text().splitlines():
+            record = json.loads(line)
+            key, res = tuple(record["job"]), EpisodeResult(**record["result"])
+            if key in wanted:
+                results.append(res)
+                wanted.discard(key)
+        done = {_job_key(job) for job in jobs} - wanted
+        jobs = [job for job in jobs if _job_key(job) not in done]
+        print(f"resuming: {len(results)} episodes on record, {len(jobs)} to run", file=sys.stderr)
+    elif log.exists():
+        log.unlink()
+    start = time.perf_counter()
+    with open(log, "a") as sink:
+
+        def record(res: EpisodeResult) -> None:
+            results.append(res)
+            job = (res.agent, res.scenario, res.delta_d, res.episode, res.seed, n_obstacles, own[res.agent])
+            sink.write(json.dumps({"job": list(_job_key(job)), "result": asdict(res)}) + "\n")
+            sink.flush()
+
+        run_jobs(jobs, workers, record)
+    elapsed = time.perf_counter() - start
+    results.sort(key=lambda r: (r.agent, r.scenario, r.delta_d, r.episode))
+    rows = summarize(results)
+    config = (config or {}) | {"agents": agent_names, "scenarios": scenarios, "delta_d": deltas, "episodes": episodes,
+                               "seed": seed, "split": split, "n_obstacles": n_obstacles, "workers": workers,
+                               "agent_kwargs": agent_kwargs or {}, "episode_seeds": [seeds[0], seeds[-1]],
+                               "wall_seconds": round(elapsed, 1)}  # fmt: skip
+    (out / "summary.json").write_text(json.dumps({"results": rows, "config": config, "versions": versions()}, indent=2))
+    with open(out / "episodes.csv", "w", newline="") as f:
+        names = [k for k in asdict(results[0]) if k != "plan_ms"] + ["plan_ms_median"]
+        writer = csv.DictWriter(f, fieldnames=names)
+        writer.writeheader()
+        for res in results:
+            row = {k: v for k, v in asdict(res).items() if k != "plan_ms"}
+            writer.writerow(row | {"plan_ms_median": float(np.median(res.plan_ms))})
+    if plots:
+        from .reporting import plot
+
+        plot(rows, out)
+    return rows

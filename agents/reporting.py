@@ -1,0 +1,97 @@
+"""Tables and plots of evaluation results (the rows of ``agents.evaluation.summarize``)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .evaluation import LIMIT_AGENT
+
+
+def markdown_table(rows: list[dict]) -> str:
+    fmt = lambda v, spec: "-" if v is None else format(v, spec)  # noqa: E731
+    lines = [
+        "| scenario | agent | Δd | episodes | success [95% CI] | limit | success ÷ limit | collision | timeout | length ratio | plan ms (median / p95) |",
+        "|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|",
+    ]
+    for r in rows:
+        lo, hi = r["success_ci95"]
+        lines.append(
+            f"| {r['scenario']} | {r['agent']} | {r['delta_d']:g} | {r['episodes']} | {r['success_rate']:.2f} [{lo:.2f}, {hi:.2f}] "
+            f"| {fmt(r.get('limit'), '.2f')} | {fmt(r.get('success_over_limit'), '.2f')} "
+            f"| {r['collision_rate']:.2f} | {r['timeout_rate']:.2f} | {fmt(r['path_length_ratio'], '.3f')} "
+            f"| {r['plan_ms_median']:.2f} / {r['plan_ms_p95']:.2f} |"
+        )
+    return "\n".join(lines)
+
+
+def limit_table(rows: list[dict], scenario: str) -> str:
+    """Success ÷ limit against Δd for every agent of ``scenario``, under the limit itself."""
+    cells = [r for r in rows if r["scenario"] == scenario and "limit" in r]
+    deltas = sorted({r["delta_d"] for r in cells})
+    if not cells:
+        return ""
+    by = {(r["agent"], r["delta_d"]): r for r in cells}
+    fmt = lambda v: "-" if v is None else f"{v:.2f}"  # noqa: E731
+    lines = [f"| {scenario}: success ÷ limit | " + " | ".join(f"Δd = {d:g}" for d in deltas) + " |",
+             "|---|" + "---:|" * len(deltas)]  # fmt: skip
+    limit_row = [by[(LIMIT_AGENT, d)] if (LIMIT_AGENT, d) in by else next(r for r in cells if r["delta_d"] == d) for d in deltas]
+    lines.append("| **limit** (oracle-clairvoyant's success) | " + " | ".join(f"**{r['limit']:.2f}**" for r in limit_row) + " |")
+    for agent in sorted({r["agent"] for r in cells} - {LIMIT_AGENT}):
+        lines.append(f"| {agent} | " + " | ".join(fmt(by[(agent, d)]["success_over_limit"]) if (agent, d) in by else "-" for d in deltas) + " |")
+    return "\n".join(lines)
+
+
+def plot(rows: list[dict], out: Path) -> list[Path]:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    scenarios = sorted({r["scenario"] for r in rows})
+    agent_names = sorted({r["agent"] for r in rows})
+    paths = []
+    for metric, ylabel, filename in (
+        ("success_rate", "success rate (95% Wilson CI)", "success_vs_delta_d.png"),
+        ("path_length_ratio", "flown / shortest static path (successes)", "path_length_ratio.png"),
+    ):
+        fig, axes = plt.subplots(1, len(scenarios), figsize=(5.5 * len(scenarios), 4.2), squeeze=False, sharey=True)
+        for ax, scenario in zip(axes[0], scenarios):
+            band = sorted((r for r in rows if r["scenario"] == scenario and r["agent"] == LIMIT_AGENT), key=lambda r: r["delta_d"])
+            if metric == "success_rate" and band:
+                x = [r["delta_d"] for r in band]
+                ax.fill_between(x, [r["success_ci95"][0] for r in band], [r["success_ci95"][1] for r in band],
+                                color="0.8", alpha=0.7, label="physical limit (clairvoyant, 95% CI)")  # fmt: skip
+            for name in agent_names:
+                if name == LIMIT_AGENT and metric == "success_rate":
+                    continue
+                cell = sorted((r for r in rows if r["scenario"] == scenario and r["agent"] == name), key=lambda r: r["delta_d"])
+                x = [r["delta_d"] for r in cell]
+                y = [np.nan if r[metric] is None else r[metric] for r in cell]
+                if metric == "success_rate":
+                    err = np.array([[r["success_rate"] - r["success_ci95"][0], r["success_ci95"][1] - r["success_rate"]] for r in cell]).T
+                    ax.errorbar(x, y, yerr=err, marker="o", capsize=3, label=name)
+                else:
+                    ax.plot(x, y, marker="o", label=name)
+            ax.set_title(scenario)
+            ax.set_xlabel("Δd (obstacle displacement per step / radius)")
+            ax.grid(alpha=0.3)
+        axes[0][0].set_ylabel(ylabel)
+        axes[0][-1].legend(fontsize=8, loc="best")
+        fig.tight_layout()
+        fig.savefig(out / filename, dpi=110)
+        plt.close(fig)
+        paths.append(out / filename)
+    fig, ax = plt.subplots(figsize=(7, 3.8))
+    medians = {name: np.median([r["plan_ms_median"] for r in rows if r["agent"] == name]) for name in agent_names}
+    p95 = {name: np.median([r["plan_ms_p95"] for r in rows if r["agent"] == name]) for name in agent_names}
+    ax.barh(agent_names, [p95[n] for n in agent_names], color="#f2c48d", label="p95")
+    ax.barh(agent_names, [medians[n] for n in agent_names], color="#3465a4", label="median")
+    ax.set_xlabel("planning time per step (ms)")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(out / "planning_time.png", dpi=110)
+    plt.close(fig)
+    paths.append(out / "planning_time.png")
+    return paths

@@ -1,36 +1,46 @@
-# Set-up and main entry points. Every target creates or reuses the local virtualenv.
+# Set-up and main entry points. Every target creates or reuses the local virtualenv in .venv.
+#   make demo   core install only (no torch): the baseline evaluation on the default suite
+#   make test   adds the rl and test extras (stable-baselines3, a CPU build of torch) and runs the tests
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
-STAMP  := $(VENV)/.installed
+CORE   := $(VENV)/.installed-core
+FULL   := $(VENV)/.installed-full
+# torch's wheel on PyPI for Linux is the CUDA build (several GB). For a CPU-only one on your machine:
+#   make test TORCH_INDEX=https://download.pytorch.org/whl/cpu
+TORCH_INDEX ?=
 
-.PHONY: demo test bench reproduce train clean
+.PHONY: demo test bench reproduce train clean venv
 
-$(STAMP): pyproject.toml
+$(CORE): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	# CPU build of torch first, so nothing later pulls in a multi-GB CUDA build.
-	$(PY) -m pip install --quiet "torch==2.13.0"
+	$(PY) -m pip install --quiet -e .
+	touch $(CORE)
+
+$(FULL): $(CORE)
+	# torch first, pinned (and from TORCH_INDEX if given), so that nothing later pulls another build
+	$(PY) -m pip install --quiet $(if $(TORCH_INDEX),--index-url $(TORCH_INDEX)) "torch==2.13.0"
 	$(PY) -m pip install --quiet -e ".[rl,test]"
-	touch $(STAMP)
+	touch $(FULL)
 
-venv: $(STAMP)
+venv: $(FULL)
 
-demo: $(STAMP)  ## the main job: baseline evaluation on the default suite
+demo: $(CORE)  ## the main job: baseline evaluation on the default suite (no torch needed)
 	$(PY) scripts/evaluate.py --suite default --out results/default
 
-test: $(STAMP)
+test: $(FULL)
 	$(PY) -m pytest -q -n 2
 
-bench: $(STAMP)
+bench: $(CORE)
 	$(PY) -m pip install --quiet -e ".[bench]"
 	$(PY) scripts/bench_env.py
 	$(PY) scripts/bench_planners.py
 
-train: $(STAMP)  ## retrain the shipped PPO policy (~35 min on 2 cores) and copy it to agents/models/
+train: $(FULL)  ## retrain the shipped PPO policy (~35 min on 2 cores) and copy it to agents/models/
 	$(PY) scripts/train_rl.py --total-timesteps 4000000 --seed 0 --out runs/ppo --ship best
 
-reproduce: $(STAMP)
+reproduce: $(CORE)
 	$(PY) scripts/reproduce_paper.py --out results/paper
 
 clean:

@@ -30,15 +30,18 @@ import numpy as np
 from scipy.stats import binomtest
 from tqdm import tqdm
 
+#: Preset runs (``scripts/evaluate.py --suite``); the clairvoyant limit is added to every one.
 SUITES = {
     "default": dict(
-        agents="straight,velocity-obstacle,oracle-static,pso,abc,pso-predictive,abc-predictive,ppo",
+        agents="straight,velocity-obstacle,oracle-static,pso,abc,pso-predictive,abc-predictive,"
+        "astar-spacetime,pso-spacetime,abc-spacetime,ppo",
         scenarios="random,paper-case-3",
         delta_d="0,0.1,0.25,0.5,1,2",
         episodes=50,
     ),
     "large": dict(
-        agents="straight,velocity-obstacle,oracle-static,pso,abc,pso-vanilla,abc-vanilla,pso-predictive,abc-predictive,ppo",
+        agents="straight,velocity-obstacle,oracle-static,pso,abc,pso-vanilla,abc-vanilla,pso-predictive,abc-predictive,"
+        "astar-spacetime,pso-spacetime,abc-spacetime,ppo",
         scenarios="random,paper-case-1,paper-case-2,paper-case-3",
         delta_d="0,0.1,0.125,0.25,0.5,1,2",
         episodes=100,

@@ -12,10 +12,10 @@ import time
 from functools import lru_cache
 from pathlib import Path
 
-
 from pathplan_env.wrappers import egocentric_features, feature_size, relative_action_to_waypoint
 
 from .base import Agent
+from .numpy_policy import NumpyPolicy
 
 MODELS_DIR = Path(__file__).parent / "models"
 
@@ -26,6 +26,11 @@ def model_metadata(path: str | Path) -> dict:
     if not sidecar.exists():
         raise ValueError(f"path: no metadata file {sidecar} beside the model (scripts/train_rl.py writes it)")
     return json.loads(sidecar.read_text())
+
+
+@lru_cache(maxsize=8)
+def _load_numpy_policy(path: Path, mtime: float) -> NumpyPolicy:
+    return NumpyPolicy(path)
 
 
 @lru_cache(maxsize=8)
@@ -44,24 +49,43 @@ class RLAgent(Agent):
 
     ``path`` is the model's ``.zip`` (default: the shipped ``agents/models/<algo>.zip``). Actions
     are the policy's mean unless ``predict(..., deterministic=False)`` asks for samples.
+
+    :param backend: ``"numpy"`` runs the actor exported beside the ``.zip`` (``.npz``,
+        :mod:`agents.numpy_policy`; no torch needed), ``"sb3"`` loads the ``.zip`` with
+        stable-baselines3, ``"auto"`` (default) takes numpy when the ``.npz`` exists.
     """
 
-    def __init__(self, env, seed: int | None = None, algo: str = "ppo", path: str | Path | None = None):
+    def __init__(self, env, seed: int | None = None, algo: str = "ppo", path: str | Path | None = None, backend: str = "auto"):
         super().__init__(env, seed=seed)
+        if backend not in ("auto", "numpy", "sb3"):
+            raise ValueError(f"backend must be 'auto', 'numpy' or 'sb3', got {backend!r}")
         path = Path(path) if path is not None else MODELS_DIR / f"{algo}.zip"
-        if not path.exists():
-            raise ValueError(f"path: no model at {path}; train one with scripts/train_rl.py")
+        exported = path.with_suffix(".npz")
+        if backend == "auto":
+            backend = "numpy" if exported.exists() else "sb3"
+        if not (exported if backend == "numpy" else path).exists():
+            raise ValueError(f"path: no model at {exported if backend == 'numpy' else path}; train one with scripts/train_rl.py"
+                             + (" (scripts/export_policy.py writes the .npz)" if backend == "numpy" else ""))  # fmt: skip
         self.metadata = model_metadata(path)
         self.k_nearest = int(self.metadata["k_nearest"])
-        self.model = _load_model(path.resolve(), self.metadata.get("algo", algo), path.stat().st_mtime)
-        expected = (feature_size(self.k_nearest),)
-        if self.model.observation_space.shape != expected:
-            raise ValueError(f"path: model expects observations of shape {self.model.observation_space.shape}, the wrappers give {expected}")
+        self.backend = backend
+        expected = feature_size(self.k_nearest)
+        if backend == "numpy":
+            self.model = _load_numpy_policy(exported.resolve(), exported.stat().st_mtime)
+            size = self.model.observation_size
+        else:
+            self.model = _load_model(path.resolve(), self.metadata.get("algo", algo), path.stat().st_mtime)
+            size = self.model.observation_space.shape[0]
+        if size != expected:
+            raise ValueError(f"path: model expects observations of size {size}, the wrappers give {expected}")
 
     def predict(self, observation, state=None, episode_start=None, deterministic: bool = False):
         begin = time.perf_counter()
         features = egocentric_features(observation, self.facts, self.k_nearest)
-        relative, _ = self.model.predict(features, deterministic=deterministic)
+        if self.backend == "numpy":
+            relative = self.model.predict(features, deterministic=deterministic, rng=self.rng)
+        else:
+            relative, _ = self.model.predict(features, deterministic=deterministic)
         waypoints = relative_action_to_waypoint(observation, relative, self.facts)
         self.last_plan_seconds = time.perf_counter() - begin
         return self.waypoint_to_action(waypoints), state

@@ -45,24 +45,33 @@ class Args:
     algo: str = "ppo"
     """ppo or sac"""
     total_timesteps: int = 4_000_000
+    """PPO (or SAC) env steps after the warm start"""
     seed: int = 0
     """run seed: torch, and the training episode seeds (pathplan_env.splits.training_seed_base)"""
     n_envs: int = 8
+    """parallel training envs"""
     vec_env: str = "dummy"
     """dummy (one process; best on 2 cores) or subproc"""
     n_obstacles_min: int = 4
+    """fewest obstacles of a training episode (drawn uniformly per episode)"""
     n_obstacles_max: int = 12
+    """most obstacles of a training episode"""
     delta_d_start: float = 0.25
+    """Δd of training episodes is drawn from [0, this] at first"""
     delta_d_max: float = 1.0
+    """... widening to [0, this]"""
     curriculum_fraction: float = 0.3
+    """share of training over which the Δd range widens"""
     static_fraction: float = 0.0
     """share of training episodes with Δd = 0 (static obstacles)"""
     k_nearest: int = 8
+    """obstacles in the observation features (nearest by surface gap)"""
     learning_rate: float = 1e-4
     """gentle by default: PPO fine-tunes the behaviour-cloned policy"""
     log_std_init: float = -1.0
     """initial exploration noise (std e^-1 = 0.37 of a step's reach) around the cloned mean action"""
     ent_coef: float = 0.0
+    """PPO entropy bonus"""
     n_steps: int = 256
     """PPO rollout length per env"""
     reward_collision: float = -1.0
@@ -74,17 +83,25 @@ class Args:
     teacher_steps: int = 200_000
     """env steps of teacher demonstrations"""
     teacher_epochs: int = 20
+    """behaviour-cloning epochs over the demonstrations"""
     net_arch: str = "128,128"
+    """hidden layer sizes of the policy and value MLPs"""
     eval_freq: int = 100_000
     """env steps between validation evaluations"""
     eval_episodes: int = 100
+    """validation episodes per evaluation (the same ones every time)"""
     eval_delta_d: float = 0.25
+    """Δd of the validation episodes"""
     checkpoint_freq: int = 500_000
+    """env steps between checkpoints"""
     torch_threads: int = 1
+    """torch CPU threads"""
     out: str = "runs/ppo"
+    """output directory"""
     ship: str = ""
     """'best' or 'final': copy that model to agents/models/<algo>.zip with its metadata (curve to docs/results/)"""
     progress: bool = True
+    """show a progress bar"""
 
     def __post_init__(self):
         if self.algo not in ("ppo", "sac"):
@@ -96,6 +113,11 @@ class Args:
         for name in ("total_timesteps", "n_envs", "eval_freq", "eval_episodes", "checkpoint_freq", "k_nearest"):
             if getattr(self, name) < 1:
                 raise ValueError(f"{name} must be >= 1, got {getattr(self, name)!r}")
+        if self.eval_freq > self.total_timesteps:
+            raise ValueError(
+                f"eval_freq ({self.eval_freq}) must be <= total_timesteps ({self.total_timesteps}): "
+                "otherwise no validation runs and there is no best model or learning curve"
+            )
         if not 0 <= self.n_obstacles_min <= self.n_obstacles_max:
             raise ValueError(f"n_obstacles_min/max must satisfy 0 <= min <= max, got {self.n_obstacles_min}, {self.n_obstacles_max}")
         if not 0 <= self.delta_d_start <= self.delta_d_max:
@@ -105,16 +127,34 @@ class Args:
         training_seed_base(self.seed)  # range check
 
 
+def field_docs(cls) -> dict[str, str]:
+    """The docstring under each dataclass field (CleanRL's style), read from the source."""
+    import ast
+    import inspect
+
+    body = ast.parse(inspect.getsource(cls)).body[0].body
+    docs = {}
+    for node, after in zip(body, body[1:]):
+        if isinstance(node, ast.AnnAssign) and isinstance(after, ast.Expr) and isinstance(after.value, ast.Constant):
+            docs[node.target.id] = " ".join(str(after.value.value).split())
+    return docs
+
+
 def parse_args(argv=None) -> Args:
-    """Flags from the dataclass's fields (``--total-timesteps``, ``--no-progress``, ...)."""
+    """Flags from the dataclass's fields (``--total-timesteps``, ``--no-progress``, ...), with their docs."""
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    docs = field_docs(Args)
     for f in dataclasses.fields(Args):
         flag = "--" + f.name.replace("_", "-")
+        text = docs.get(f.name, "").replace("%", "%%") + " (default: %(default)r)"
         if f.type == "bool":
-            parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=f.default)
+            parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=f.default, help=text)
         else:
-            parser.add_argument(flag, type={"int": int, "float": float}.get(f.type, str), default=f.default)
-    return Args(**vars(parser.parse_args(argv)))
+            parser.add_argument(flag, type={"int": int, "float": float}.get(f.type, str), default=f.default, help=text)
+    try:
+        return Args(**vars(parser.parse_args(argv)))
+    except ValueError as error:  # a bad combination: one line, before any work
+        parser.error(str(error))
 
 
 def make_env(args: Args, first_seed: int, stride: int, delta_d, n_obstacles, static_fraction: float = 0.0):
@@ -292,6 +332,12 @@ def train(args: Args) -> dict:
         MODELS_DIR.mkdir(exist_ok=True)
         shutil.copyfile(out / f"{args.ship}_model.zip", MODELS_DIR / f"{args.algo}.zip")
         shutil.copyfile(out / f"{args.ship}_model.json", MODELS_DIR / f"{args.algo}.json")
+        if args.algo == "ppo":  # the torch-free actor the evaluation runs (agents.numpy_policy)
+            from stable_baselines3 import PPO
+
+            from agents.numpy_policy import export_policy
+
+            export_policy(PPO.load(MODELS_DIR / "ppo.zip", device="cpu"), MODELS_DIR / "ppo.npz")
         shutil.copyfile(out / "learning_curve.png", ROOT / "docs" / "results" / f"{args.algo}_learning_curve.png")
         print(f"shipped {args.ship} model to {MODELS_DIR / (args.algo + '.zip')}")
     print(json.dumps({k: meta[k] for k in ("total_timesteps", "training_seconds", "env_steps_per_second", "validation")}, indent=2))

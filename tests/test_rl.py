@@ -39,6 +39,44 @@ def test_shipped_ppo_loads_and_acts_on_raw_observations():
     assert np.isfinite(mean_reward)
 
 
+def test_numpy_actor_matches_sb3s_deterministic_action():
+    from stable_baselines3 import PPO
+
+    from agents.numpy_policy import NumpyPolicy
+    from pathplan_env.wrappers import EnvFacts, egocentric_features
+
+    model = PPO.load(MODELS_DIR / "ppo.zip", device="cpu")
+    actor = NumpyPolicy(MODELS_DIR / "ppo.npz")
+    env = gym.make("DynamicObstacle-v0", delta_d=0.5)
+    facts = EnvFacts.of(env)
+    features = []
+    for seed in range(10):
+        obs, _ = env.reset(seed=seed)
+        for _ in range(20):
+            features.append(egocentric_features(obs, facts, 8))
+            obs, _, terminated, truncated, _ = env.step(env.action_space.sample())
+            if terminated or truncated:
+                break
+    features = np.array(features)
+    expected, _ = model.predict(features, deterministic=True)
+    np.testing.assert_allclose(actor.predict(features, deterministic=True), expected, atol=1e-5)
+    assert len(features) >= 100
+
+
+def test_shipped_ppo_runs_without_torch():
+    import subprocess
+
+    code = (
+        "import sys; sys.modules['torch'] = None; sys.modules['stable_baselines3'] = None\n"
+        "import gymnasium as gym, agents\n"
+        "env = gym.make('DynamicObstacle-v0')\n"
+        "info = agents.rollout(agents.make('ppo', env), env, seed=1)\n"
+        "print('ok', 'torch' not in [m for m in sys.modules if sys.modules[m] is not None])\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["ok", "True"], out.stderr
+
+
 def test_shipped_ppo_beats_going_straight():
     # 30 held-out episodes at Δd = 0.25: a trained policy must avoid obstacles that a straight run hits
     env = gym.make("DynamicObstacle-v0", scenario="random", delta_d=0.25)
@@ -73,7 +111,9 @@ def test_training_arguments_are_checked():
         train_rl.Args(delta_d_start=1.0, delta_d_max=0.5)
     with pytest.raises(ValueError, match="seed"):
         train_rl.Args(seed=10_000)
-    assert train_rl.parse_args(["--total-timesteps", "1000", "--no-progress", "--net-arch", "64,64"]).total_timesteps == 1000
+    with pytest.raises(ValueError, match="eval_freq"):  # no validation would run: refused before any work
+        train_rl.Args(total_timesteps=1000, eval_freq=5000)
+    assert train_rl.parse_args(["--total-timesteps", "1000", "--no-progress", "--net-arch", "64,64", "--eval-freq", "500"]).total_timesteps == 1000
 
 
 def test_missing_model_is_a_clear_error(tmp_path):

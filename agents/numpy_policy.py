@@ -1,0 +1,66 @@
+"""A trained SB3 ``MlpPolicy`` (Gaussian actions, tanh MLP) evaluated with numpy: no torch needed.
+
+``export_policy`` writes the actor's weights from a stable-baselines3 ``.zip`` to an ``.npz``
+beside it; :class:`NumpyPolicy` computes the same actions as ``model.predict`` (the mean when
+deterministic, within 1e-5 of SB3's: tested), so the main evaluation runs on a core install.
+Written by hand because the forward pass is three matrix products and torch is a multi-GB
+dependency for them.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+_ACTIVATIONS = {"Tanh": np.tanh, "ReLU": lambda x: np.maximum(x, 0.0)}
+
+
+class NumpyPolicy:
+    """The actor of an exported policy: ``predict(features, deterministic, rng) -> actions``."""
+
+    def __init__(self, path: str | Path):
+        with np.load(path) as data:
+            n_layers = int(data["n_layers"])
+            self.weights = [data[f"w{i}"] for i in range(n_layers)]  # float32, (in, out)
+            self.biases = [data[f"b{i}"] for i in range(n_layers)]
+            self.log_std = data["log_std"]
+            self.low, self.high = data["action_low"], data["action_high"]
+            self.activation = _ACTIVATIONS[str(data["activation"])]
+            self.observation_size = int(data["observation_size"])
+
+    def mean(self, features: np.ndarray) -> np.ndarray:
+        x = np.asarray(features, dtype=np.float32)
+        for i, (w, b) in enumerate(zip(self.weights, self.biases)):
+            x = x @ w + b
+            if i < len(self.weights) - 1:  # the last layer is the action head: no activation
+                x = self.activation(x)
+        return x
+
+    def predict(self, features: np.ndarray, deterministic: bool = True, rng: np.random.Generator | None = None) -> np.ndarray:
+        actions = self.mean(features)
+        if not deterministic:
+            rng = rng if rng is not None else np.random.default_rng()
+            actions = actions + np.exp(self.log_std) * rng.standard_normal(actions.shape).astype(np.float32)
+        return np.clip(actions, self.low, self.high)  # as SB3 does for a Box action space
+
+
+def export_policy(model, path: str | Path) -> Path:
+    """Write ``model``'s (an SB3 PPO with an ``MlpPolicy``) actor to ``path`` (``.npz``)."""
+    import torch
+
+    policy = model.policy
+    layers = [m for m in policy.mlp_extractor.policy_net if isinstance(m, torch.nn.Linear)] + [policy.action_net]
+    activations = {type(m).__name__ for m in policy.mlp_extractor.policy_net if not isinstance(m, torch.nn.Linear)}
+    if len(activations) != 1 or next(iter(activations)) not in _ACTIVATIONS:
+        raise ValueError(f"model: only MLPs with one of {sorted(_ACTIVATIONS)} activations export, got {sorted(activations)}")
+    arrays = {f"w{i}": layer.weight.detach().cpu().numpy().T.astype(np.float32) for i, layer in enumerate(layers)}
+    arrays |= {f"b{i}": layer.bias.detach().cpu().numpy().astype(np.float32) for i, layer in enumerate(layers)}
+    path = Path(path)
+    np.savez_compressed(
+        path, **arrays, n_layers=len(layers), activation=next(iter(activations)),
+        log_std=policy.log_std.detach().cpu().numpy().astype(np.float32),
+        action_low=model.action_space.low, action_high=model.action_space.high,
+        observation_size=model.observation_space.shape[0],
+    )  # fmt: skip
+    return path

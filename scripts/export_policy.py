@@ -1,0 +1,37 @@
+"""Export a trained PPO's actor to numpy (``.npz`` beside the ``.zip``), so it runs without torch.
+
+    python scripts/export_policy.py agents/models/ppo.zip [--resave]
+
+``--resave`` also saves the ``.zip`` again with the installed numpy and SB3, so that it loads
+without "Could not deserialize object" warnings (the shipped one was pickled under numpy 1.26).
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from agents.numpy_policy import export_policy
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("model", help="an SB3 PPO .zip written by scripts/train_rl.py")
+    parser.add_argument("--resave", action="store_true", help="save the .zip again with the installed versions")
+    args = parser.parse_args()
+    import warnings
+
+    from stable_baselines3 import PPO
+
+    path = Path(args.model)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # an old pickle's warnings: what --resave cures
+        model = PPO.load(path, device="cpu")
+    if args.resave:
+        model.save(path)
+        print(f"re-saved {path}")
+    print(f"wrote {export_policy(model, path.with_suffix('.npz'))}")
+
+
+if __name__ == "__main__":
+    main()

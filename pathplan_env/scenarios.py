@@ -370,18 +370,23 @@ def sample_random_scenario(rng: np.random.Generator, n_obstacles: int = 8, delta
     lo, hi = np.array([xmin, ymin]), np.array([xmax, ymax])
     r = ROBOT_RADIUS
     margin = r + 0.3
+    # Generator.uniform's own draws, written as low + (high - low) * random() (bit-identical): under
+    # numpy 2, uniform() with array bounds costs 5x this, and the start-goal loop draws a few times
+    low, span = lo + margin, (hi - margin) - (lo + margin)
     while True:
-        start, goal = rng.uniform(lo + margin, hi - margin, size=(2, 2))
-        if math.dist(start, goal) >= RANDOM_MIN_START_GOAL:
+        start, goal = low + span * rng.random((2, 2))
+        (sx, sy), (gx, gy) = start.tolist(), goal.tolist()
+        if math.hypot(sx - gx, sy - gy) >= RANDOM_MIN_START_GOAL:
             break
-    radii = rng.uniform(*RANDOM_RADIUS_RANGE, size=n)
-    unit = rng.uniform(0.0, 1.0, size=(n, _CANDIDATES, 2))
+    r_low, r_high = RANDOM_RADIUS_RANGE
+    radii = r_low + (r_high - r_low) * rng.random(n)
+    unit = rng.random((n, _CANDIDATES, 2))
     centers, placed = _place_obstacles(unit, radii, lo, hi, start, goal, r + RANDOM_START_CLEARANCE, RANDOM_OBSTACLE_GAP)
     if placed < n:
         raise ValueError(f"n_obstacles: could not place {n} obstacles in the random arena {bounds} (placed {placed})")
     velocities = np.zeros((n, 2))
     if delta_d is not None:
-        angles = rng.uniform(0.0, 2 * math.pi, size=n)
+        angles = (2 * math.pi) * rng.random(n)
         velocities = (delta_d * radii / DT)[:, None] * np.stack([np.cos(angles), np.sin(angles)], axis=1)
         if n and delta_d * float(radii.max()) > math.hypot(xmax - xmin, ymax - ymin):
             raise ValueError(f"delta_d {delta_d} makes obstacles cross the whole arena in one step; lower delta_d")
@@ -390,7 +395,7 @@ def sample_random_scenario(rng: np.random.Generator, n_obstacles: int = 8, delta
     )
     return Scenario._from_checked(
         {"positions": centers, "velocities": velocities, "radii": radii},
-        bounds=bounds, start=tuple(start.tolist()), goal=tuple(goal.tolist()), obstacles=obstacles, robot_radius=r,
+        bounds=bounds, start=(sx, sy), goal=(gx, gy), obstacles=obstacles, robot_radius=r,
         robot_speed=RANDOM_ROBOT_SPEED, dt=DT, goal_radius=r, name="random",
     )  # fmt: skip
 

@@ -87,9 +87,10 @@ class _BatchBuffer(pymunk.batch.Buffer):
     """``pymunk.batch.Buffer`` that frees its C arrays when collected (pymunk 7.3's never does: a new
     one per reset leaked 0.5 KiB each)."""
 
-    def __del__(self):
-        _batch.lib.pmFloatArrayFree(self._float_arr)
-        _batch.lib.pmIntArrayFree(self._int_arr)
+    def __del__(self, _free_floats=_batch.lib.pmFloatArrayFree, _free_ints=_batch.lib.pmIntArrayFree):
+        # the functions are bound here: at interpreter exit the module's globals may be gone
+        _free_floats(self._float_arr)
+        _free_ints(self._int_arr)
 
 
 class World:

@@ -52,6 +52,8 @@ class Agent:
         self._arena_size = np.array([xmax - xmin, ymax - ymin])
         self._memory: list[dict[str, Any]] = []
         self.last_plan_seconds = 0.0
+        #: The path the last plan intends to fly, as points from the robot (None for agents without one).
+        self.last_plan: np.ndarray | None = None
 
     # -- to implement --------------------------------------------------------------------------
     def plan(self, obs: dict[str, np.ndarray], memory: dict[str, Any]) -> np.ndarray:

@@ -96,6 +96,7 @@ class ClairvoyantOracle(Agent):
         i = memory["next"]
         memory["next"] = i + 1
         targets = memory["targets"]
+        self.last_plan = np.vstack([obs["robot_position"], targets[i:]])
         if i < len(targets):
             return targets[i]
         return np.asarray(obs["goal"], np.float64)  # past a failed search's deepest node: head for the goal

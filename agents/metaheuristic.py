@@ -139,4 +139,5 @@ class MetaheuristicAgent(Agent):
         scene = self.scene(obs)
         best = self.optimize(scene, memory)
         path = np.vstack([scene.robot, best.reshape(-1, 2), scene.goal])
+        self.last_plan = path
         return point_along(path, self.step_length)

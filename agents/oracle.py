@@ -31,6 +31,7 @@ class StaticOracleAgent(Agent):
         xmin, ymin, xmax, ymax = self.facts.bounds
         r = self.facts.robot_radius
         path, _ = shortest_path(robot, goal, centers, inflated, bounds=(xmin + r, ymin + r, xmax - r, ymax - r))
+        self.last_plan = path
         if path is None:  # boxed in: head for the goal and let replanning find a way when one opens
             return goal
         return point_along(path, self.step_length)

@@ -98,7 +98,7 @@ class SpacetimeAStarAgent(Agent):
                 outcome, targets, _ = search(trajectory, *common, self.moves, self.horizon_steps, self.cell, budget, self.h_weight)
                 if outcome != BUDGET:
                     break
-        self.last_plan = targets
+        self.last_plan = np.vstack([robot, targets])
         memory["plan"] = targets[1:]
         if len(targets) == 0:  # every move is predicted to touch: hold still and replan
             return robot

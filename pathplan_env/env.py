@@ -197,6 +197,9 @@ class DynamicObstacleEnv(gym.Env):
         self._renderer = None
         self.trail: list[tuple[float, float]] = []
         self.waypoint: tuple[float, float] | None = None
+        #: Drawn by render() when set: a planned path (points, e.g. an agent's ``last_plan``) and a caption.
+        self.planned_path = None
+        self.caption: str | None = None
 
     # -- static public facts (what planners may read besides the observation) -------------------
     @property
@@ -322,6 +325,8 @@ class DynamicObstacleEnv(gym.Env):
             robot_position=self._world.robot_position,
             trail=self.trail,
             waypoint=self.waypoint,
+            plan=self.planned_path,
+            caption=self.caption,
         )
 
     def close(self):

@@ -12,6 +12,8 @@ ROBOT = (52, 101, 164)
 TRAIL = (120, 160, 210)
 GOAL = (46, 160, 67)
 WAYPOINT = (240, 170, 20)
+PLAN = (150, 90, 190)
+CAPTION = (40, 40, 40)
 
 
 class Renderer:
@@ -34,12 +36,14 @@ class Renderer:
             self.window = pygame.display.set_mode((self.width, self.height))
             self.clock = pygame.time.Clock()
         self.canvas = pygame.Surface((self.width, self.height))
+        self.font = None
 
     def to_screen(self, xy) -> tuple[int, int]:
         x, y = xy
         return int(round((x - self.origin[0]) * self.scale)), int(round((self.origin[1] - y) * self.scale))
 
-    def draw(self, scenario, obstacle_state, radii, robot_position, trail, waypoint):
+    def draw(self, scenario, obstacle_state, radii, robot_position, trail, waypoint, plan=None, caption=None):
+        """One frame. ``plan``: points of a planned path to draw (e.g. a planner's); ``caption``: text at the top left."""
         pygame, canvas, s = self._pygame, self.canvas, self.scale
         canvas.fill(BACKGROUND)
         pygame.draw.rect(canvas, WALL, canvas.get_rect(), width=3)
@@ -57,11 +61,18 @@ class Renderer:
         pygame.draw.line(canvas, GOAL, (goal[0], goal[1] - 6), (goal[0], goal[1] + 6), 2)
         if len(trail) > 1:
             pygame.draw.lines(canvas, TRAIL, False, [self.to_screen(p) for p in trail], 2)
+        if plan is not None and len(plan) > 1:
+            pygame.draw.lines(canvas, PLAN, False, [self.to_screen(p) for p in np.asarray(plan)[:, :2]], 2)
         if waypoint is not None:
             wp = self.to_screen(waypoint)
             pygame.draw.line(canvas, WAYPOINT, self.to_screen(robot_position), wp, 1)
             pygame.draw.circle(canvas, WAYPOINT, wp, 4)
         pygame.draw.circle(canvas, ROBOT, self.to_screen(robot_position), max(2, int(scenario.robot_radius * s)))
+        if caption:
+            if self.font is None:
+                pygame.font.init()
+                self.font = pygame.font.Font(None, 22)
+            canvas.blit(self.font.render(caption, True, CAPTION, BACKGROUND), (8, 8))
 
         if self.render_mode == "human":
             self.window.blit(canvas, (0, 0))

@@ -20,7 +20,7 @@ from pathplan_env.env import DynamicObstacleEnv
 from pathplan_env.world import World
 
 from .base import Agent
-from .spacetime_search import FOUND, heading_moves, provably_lost, search
+from .spacetime_search import BUDGET, FOUND, heading_moves, provably_lost, search
 
 #: What the oracle concludes about an episode: a plan, provably no plan, or a failed search.
 VERDICTS = ("plan", "lost", "undetermined")
@@ -33,13 +33,15 @@ class ClairvoyantOracle(Agent):
     :param speed_fractions: move lengths, as fractions of the robot's step (waiting and a move
         onto the goal are always tried too).
     :param cell: grid (m) on which positions reached at the same step are merged.
-    :param max_expansions: node budget of one search; past it the episode is "undetermined"
-        unless the reachable-set test proves it lost.
+    :param max_expansions: node budget of one search; past it the next of ``h_weights`` is tried,
+        and after the last the episode is "undetermined" unless the reachable-set test proves it lost.
+    :param h_weights: heuristic weights of the successive searches (weighted A*: 3 finds plans
+        fast, 1.5 gets out of the dead ends where the greedy one spends its budget).
     :param lost_cell: grid (m) of that reachable-set test.
     """
 
     def __init__(self, env, seed: int | None = None, *, n_headings: int = 32, speed_fractions=(1.0, 0.5),
-                 cell: float = 0.03, max_expansions: int = 100_000, lost_cell: float = 0.005, h_weight: float = 3.0):  # fmt: skip
+                 cell: float = 0.03, max_expansions: int = 100_000, lost_cell: float = 0.005, h_weights=(3.0, 1.5)):  # fmt: skip
         super().__init__(env, seed)
         if not isinstance(getattr(env, "unwrapped", None), DynamicObstacleEnv):
             raise ValueError("oracle-clairvoyant reads the simulator: it needs one DynamicObstacleEnv, not a vector env")
@@ -51,7 +53,10 @@ class ClairvoyantOracle(Agent):
         spec = getattr(env, "spec", None)
         self.max_steps = int(spec.max_episode_steps) if spec is not None and spec.max_episode_steps else pathplan_env.MAX_EPISODE_STEPS
         self.moves = heading_moves(int(n_headings), speed_fractions)
-        self.cell, self.max_expansions, self.lost_cell, self.h_weight = float(cell), int(max_expansions), float(lost_cell), float(h_weight)
+        self.cell, self.max_expansions, self.lost_cell = float(cell), int(max_expansions), float(lost_cell)
+        self.h_weights = tuple(float(w) for w in h_weights)
+        if not self.h_weights or min(self.h_weights) < 1.0:
+            raise ValueError(f"h_weights must be one or more heuristic weights >= 1, got {h_weights!r}")
         self.verdict: str | None = None  # of the episode planned last
         self.last_search: dict = {}
 
@@ -68,10 +73,15 @@ class ClairvoyantOracle(Agent):
         xmin, ymin, xmax, ymax = scenario.bounds
         start = np.array(world.robot_xy)
         goal = np.array(scenario.goal)
-        outcome, targets, expansions = search(
-            trajectory, future.substeps, r, world.radii, start, goal, scenario.goal_radius, env._waypoint_params,
-            self._arena_low, self._arena_size, env._reach, self.moves, remaining, self.cell, self.max_expansions, self.h_weight,
-        )  # fmt: skip
+        expansions = 0
+        for weight in self.h_weights:  # greedy first; a search that runs out of budget tries a less greedy one
+            outcome, targets, spent = search(
+                trajectory, future.substeps, r, world.radii, start, goal, scenario.goal_radius, env._waypoint_params,
+                self._arena_low, self._arena_size, env._reach, self.moves, remaining, self.cell, self.max_expansions, weight,
+            )  # fmt: skip
+            expansions += spent
+            if outcome != BUDGET:
+                break
         if outcome == FOUND:
             verdict, lost_at = "plan", None
         else:

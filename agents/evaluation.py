@@ -32,9 +32,8 @@ from tqdm import tqdm
 
 #: Preset runs (``scripts/evaluate.py --suite``); the clairvoyant limit is added to every one.
 SUITES = {
-    "default": dict(
-        agents="straight,velocity-obstacle,oracle-static,pso,abc,pso-predictive,abc-predictive,"
-        "astar-spacetime,pso-spacetime,abc-spacetime,ppo",
+    "default": dict(  # oracle-static (blind to motion, slow) is in "large" only: make demo stays within 3 minutes
+        agents="straight,velocity-obstacle,pso,abc,pso-predictive,abc-predictive,astar-spacetime,pso-spacetime,abc-spacetime,ppo",
         scenarios="random,paper-case-3",
         delta_d="0,0.1,0.25,0.5,1,2",
         episodes=50,

@@ -59,12 +59,16 @@ def cost_breakdown(n_obstacles: int, delta_d: float, repeats: int = 5) -> tuple[
     return 1e6 * min(steps() for _ in range(repeats)), 1e6 * min(resets() for _ in range(repeats))
 
 
-def main() -> None:
+def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--steps", type=int, default=20000)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--delta-d", type=float, default=0.25)
-    args = parser.parse_args()
+    return parser.parse_args(argv)
+
+
+def main(argv=None) -> None:
+    args = parse_args(argv)
 
     cartpole = best_of(lambda: gym.make("CartPole-v1"), args.steps, args.repeats)
     print(f"CartPole-v1: {cartpole:10.0f} steps/s (reference)")

@@ -153,12 +153,16 @@ def spacetime_replan_times(episodes: int, deltas=(0.25, 0.5, 1.0, 2.0)) -> list[
     return rows
 
 
-def main() -> None:
+def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--replans", type=int, default=200)
     parser.add_argument("--scenes", type=int, default=20)
     parser.add_argument("--spacetime-episodes", type=int, default=20)
-    args = parser.parse_args()
+    return parser.parse_args(argv)
+
+
+def main(argv=None) -> None:
+    args = parse_args(argv)
 
     times = replan_times(args.replans)
     ours = times["ours: pso"]

@@ -14,11 +14,15 @@ from pathlib import Path
 from agents.numpy_policy import export_policy
 
 
-def main() -> None:
+def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("model", help="an SB3 PPO .zip written by scripts/train_rl.py")
     parser.add_argument("--resave", action="store_true", help="save the .zip again with the installed versions")
-    args = parser.parse_args()
+    return parser.parse_args(argv)
+
+
+def main(argv=None) -> None:
+    args = parse_args(argv)
     import warnings
 
     from stable_baselines3 import PPO

@@ -24,12 +24,16 @@ from pathplan_env.splits import heldout_seeds  # noqa: E402
 from pathplan_env.world import World  # noqa: E402
 
 
-def main() -> None:
+def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--delta-d", type=float, default=2.0)
     parser.add_argument("--search", type=int, default=500, help="test episodes to look through")
     parser.add_argument("--out", default="docs/img/lost_episode.png")
-    args = parser.parse_args()
+    return parser.parse_args(argv)
+
+
+def main(argv=None) -> None:
+    args = parse_args(argv)
 
     env = gym.make("DynamicObstacle-v0", delta_d=args.delta_d)
     oracle = agents.make("oracle-clairvoyant", env)

@@ -40,7 +40,7 @@ def save_gif(frames: list[np.ndarray], out: Path, fps: int) -> None:
     images[0].save(out, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)
 
 
-def main() -> None:
+def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--agent", default="pso-predictive", help=f"one of {agents.available()}")
     parser.add_argument("--scenario", default="random")
@@ -49,7 +49,11 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--fps", type=int, default=10)
     parser.add_argument("--out", default="results/episode.gif")
-    args = parser.parse_args()
+    return parser.parse_args(argv)
+
+
+def main(argv=None) -> None:
+    args = parse_args(argv)
 
     env = gym.make("DynamicObstacle-v0", scenario=args.scenario, delta_d=args.delta_d, n_obstacles=args.n_obstacles, render_mode="rgb_array")
     agent = agents.make(args.agent, env, seed=args.seed)

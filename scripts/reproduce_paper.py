@@ -113,12 +113,16 @@ def plot_fig5(histories, out: Path) -> Path:
     return path
 
 
-def main() -> None:
+def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--runs", type=int, default=30, help="independent plans per case and planner (Table 1, Fig. 5)")
     parser.add_argument("--episodes", type=int, default=20, help="episodes per case and Δd (Table 2)")
     parser.add_argument("--out", default="results/paper")
-    args = parser.parse_args()
+    return parser.parse_args(argv)
+
+
+def main(argv=None) -> None:
+    args = parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
 
@@ -131,8 +135,9 @@ def main() -> None:
         print(f"| {case} | {PLANNERS[name]} | {cost:.3f} | {ms:.2f} | {length:.3f} | {std:.4f} | {p[0]} | {p[1]} | {p[2]} | {p[3]} |")
     print(f"wrote {plot_fig5(histories, out)}")
 
-    names = ["abc", "pso", "abc-predictive", "pso-predictive"]
+    names = ["abc", "pso", "abc-predictive", "pso-predictive", "abc-spacetime", "pso-spacetime", "oracle-clairvoyant"]
     print("\nTable 2: verdict (success rate, episodes) over the three paper cases; success = Wilson 95% lower bound >= 0.9")
+    print("(oracle-clairvoyant, privileged, is the physical limit: the share of episodes that can be won at all)")
     print("| Δd | paper (both) | " + " | ".join(names) + " |")
     print("|---:|---|" + "---|" * len(names))
     for row in table_2(args.episodes, names):

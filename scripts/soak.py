@@ -43,12 +43,16 @@ def soak(steps: int, n_obstacles: int, delta_d: float, report=print) -> tuple[fl
     return (resident_mib() - baseline) if baseline is not None else 0.0, resets
 
 
-def main() -> None:
+def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--steps", type=int, default=1_000_000)
     parser.add_argument("--n-obstacles", type=int, default=8)
     parser.add_argument("--delta-d", type=float, default=1.0)
-    args = parser.parse_args()
+    return parser.parse_args(argv)
+
+
+def main(argv=None) -> None:
+    args = parse_args(argv)
     grown, resets = soak(args.steps, args.n_obstacles, args.delta_d)
     per = grown / max(1, args.steps * 0.9) * 1e5
     print(f"grew {grown:.2f} MiB after the warm-up ({per:.3f} MiB per 100k steps, {resets:,} resets in all)")

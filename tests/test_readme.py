@@ -1,0 +1,47 @@
+"""Every command the README gives runs as written: its script exists and accepts its flags, its agents
+and presets exist, its make targets exist."""
+
+import importlib
+import re
+import shlex
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+README = (ROOT / "README.md").read_text()
+SCRIPT_COMMAND = re.compile(r"(?:\.venv/bin/)?python (scripts/[\w]+\.py)((?: (?:'[^']*'|\"[^\"]*\"|[^\s`|']+))*)")
+
+
+def readme_commands() -> list[tuple[str, str]]:
+    found = {(m.group(1), m.group(2).strip()) for m in SCRIPT_COMMAND.finditer(README)}
+    return sorted(found)
+
+
+def test_the_readme_starts_with_the_two_set_up_commands():
+    first_block = README.split("```")[1]
+    assert "make demo" in first_block and "make test" in first_block
+    targets = set(re.findall(r"^([\w-]+):", (ROOT / "Makefile").read_text(), re.M))
+    assert set(re.findall(r"\bmake (\w+)", README)) <= targets
+
+
+def test_the_readme_names_many_commands():
+    assert len(readme_commands()) >= 10
+
+
+@pytest.mark.parametrize("script, arguments", readme_commands())
+def test_readme_command_parses(script, arguments):
+    import agents
+    import pathplan_env
+
+    assert (ROOT / script).exists(), script
+    sys.path.insert(0, str(ROOT / "scripts"))
+    module = importlib.import_module(Path(script).stem)
+    argv = [a.replace("...", "agents/models/ppo.zip") for a in shlex.split(arguments)]
+    parsed = module.parse_args(argv)  # argparse exits on an unknown flag or a bad value
+    for name in ("agents", "agent"):
+        for agent in str(getattr(parsed, name, "") or "").split(","):
+            assert not agent or agent in agents.available(), (script, agent)
+    for scenario in str(getattr(parsed, "scenarios", getattr(parsed, "scenario", "")) or "").split(","):
+        assert not scenario or scenario in pathplan_env.PRESETS, (script, scenario)

@@ -1,6 +1,7 @@
 """pathplan-env: path planning among moving obstacles, as a Gymnasium environment.
 
-``import pathplan_env`` registers ``DynamicObstacle-v0``.
+``import pathplan_env`` registers ``DynamicObstacle-v0`` and ``DynamicObstacleFlat-v0`` (the same env
+inside the learning wrappers, for rl-zoo3 and other tools that want a flat ``Box`` observation).
 """
 
 from gymnasium.envs.registration import register
@@ -20,6 +21,12 @@ MAX_EPISODE_STEPS = 200
 register(
     id="DynamicObstacle-v0",
     entry_point="pathplan_env.env:DynamicObstacleEnv",
+    max_episode_steps=MAX_EPISODE_STEPS,
+)
+# the same env inside the learning wrappers (flat Box observation): what rl-zoo3's MlpPolicy takes
+register(
+    id="DynamicObstacleFlat-v0",
+    entry_point="pathplan_env.zoo:make_flat_env",
     max_episode_steps=MAX_EPISODE_STEPS,
 )
 

@@ -60,7 +60,7 @@ class EpisodeResult:
     timeout: bool
     steps: int
     path_length: float
-    shortest_path: float
+    shortest_path: float  # exact static shortest path from start to the goal's centre (m)
     path_length_ratio: float
     time_to_goal: float
     min_clearance: float
@@ -91,19 +91,14 @@ def run_episode(agent_name: str, scenario: str, delta_d: float, episode: int, se
     import gymnasium as gym
 
     import agents
-    import pathplan_env
+    from pathplan_env.geometry import shortest_path_to_goal
 
     warm_up(agent_name, overrides)
     env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=delta_d, n_obstacles=n_obstacles)
     obs, info = env.reset(seed=seed)
     agent = agents.make(agent_name, env, seed=seed, **overrides)
-    s = env.unwrapped.scenario
-    arrays = s.arrays()
-    xmin, ymin, xmax, ymax = s.bounds
-    r = s.robot_radius
-    _, shortest = pathplan_env.shortest_path(
-        s.start, s.goal, arrays["positions"], arrays["radii"] + r, bounds=(xmin + r, ymin + r, xmax - r, ymax - r)
-    )
+    scenario_of_episode = env.unwrapped.scenario
+    reference = shortest_path_to_goal(scenario_of_episode)  # to the goal's disc, where an episode ends
     plan_ms, clearance, steps = [], math.inf, 0
     while True:
         action, _ = agent.predict(obs, deterministic=True)
@@ -115,12 +110,10 @@ def run_episode(agent_name: str, scenario: str, delta_d: float, episode: int, se
             break
     env.close()
     success = bool(info["is_success"])
-    # the episode ends on the goal's disc: compare with the shortest path to that disc
-    reference = shortest - s.goal_radius
     return EpisodeResult(
         agent=agent_name, scenario=scenario, delta_d=delta_d, episode=episode, seed=seed,
         success=success, collision=bool(info["collision"]), timeout=not terminated,
-        steps=steps, path_length=info["path_length"], shortest_path=shortest,
+        steps=steps, path_length=info["path_length"], shortest_path=reference + scenario_of_episode.goal_radius,
         path_length_ratio=info["path_length"] / reference if success and np.isfinite(reference) and reference > 0 else math.nan,
         time_to_goal=info["time"] if success else math.nan, min_clearance=clearance, plan_ms=plan_ms,
         verdict=getattr(agent, "verdict", None) or "",

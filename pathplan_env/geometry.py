@@ -73,6 +73,19 @@ def swept_contact(ax, ay, bx, by, robot_radius, obstacles_a, obstacles_b, radii)
     return min_gap, t_contact
 
 
+def shortest_path_to_goal(scenario, margin: float = 0.0) -> float:
+    """Length of the exact shortest path of the robot's centre from the start to the goal's disc
+    among the scenario's obstacles at the start (inflated by the robot radius and ``margin``),
+    inside the box where the robot's disc fits: the reference every length ratio divides by."""
+    arrays = scenario.arrays()
+    xmin, ymin, xmax, ymax = scenario.bounds
+    r = scenario.robot_radius
+    _, length = shortest_path(
+        scenario.start, scenario.goal, arrays["positions"], arrays["radii"] + r + margin, bounds=(xmin + r, ymin + r, xmax - r, ymax - r)
+    )
+    return length - scenario.goal_radius  # the episode ends on the goal's disc
+
+
 def point_segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Distance from points ``p`` to segments ``a``-``b`` (all broadcast over leading axes, last axis 2)."""
     ab = b - a

@@ -53,7 +53,7 @@ def substeps_for(speeds: np.ndarray, radii: np.ndarray, dt: float) -> int:
     """
     if len(radii) == 0:
         return 1
-    ratio = float(np.max(speeds)) * dt / float(np.min(radii))
+    ratio = max(speeds.tolist()) * dt / min(radii.tolist())  # Python's max: numpy 2's reductions cost more on a few rows
     # the relative slack keeps round Δd values (ratio 2.0000000000000004 in float64, 2.0000001 from
     # float32 observations) on one side of the ceiling, so planners derive the env's count
     needed = max(1, math.ceil(ratio / MAX_SUBSTEP_DISPLACEMENT * (1.0 - SUBSTEP_SLACK)))

@@ -2,7 +2,7 @@
 
     python scripts/evaluate.py --agents pso,abc,pso-spacetime --scenarios paper-case-1,random \
         --delta-d 0,0.125,0.25,0.5,1 --episodes 100 --seed 0 --out results/NAME
-    python scripts/evaluate.py --suite default        # the README's main job (~2-3 minutes)
+    python scripts/evaluate.py --suite default        # the README's main job (~3 minutes on 2 cores)
 
 Every (agent, scenario, Δd) cell runs the same episodes, and the privileged oracle-clairvoyant runs
 on them too: each cell reports its physical limit and every agent its success ÷ limit. Writes

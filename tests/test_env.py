@@ -270,16 +270,33 @@ def test_no_obstacle_moves_farther_than_its_speed_allows(delta_d):
 
 
 def test_robot_never_pushes_obstacles():
-    # a resting obstacle stays exactly where it is while the robot drives into it
-    scenario = Scenario(bounds=(0, 0, 10, 10), start=(2, 5), goal=(9, 5), obstacles=(Obstacle((5, 5), 1.0),))
-    env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=0)
+    # the robot drives through moving obstacles (the unwrapped env runs on past contacts): their
+    # trajectories stay exactly those of a world in which the robot stood far away
+    from pathplan_env.world import World
+
+    env = gym.make("DynamicObstacle-v0", n_obstacles=12, delta_d=0.5)
+    env.reset(seed=3)
+    untouched = World(env.unwrapped.scenario).obstacle_trajectory(60)[:: env.unwrapped._world.substeps]
+    contacts = 0
+    for k in range(1, 61):
+        obs, _, _, _, info = env.unwrapped.step(env.unwrapped.waypoint_to_action(env.unwrapped.scenario.goal if k % 20 < 10 else (1, 1)))
+        contacts += info["collision"]
+        np.testing.assert_array_equal(env.unwrapped._world.obstacle_state, untouched[k])
+    assert contacts >= 3  # the robot did run into obstacles
+
+
+def test_a_crossing_between_two_substeps_is_a_collision():
+    # robot (10 m a step) and obstacle (2 m a step, Δd 4: 8 substeps) close 1.5 m a substep and pass
+    # through each other between substeps 2 and 3: every substep's endpoints are clear by 4 cm or more
+    obstacle = Obstacle(center=(5.74, 5.0), radius=0.5, velocity=(-20.0, 0.0))
+    scenario = Scenario(bounds=(0, 0, 20, 10), start=(2, 5), goal=(18, 9), obstacles=(obstacle,), robot_radius=0.2, robot_speed=100.0)
+    env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=None)
     env.reset(seed=0)
-    while True:
-        obs, _, terminated, truncated, info = env.step(env.unwrapped.waypoint_to_action((9, 5)))
-        np.testing.assert_array_equal(obs["obstacle_positions"][0], [5, 5])
-        if terminated or truncated:
-            break
-    assert info["collision"]
+    assert env.unwrapped._world.substeps == 8
+    gaps = [abs((5.74 - 2.0 * j / 8) - (2.0 + 10.0 * j / 8)) - 0.7 for j in range(9)]
+    assert min(gaps) > 0.03  # no endpoint test could see this contact
+    _, _, terminated, _, info = env.step(env.unwrapped.waypoint_to_action((19.0, 5.0)))
+    assert terminated and info["collision"] and info["min_clearance"] < 0
 
 
 # -- rendering ----------------------------------------------------------------------------------

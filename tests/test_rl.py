@@ -77,14 +77,13 @@ def test_shipped_ppo_runs_without_torch():
     assert out.stdout.split() == ["ok", "True"], out.stderr
 
 
-def test_shipped_ppo_beats_going_straight():
-    # 30 held-out episodes at Δd = 0.25: a trained policy must avoid obstacles that a straight run hits
+def test_shipped_ppo_meets_the_readmes_claim_on_held_out_episodes():
+    # the README: about 0.9 at Δd = 0.25 (0.96 on split 0's 200 test episodes, 0.91 on split 1's
+    # first 300); the claim's lower bound (Wilson 95 % on 200 episodes) on 200 other test episodes
     env = gym.make("DynamicObstacle-v0", scenario="random", delta_d=0.25)
-    rates = {}
-    for name in ("straight", "ppo"):
-        agent = agents.make(name, env)
-        rates[name] = np.mean([agents.rollout(agent, env, seed)["is_success"] for seed in heldout_seeds(0, 30)])
-    assert rates["ppo"] >= rates["straight"] + 0.3, rates
+    agent = agents.make("ppo", env)
+    rate = np.mean([agents.rollout(agent, env, seed)["is_success"] for seed in heldout_seeds(1, 200)])
+    assert rate >= 0.86, rate
 
 
 def test_tiny_training_run_end_to_end(tmp_path):

@@ -128,7 +128,9 @@ class World:
         # separate overlapping pairs.
         self.space.collision_bias = 1.0
         self.space.collision_slop = 1e-4 * min_radius  # default 0.1 m is a fifth of a small obstacle
-        self._add_walls(scenario.bounds, thickness=max(scenario.arena_diagonal, 1.0))
+        walls = recycle._release_walls(scenario.bounds) if recycle is not None else None
+        self._walls = walls if walls is not None else self._make_walls(scenario.bounds, thickness=max(scenario.arena_diagonal, 1.0))
+        self.space.add(*self._walls)
         spare = recycle._release_moving_obstacles() if recycle is not None else []
         objects, self._moving = [], []
         for r, speed in zip(self.radii.tolist(), self._speeds.tolist()):
@@ -166,7 +168,7 @@ class World:
           order of contacts, which decides the last bits of every bounce).
         """
         self.space.remove(*self._objects[1::2])
-        _space_step(self.space._space, 1e-9)
+        _space_step(self.space._space, 1e-9)  # (the walls left already, or stay for the old space's end)
         self._pymunk_state[:] = 0.0
         self._write_bodies()
         self.space.remove(*self._objects[0::2])
@@ -175,21 +177,34 @@ class World:
         return pairs
 
     # -- construction helpers ------------------------------------------------------------------
-    def _add_walls(self, bounds, thickness: float) -> None:
-        """Four thick static walls whose inner faces are the arena's edges (no tunnelling through them)."""
+    def _make_walls(self, bounds, thickness: float) -> tuple:
+        """Four thick static walls whose inner faces are the arena's edges (no tunnelling through them),
+        on their own static body so that the next episode's world can take them over."""
         xmin, ymin, xmax, ymax = bounds
         h = thickness
-        walls = self.space.static_body
+        body = pymunk.Body(body_type=pymunk.Body.STATIC)
         segments = [
             ((xmin - h, ymin - h), (xmax + h, ymin - h)),
             ((xmin - h, ymax + h), (xmax + h, ymax + h)),
             ((xmin - h, ymin - h), (xmin - h, ymax + h)),
             ((xmax + h, ymin - h), (xmax + h, ymax + h)),
         ]
+        shapes = []
         for a, b in segments:
-            seg = pymunk.Segment(walls, a, b, h)
+            seg = pymunk.Segment(body, a, b, h)
             seg.elasticity = 1.0
-            self.space.add(seg)
+            shapes.append(seg)
+        self._walls_bounds = tuple(bounds)
+        return (body, *shapes)
+
+    def _release_walls(self, bounds) -> tuple | None:
+        """Hand this world's walls to the next one if the arena is the same (building them was a
+        sixth of a reset)."""
+        if getattr(self, "_walls_bounds", None) != tuple(bounds):
+            return None
+        self.space.remove(*self._walls)
+        walls, self._walls = self._walls, ()
+        return walls
 
     def _attach_state_view(self) -> None:
         """Read the bodies once and keep a numpy view onto pymunk's batch array.

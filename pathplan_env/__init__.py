@@ -12,7 +12,8 @@ _configure_numba_cache()  # before any compiled function is defined
 
 from .env import DynamicObstacleEnv  # noqa: E402
 from .geometry import shortest_path  # noqa: E402
-from .scenarios import PAPER_CASES, PRESETS, Obstacle, Scenario, make_scenario, paper_case, sample_random_scenario  # noqa: E402
+from .presets import PAPER_CASES, PRESETS, make_scenario, paper_case, sample_random_scenario  # noqa: E402
+from .scenarios import Obstacle, Scenario  # noqa: E402
 from .wrappers import EgocentricObservation, EpisodeSchedule, RelativeWaypointAction, make_learning_env  # noqa: E402
 
 #: Episode time limit of the registered env (20 s at dt = 0.1 s): 4-6x the straight-line time.

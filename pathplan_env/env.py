@@ -11,7 +11,8 @@ import numpy as np
 from gymnasium import spaces
 
 from .kinematics import reach_fraction, robot_move
-from .scenarios import MIN_LENGTH, Scenario, check_delta_d, make_scenario
+from .presets import make_scenario
+from .scenarios import MIN_LENGTH, Scenario, check_delta_d
 from .world import World, substeps_for
 
 
@@ -83,7 +84,7 @@ class DynamicObstacleEnv(gym.Env):
 
     ## Starting State
     The robot rests at the scenario's start. Presets: ``"paper-case-1"``, ``"paper-case-2"``,
-    ``"paper-case-3"`` (the paper's Table 1 obstacle centres; see ``pathplan_env.scenarios`` and
+    ``"paper-case-3"`` (the paper's Table 1 obstacle centres; see ``pathplan_env.presets`` and
     ``docs/paper_assumptions.md`` for the assumed start, goal, radii and arena) and ``"random"``
     (``n_obstacles`` non-overlapping obstacles, start and goal at least 6 m apart, all drawn from
     ``np_random``). Obstacles that rest in the scenario get directions from ``np_random`` once

@@ -1,4 +1,4 @@
-"""Scenarios: the frozen description of one episode's world, the presets, random sampling and Δd.
+"""Scenarios: the frozen description of one episode's world, validated, and Δd (presets: ``presets.py``).
 
 A :class:`Scenario` is pure data (no simulator state): arena bounds, start, goal, robot size and
 speed, the control period ``dt`` and the obstacles with their initial velocities. The env turns a
@@ -14,9 +14,7 @@ import copy
 import dataclasses
 import math
 from dataclasses import dataclass
-from typing import Callable
 
-import numba
 import numpy as np
 
 Vec2 = tuple[float, float]
@@ -263,170 +261,6 @@ class Scenario:
 _SCENARIO_DEFAULTS = {f.name: f.default for f in dataclasses.fields(Scenario)}
 
 
-# ---------------------------------------------------------------------------------------------
-# Presets
-# ---------------------------------------------------------------------------------------------
-#: The paper's Table 1 obstacle centres. The paper states nothing else; our assumptions
-#: (documented in docs/paper_assumptions.md): start (0, 0), goal (5, 5), arena [-1, 6]^2, so the
-#: straight line y = x runs through the obstacles as in the paper's Fig. 1. Radius 1.0 in cases 1-2
-#: ("the big circle" of Fig. 1); 0.45 in case 3, where centres (2, 3) and (2, 4) are 1.0 apart and
-#: larger discs would overlap.
-PAPER_CASES: dict[str, tuple[tuple[Vec2, ...], float]] = {
-    "paper-case-1": (((2.0, 3.0),), 1.0),
-    "paper-case-2": (((1.0, 2.0), (3.0, 4.0)), 1.0),
-    "paper-case-3": (((2.0, 4.0), (1.0, 1.5), (2.0, 3.0), (3.0, 2.0), (4.5, 4.0)), 0.45),
-}
-PAPER_BOUNDS = (-1.0, -1.0, 6.0, 6.0)
-PAPER_START, PAPER_GOAL = (0.0, 0.0), (5.0, 5.0)
-ROBOT_RADIUS = 0.2
-DT = 0.1
-#: Default robot speed: the robot covers half an obstacle radius per step, so at Δd = 0.5 the
-#: obstacles move exactly as fast as the robot (CrowdNav's humans and robot share one speed).
-ROBOT_STEP_IN_RADII = 0.5
-
-
-def paper_case(name: str) -> Scenario:
-    centers, radius = PAPER_CASES[name]
-    return Scenario(
-        bounds=PAPER_BOUNDS,
-        start=PAPER_START,
-        goal=PAPER_GOAL,
-        obstacles=tuple(Obstacle(center=c, radius=radius) for c in centers),
-        robot_radius=ROBOT_RADIUS,
-        robot_speed=ROBOT_STEP_IN_RADII * radius / DT,
-        dt=DT,
-        name=name,
-    )
-
-
-#: The random preset: a 10 m x 10 m arena (larger beyond 12 obstacles, keeping 12 per 100 m^2),
-#: obstacle radii uniform in [0.4, 0.6] m (mean 0.5 m), start and goal at least 6 m apart,
-#: obstacles at least 0.1 m apart and clear of the robot's start and goal by 0.5 m.
-RANDOM_ARENA_SIDE = 10.0
-RANDOM_DENSITY_OBSTACLES = 12
-RANDOM_RADIUS_RANGE = (0.4, 0.6)
-RANDOM_MIN_START_GOAL = 6.0
-RANDOM_OBSTACLE_GAP = 0.1
-RANDOM_START_CLEARANCE = 0.5
-#: Most obstacles of the random preset: 100 make a 28.9 m arena whose diagonal (41 m) the robot
-#: crosses in 163 of the 200 steps; more would make most episodes impossible in time.
-RANDOM_MAX_OBSTACLES = 100
-RANDOM_ROBOT_SPEED = ROBOT_STEP_IN_RADII * 0.5 * (RANDOM_RADIUS_RANGE[0] + RANDOM_RADIUS_RANGE[1]) / DT  # half a mean radius a step
-_CANDIDATES = 64
-
-
-def random_arena_bounds(n_obstacles: int) -> tuple[float, float, float, float]:
-    side = RANDOM_ARENA_SIDE * math.sqrt(max(1.0, n_obstacles / RANDOM_DENSITY_OBSTACLES))
-    return (0.0, 0.0, side, side)
-
-
-@numba.njit(cache=True)
-def _place_obstacles(unit, radii, lo, hi, start, goal, endpoint_clearance, gap):
-    """Rejection sampling: obstacle ``i`` takes the first of its candidate points ``unit[i]`` that keeps
-    clear of the start, the goal and the obstacles placed before it. Compiled: with 50 obstacles
-    the loop over candidates and placed obstacles dominated the reset.
-
-    :return: ``(centers, placed)``; ``placed < len(radii)`` when some obstacle found no free candidate.
-    """
-    n, m = unit.shape[0], unit.shape[1]
-    centers = np.empty((n, 2))
-    for i in range(n):
-        rad = radii[i]
-        found = False
-        for c in range(m):
-            x = lo[0] + rad + unit[i, c, 0] * (hi[0] - lo[0] - 2 * rad)
-            y = lo[1] + rad + unit[i, c, 1] * (hi[1] - lo[1] - 2 * rad)
-            ok = math.hypot(x - start[0], y - start[1]) > rad + endpoint_clearance
-            ok = ok and math.hypot(x - goal[0], y - goal[1]) > rad + endpoint_clearance
-            j = 0
-            while ok and j < i:
-                ok = math.hypot(x - centers[j, 0], y - centers[j, 1]) > radii[j] + rad + gap
-                j += 1
-            if ok:
-                centers[i, 0], centers[i, 1] = x, y
-                found = True
-                break
-        if not found:
-            return centers, i
-    return centers, n
-
-
-def sample_random_scenario(rng: np.random.Generator, n_obstacles: int = 8, delta_d: float | None = None) -> Scenario:
-    """Draw a random scenario from ``rng`` (the env passes its ``np_random``).
-
-    Obstacles rest unless ``delta_d`` is given; then they move in random directions at that Δd (the
-    same draws and values as ``sample_random_scenario(rng, n).with_delta_d(delta_d, rng)``).
-    """
-    if isinstance(n_obstacles, bool) or int(n_obstacles) != n_obstacles or n_obstacles < 0:
-        raise ValueError(f"n_obstacles must be a non-negative integer, got {n_obstacles!r}")
-    if n_obstacles > RANDOM_MAX_OBSTACLES:
-        raise ValueError(
-            f"n_obstacles must be <= {RANDOM_MAX_OBSTACLES} for the random preset, got {n_obstacles}: its arena grows with the "
-            f"count (side 10 m x sqrt(n / 12)) and past that outgrows what the robot can cross in the 200-step time limit"
-        )
-    n = int(n_obstacles)
-    bounds = random_arena_bounds(n)
-    xmin, ymin, xmax, ymax = bounds
-    lo, hi = np.array([xmin, ymin]), np.array([xmax, ymax])
-    r = ROBOT_RADIUS
-    margin = r + 0.3
-    # Generator.uniform's own draws, written as low + (high - low) * random() (bit-identical): under
-    # numpy 2, uniform() with array bounds costs 5x this, and the start-goal loop draws a few times
-    low, span = lo + margin, (hi - margin) - (lo + margin)
-    while True:
-        start, goal = low + span * rng.random((2, 2))
-        (sx, sy), (gx, gy) = start.tolist(), goal.tolist()
-        if math.hypot(sx - gx, sy - gy) >= RANDOM_MIN_START_GOAL:
-            break
-    r_low, r_high = RANDOM_RADIUS_RANGE
-    radii = r_low + (r_high - r_low) * rng.random(n)
-    unit = rng.random((n, _CANDIDATES, 2))
-    centers, placed = _place_obstacles(unit, radii, lo, hi, start, goal, r + RANDOM_START_CLEARANCE, RANDOM_OBSTACLE_GAP)
-    if placed < n:
-        raise ValueError(f"n_obstacles: could not place {n} obstacles in the random arena {bounds} (placed {placed})")
-    velocities = np.zeros((n, 2))
-    if delta_d is not None:
-        angles = (2 * math.pi) * rng.random(n)
-        velocities = (delta_d * radii / DT)[:, None] * np.stack([np.cos(angles), np.sin(angles)], axis=1)
-        if n and delta_d * float(radii.max()) > math.hypot(xmax - xmin, ymax - ymin):
-            raise ValueError(f"delta_d {delta_d} makes obstacles cross the whole arena in one step; lower delta_d")
-    obstacles = tuple(
-        Obstacle._from_checked(tuple(c), rad, tuple(v)) for c, rad, v in zip(centers.tolist(), radii.tolist(), velocities.tolist())
-    )
-    return Scenario._from_checked(
-        {"positions": centers, "velocities": velocities, "radii": radii},
-        bounds=bounds, start=(sx, sy), goal=(gx, gy), obstacles=obstacles, robot_radius=r,
-        robot_speed=RANDOM_ROBOT_SPEED, dt=DT, goal_radius=r, name="random",
-    )  # fmt: skip
-
-
-PRESETS: dict[str, Callable[[np.random.Generator, int], Scenario]] = {
-    **{name: (lambda rng, n, name=name: paper_case(name)) for name in PAPER_CASES},
-    "random": sample_random_scenario,
-}
-
-
-def make_scenario(
-    spec: "str | Scenario", rng: np.random.Generator, n_obstacles: int = 8, delta_d: float | None = None
-) -> Scenario:
-    """Resolve a preset name, a :class:`Scenario` or its dict form, then apply ``delta_d`` (``None`` keeps the velocities)."""
-    if isinstance(spec, dict):
-        spec = Scenario.from_dict(spec)
-    if isinstance(spec, Scenario):
-        scenario = spec
-    elif isinstance(spec, str):
-        if spec not in PRESETS:
-            raise ValueError(f"scenario: unknown preset {spec!r}; known presets: {sorted(PRESETS)}")
-        if spec == "random":  # Δd applied while sampling: the same draws, without a second copy
-            return sample_random_scenario(rng, n_obstacles, delta_d)
-        scenario = PRESETS[spec](rng, n_obstacles)
-    else:
-        raise ValueError(f"scenario must be a preset name or a Scenario, got {type(spec).__name__}")
-    if delta_d is not None:
-        scenario = scenario.with_delta_d(delta_d, rng)
-    return scenario
-
-
 def check_delta_d(delta_d) -> float | None:
     """Validate a ``delta_d`` argument early, naming it in the error."""
     if delta_d is None:
@@ -440,14 +274,4 @@ def check_delta_d(delta_d) -> float | None:
     return value
 
 
-__all__ = [
-    "MIN_LENGTH",
-    "Obstacle",
-    "Scenario",
-    "PRESETS",
-    "PAPER_CASES",
-    "make_scenario",
-    "paper_case",
-    "sample_random_scenario",
-    "check_delta_d",
-]
+__all__ = ["MAX_COORDINATE", "MIN_LENGTH", "Obstacle", "Scenario", "check_delta_d"]

@@ -152,11 +152,33 @@ def limits(results: list[EpisodeResult]) -> dict[tuple, dict]:
     }
 
 
+def spl_term(e: EpisodeResult) -> float:
+    """One episode's share of SPL: ``l / max(p, l)`` on success (``l`` the exact static shortest path
+    to the goal's disc, ``p`` the length flown), 0 otherwise."""
+    reference = e.path_length / e.path_length_ratio if e.success and np.isfinite(e.path_length_ratio) else math.nan
+    return reference / max(e.path_length, reference) if np.isfinite(reference) and reference > 0 else 0.0
+
+
+def common_successes(results: list[EpisodeResult]) -> dict[tuple, set]:
+    """Per (scenario, Δd): the episode seeds that every agent of the run (the limit aside) solved."""
+    solved: dict[tuple, dict[str, set]] = {}
+    for res in results:
+        if res.agent != LIMIT_AGENT:
+            per_agent = solved.setdefault((res.scenario, res.delta_d), {})
+            seeds = per_agent.setdefault(res.agent, set())
+            if res.success and np.isfinite(res.path_length_ratio):
+                seeds.add(res.seed)
+    return {key: set.intersection(*per_agent.values()) if per_agent else set() for key, per_agent in solved.items()} | {
+        (r.scenario, r.delta_d): set() for r in results if (r.scenario, r.delta_d) not in solved
+    }
+
+
 def summarize(results: list[EpisodeResult]) -> list[dict]:
     cells: dict[tuple, list[EpisodeResult]] = {}
     for res in results:
         cells.setdefault((res.agent, res.scenario, res.delta_d), []).append(res)
     limit_of = limits(results)
+    common = common_successes(results)
     rows = []
     for (agent, scenario, delta_d), eps in cells.items():
         n = len(eps)
@@ -175,6 +197,11 @@ def summarize(results: list[EpisodeResult]) -> list[dict]:
                 "timeout_rate": sum(e.timeout for e in eps) / n,
                 "path_length": mean_over([e.path_length for e in wins]),
                 "path_length_ratio": mean_over([e.path_length_ratio for e in wins if np.isfinite(e.path_length_ratio)]),
+                # SPL (Anderson et al. 2018): success x shortest / max(flown, shortest), over all episodes
+                "spl": float(np.mean([spl_term(e) for e in eps])),
+                # the length ratio on the episodes every agent of the run solved (no survivorship bias)
+                "common_length_ratio": mean_over([e.path_length_ratio for e in eps if e.seed in common[(scenario, delta_d)]]),
+                "common_episodes": len(common[(scenario, delta_d)]),
                 "time_to_goal": mean_over([e.time_to_goal for e in wins]),
                 "plan_ms_median": float(np.median(plans)),
                 "plan_ms_p95": float(np.percentile(plans, 95)),

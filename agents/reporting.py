@@ -10,17 +10,22 @@ from .evaluation import LIMIT_AGENT
 
 
 def markdown_table(rows: list[dict]) -> str:
+    """Every cell: success with its Wilson interval, the limit, collisions, timeouts, SPL, the length
+    ratio over the agent's own successes and over the episodes every agent solved, planning times."""
     fmt = lambda v, spec: "-" if v is None else format(v, spec)  # noqa: E731
     lines = [
-        "| scenario | agent | Δd | episodes | success [95% CI] | limit | success ÷ limit | collision | timeout | length ratio | plan ms (median / p95) |",
-        "|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|",
+        "| scenario | agent | Δd | episodes | success [95% CI] | limit | success ÷ limit | collision | timeout | SPL "
+        "| length ratio (own successes / common) | plan ms (median / p95) |",
+        "|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for r in rows:
         lo, hi = r["success_ci95"]
+        common = f"{fmt(r.get('common_length_ratio'), '.3f')} ({r.get('common_episodes', 0)})" if "common_episodes" in r else "-"
         lines.append(
             f"| {r['scenario']} | {r['agent']} | {r['delta_d']:g} | {r['episodes']} | {r['success_rate']:.2f} [{lo:.2f}, {hi:.2f}] "
             f"| {fmt(r.get('limit'), '.2f')} | {fmt(r.get('success_over_limit'), '.2f')} "
-            f"| {r['collision_rate']:.2f} | {r['timeout_rate']:.2f} | {fmt(r['path_length_ratio'], '.3f')} "
+            f"| {r['collision_rate']:.2f} | {r['timeout_rate']:.2f} | {fmt(r.get('spl'), '.3f')} "
+            f"| {fmt(r['path_length_ratio'], '.3f')} / {common} "
             f"| {r['plan_ms_median']:.2f} / {r['plan_ms_p95']:.2f} |"
         )
     return "\n".join(lines)

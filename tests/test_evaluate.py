@@ -33,6 +33,8 @@ def test_summary_schema_and_rates(tiny_run):
                     "success_over_limit"):  # fmt: skip
             assert key in cell
         assert cell["limit"] == 1.0  # a way around one obstacle always exists on paper-case-1
+        assert 0.0 <= cell["spl"] <= cell["success_rate"] + 1e-12  # SPL discounts successes, never adds
+        assert cell["common_episodes"] <= cell["episodes"]
         assert cell["success_over_limit"] == pytest.approx(cell["success_rate"] / cell["limit"])
         rates = [cell["success_rate"], cell["collision_rate"], cell["timeout_rate"]]
         assert all(0 <= r <= 1 for r in rates) and sum(rates) == pytest.approx(1.0)
@@ -41,6 +43,7 @@ def test_summary_schema_and_rates(tiny_run):
         assert cell["episodes"] == 4
     straight = [c for c in summary["results"] if c["agent"] == "straight" and c["delta_d"] == 0][0]
     assert straight["collision_rate"] == 1.0  # the obstacle blocks the direct line
+    assert straight["spl"] == 0.0 and straight["common_episodes"] == 0 and straight["common_length_ratio"] is None
     rows = list(csv.DictReader(open(tiny_run / "episodes.csv")))
     assert len(rows) == 24
     assert {r["verdict"] for r in rows if r["agent"] == "oracle-clairvoyant"} == {"plan"}

@@ -46,9 +46,10 @@ def _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, problem):
 def abc_run(x0, lo, hi, max_evaluations, limit, scouts_replace_infeasible, seed, problem):
     """Run ABC from the food sources ``x0`` (SN, D), minimising :func:`agents.objective.objective` for ``problem``.
 
-    :return: ``(best_x, best_cost, best_penalty, history, evaluations, scouted)``: ``history[c]`` is
-        the best cost after cycle ``c`` (trailing entries unused are NaN); ``scouted`` counts the
-        sources the scouts replaced.
+    :return: ``(best_x, best_cost, best_penalty, history, history_evaluations, evaluations, scouted)``:
+        ``history[c]`` is the best cost after cycle ``c`` (trailing entries unused are NaN),
+        ``history_evaluations[c]`` the objective evaluations spent by then (scouts included);
+        ``scouted`` counts the sources the scouts replaced.
     """
     rng = new_state(seed)
     SN, D = x0.shape
@@ -62,6 +63,7 @@ def abc_run(x0, lo, hi, max_evaluations, limit, scouts_replace_infeasible, seed,
     b = np.argmin(cost)
     best_x, best_cost, best_pen = x[b].copy(), cost[b], pen[b]
     history = np.full(max_evaluations // (2 * SN) + 1, np.nan)
+    history_evaluations = np.zeros(history.shape[0], dtype=np.int64)
     cycle = 0
     scouted = 0
     while evaluations + 2 * SN <= max_evaluations:
@@ -91,5 +93,6 @@ def abc_run(x0, lo, hi, max_evaluations, limit, scouts_replace_infeasible, seed,
                 if cost[i] < best_cost:
                     best_x[:], best_cost, best_pen = x[i], cost[i], pen[i]
         history[cycle] = best_cost
+        history_evaluations[cycle] = evaluations
         cycle += 1
-    return best_x, best_cost, best_pen, history, evaluations, scouted
+    return best_x, best_cost, best_pen, history, history_evaluations, evaluations, scouted

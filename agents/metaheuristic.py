@@ -84,6 +84,7 @@ class MetaheuristicAgent(Agent):
         self._lo = np.tile([xmin + r, ymin + r], self.n_waypoints)
         self._hi = np.tile([xmax - r, ymax - r], self.n_waypoints)
         self.last_history: np.ndarray | None = None
+        self.last_history_evaluations: np.ndarray | None = None  # evaluations spent at each history entry
         self.last_cost = self.last_penalty = np.nan
         self.last_scouted = 0
 
@@ -126,11 +127,14 @@ class MetaheuristicAgent(Agent):
             x0[1 : 1 + len(seeds)] = seeds
         if self.optimizer == "pso":
             best, cost, penalty, history = pso_run(x0, lo, hi, self.inertia, self.c1, self.c2, self.v_max_fraction, seed, problem)
+            # the initial swarm, then one evaluation per particle an iteration
+            self.last_history_evaluations = size * np.arange(2, len(history) + 2)
         else:
-            best, cost, penalty, history, _, self.last_scouted = abc_run(
+            best, cost, penalty, history, spent, _, self.last_scouted = abc_run(
                 x0, lo, hi, self.population * self.iterations, self.abc_limit, self.variant == "paper", seed, problem
             )
-            history = history[~np.isnan(history)]
+            kept = ~np.isnan(history)
+            history, self.last_history_evaluations = history[kept], spent[kept]
         memory["best"] = best
         self.last_cost, self.last_penalty, self.last_history = float(cost), float(penalty), history
         return best

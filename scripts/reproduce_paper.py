@@ -17,16 +17,15 @@ See docs/paper_assumptions.md for what the paper leaves unstated and what we ass
 from __future__ import annotations
 
 import argparse
+import os
 import time
 from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
-from tqdm import tqdm
 
 import agents
 import pathplan_env  # noqa: F401  (registers the env)
-from pathplan_env.splits import heldout_seeds
 
 CASES = ["paper-case-1", "paper-case-2", "paper-case-3"]
 PLANNERS = {"abc": "modified ABC", "pso": "adaptive constraint PSO"}
@@ -42,7 +41,7 @@ PAPER_TABLE_1 = {
 PAPER_TABLE_2 = {1.0: "fail", 0.5: "fail", 0.25: "fail", 0.125: "success", 0.1: "success"}
 
 
-def table_1(runs: int):
+def table_1(runs: int, margin: float = 0.05):
     rows, histories = [], {}
     for case in CASES:
         env = gym.make("DynamicObstacle-v0", scenario=case, delta_d=0)
@@ -50,42 +49,53 @@ def table_1(runs: int):
         for name in PLANNERS:
             costs, times, lengths, curves = [], [], [], []
             for run in range(runs):
-                agent = agents.make(name, env, seed=run)
+                agent = agents.make(name, env, seed=run, margin=margin)
                 scene = agent.scene(obs)
                 agent.optimize(scene, {})  # compile/cache warm-up is excluded from the timing below
-                agent = agents.make(name, env, seed=run)
+                agent = agents.make(name, env, seed=run, margin=margin)
                 start = time.perf_counter()
                 best = agent.optimize(scene, {})
                 times.append(1e3 * (time.perf_counter() - start))
                 costs.append(agent.last_cost)
                 path = np.vstack([scene.robot, best.reshape(-1, 2), scene.goal])
                 lengths.append(float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum()))
-                curves.append(agent.last_history)
+                curves.append((agent.last_history_evaluations, agent.last_history))
             rows.append((case, name, np.mean(costs), np.mean(times), np.mean(lengths), np.std(lengths)))
-            # a PSO iteration and an ABC cycle (employed + onlooker phases) both spend `population` evaluations
-            length = min(len(c) for c in curves)
-            histories[(case, name)] = (np.arange(1, length + 1) * agent.population, np.mean([c[:length] for c in curves], axis=0))
+            # the best cost against the evaluations spent (ABC's scouts spend extra ones): each run's
+            # curve read on a common grid of evaluation counts, then averaged
+            first, last = max(int(e[0]) for e, _ in curves), min(int(e[-1]) for e, _ in curves)
+            grid = np.arange(first, last + 1, agent.population)
+            histories[(case, name)] = (grid, np.mean([c[np.searchsorted(e, grid, side="right") - 1] for e, c in curves], axis=0))
     return rows, histories
 
 
-def table_2(episodes: int, names: list[str]):
-    from scipy.stats import binomtest
+def table_2(episodes: int, names: list[str], out: Path, workers: int, margin: float | None = None) -> list[dict]:
+    """Verdicts per Δd over the three cases, run by the evaluation harness (same test episodes for
+    every planner). ``margin`` (m) overrides the safety margin of the paper's planners (abc, pso)."""
+    from agents.evaluation import LIMIT_AGENT, evaluate, wilson_interval
 
-    seeds = heldout_seeds(0, episodes)
+    planners = [n for n in names if n != LIMIT_AGENT]
+    kwargs = {n: {"margin": margin} for n in planners if n in PLANNERS} if margin is not None else {}
+    cells = evaluate(planners, CASES, sorted(PAPER_TABLE_2), episodes, out, workers=workers, agent_kwargs=kwargs,
+                     limit=LIMIT_AGENT in names, plots=False)  # fmt: skip
     rows = []
-    for delta_d in tqdm(sorted(PAPER_TABLE_2, reverse=True), desc="Table 2", leave=False):
+    for delta_d in sorted(PAPER_TABLE_2, reverse=True):
         row = {"delta_d": delta_d}
         for name in names:
-            wins = 0
-            for case in CASES:
-                env = gym.make("DynamicObstacle-v0", scenario=case, delta_d=delta_d)
-                for seed in seeds:
-                    wins += agents.rollout(agents.make(name, env, seed=seed), env, seed)["is_success"]
-            n = episodes * len(CASES)
-            low = binomtest(wins, n).proportion_ci(method="wilson").low
-            row[name] = (wins / n, n, "success" if low >= 0.9 else "fail")
+            mine = [c for c in cells if c["agent"] == name and c["delta_d"] == delta_d]
+            wins = sum(round(c["success_rate"] * c["episodes"]) for c in mine)
+            n = sum(c["episodes"] for c in mine)
+            row[name] = (wins / n, n, "success" if wilson_interval(wins, n)[0] >= 0.9 else "fail")
         rows.append(row)
     return rows
+
+
+def print_table_2(rows: list[dict], names: list[str]) -> None:
+    print("| Δd | paper (both) | " + " | ".join(names) + " |")
+    print("|---:|---|" + "---|" * len(names))
+    for row in rows:
+        cells = [f"{row[n][2]} ({row[n][0]:.2f}, n={row[n][1]})" for n in names]
+        print(f"| {row['delta_d']:g} | {PAPER_TABLE_2[row['delta_d']]} | " + " | ".join(cells) + " |")
 
 
 def plot_fig5(histories, out: Path) -> Path:
@@ -118,6 +128,10 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--runs", type=int, default=30, help="independent plans per case and planner (Table 1, Fig. 5)")
     parser.add_argument("--episodes", type=int, default=20, help="episodes per case and Δd (Table 2)")
     parser.add_argument("--out", default="results/paper")
+    parser.add_argument("--workers", type=int, default=os.cpu_count(), help="parallel processes for Table 2")
+    parser.add_argument("--margins", type=lambda text: [float(m) for m in text.split(",") if m], default=[],
+                        help="also sweep the paper planners' safety margin (m), e.g. 0.05,0.15,0.25: Table 1 lengths and Table 2 at each")
+    parser.add_argument("--margin-episodes", type=int, default=100, help="episodes per case and Δd in the margin sweep (300 a cell)")
     return parser.parse_args(argv)
 
 
@@ -137,12 +151,25 @@ def main(argv=None) -> None:
 
     names = ["abc", "pso", "abc-predictive", "pso-predictive", "abc-spacetime", "pso-spacetime", "oracle-clairvoyant"]
     print("\nTable 2: verdict (success rate, episodes) over the three paper cases; success = Wilson 95% lower bound >= 0.9")
-    print("(oracle-clairvoyant, privileged, is the physical limit: the share of episodes that can be won at all)")
-    print("| Δd | paper (both) | " + " | ".join(names) + " |")
-    print("|---:|---|" + "---|" * len(names))
-    for row in table_2(args.episodes, names):
-        cells = [f"{row[n][2]} ({row[n][0]:.2f}, n={row[n][1]})" for n in names]
-        print(f"| {row['delta_d']:g} | {PAPER_TABLE_2[row['delta_d']]} | " + " | ".join(cells) + " |")
+    print(f"(oracle-clairvoyant, privileged, is the physical limit: the share of episodes that can be won at all; "
+          f"with n = {3 * args.episodes}, success needs at least {min_wins(3 * args.episodes)} wins)")  # fmt: skip
+    print_table_2(table_2(args.episodes, names, out / "table2", args.workers), names)
+
+    for margin in args.margins:
+        print(f"\nMargin {margin:g} m (the paper states none; ours is 0.05): Table 1 lengths and Table 2 for the paper's planners")
+        print("| case | planner | average length | std |")
+        print("|---|---|---:|---:|")
+        for case, name, _, _, length, std in table_1(min(args.runs, 10), margin=margin)[0]:
+            print(f"| {case} | {PLANNERS[name]} | {length:.3f} | {std:.4f} |")
+        print_table_2(table_2(args.margin_episodes, list(PLANNERS), out / f"table2_margin_{margin:g}", args.workers, margin), list(PLANNERS))
+
+
+def min_wins(n: int) -> int | None:
+    """The fewest successes out of ``n`` whose Wilson 95 % lower bound reaches 0.9 (the verdict rule);
+    None when even ``n`` of ``n`` do not (too few episodes for a "success")."""
+    from agents.evaluation import wilson_interval
+
+    return next((k for k in range(n + 1) if wilson_interval(k, n)[0] >= 0.9), None)
 
 
 if __name__ == "__main__":

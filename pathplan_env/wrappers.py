@@ -202,6 +202,7 @@ class EpisodeSchedule(gym.Wrapper):
             raise ValueError(f"first_seed must be >= 0, got {first_seed!r}")
         self.first_seed, self.stride = int(first_seed), int(stride)
         self.episodes = 0
+        self.last_seed: int | None = None  # the seed of the episode being played
         self.set_delta_d(delta_d)
         low, high = (n_obstacles, n_obstacles) if np.isscalar(n_obstacles) else n_obstacles
         if not 0 <= int(low) <= int(high):
@@ -221,9 +222,10 @@ class EpisodeSchedule(gym.Wrapper):
         return self.first_seed + self.episodes * self.stride
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
-        if seed is None:
+        if seed is None or seed == self.next_seed():  # the schedule's own next episode, however asked for
             seed = self.next_seed()
             self.episodes += 1
+        self.last_seed = int(seed)
         draw = np.random.default_rng([int(seed), 0x5EED])  # independent of the env's own stream
         delta_d = float(draw.uniform(*self.delta_d_range))
         if self.static_fraction and draw.uniform() < self.static_fraction:

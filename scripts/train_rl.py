@@ -172,14 +172,22 @@ def build_model(args: Args, env, log_dir: Path):
     import torch
     from stable_baselines3 import PPO, SAC
 
+    from stable_baselines3.common.utils import set_random_seed
+
     net_arch = [int(n) for n in args.net_arch.split(",")]
-    common = dict(learning_rate=args.learning_rate, seed=args.seed, verbose=0, device="cpu", tensorboard_log=str(log_dir / "tb"))
+    # Seeded here, not through the model's ``seed=``: SB3 would also seed the vector env, whose first
+    # reset would then pass seeds 0..n_envs-1 to the EpisodeSchedules instead of their own
+    set_random_seed(args.seed)
+    common = dict(learning_rate=args.learning_rate, verbose=0, device="cpu", tensorboard_log=str(log_dir / "tb"))
     if args.algo == "ppo":
-        return PPO(
+        model = PPO(
             "MlpPolicy", env, n_steps=args.n_steps, batch_size=256, n_epochs=10, gamma=0.99, gae_lambda=0.95,
             clip_range=0.2, ent_coef=args.ent_coef, policy_kwargs=dict(net_arch=net_arch, activation_fn=torch.nn.Tanh, log_std_init=args.log_std_init), **common,
         )  # fmt: skip
-    return SAC("MlpPolicy", env, buffer_size=300_000, batch_size=256, learning_starts=10_000, policy_kwargs=dict(net_arch=net_arch), **common)
+    else:
+        model = SAC("MlpPolicy", env, buffer_size=300_000, batch_size=256, learning_starts=10_000, policy_kwargs=dict(net_arch=net_arch), **common)
+    model.action_space.seed(args.seed)  # SAC's random warm-up actions
+    return model
 
 
 def collect_demonstrations(args: Args, gamma: float) -> dict[str, np.ndarray]:

@@ -14,7 +14,7 @@ import agents
 import pathplan_env  # noqa: F401
 from agents.rl import MODELS_DIR
 from pathplan_env.splits import (
-    VALIDATION_SEED_BASE, heldout_seeds, is_training_seed, is_validation_seed, training_seed_base, validation_seeds,
+    TRAINING_SEEDS_PER_RUN, VALIDATION_SEED_BASE, heldout_seeds, is_training_seed, is_validation_seed, training_seed_base, validation_seeds,
 )  # fmt: skip
 from pathplan_env.wrappers import EpisodeSchedule, make_learning_env
 
@@ -145,6 +145,26 @@ def test_episode_schedule_is_reproducible_and_strided():
     assert _episode(a)[1] == 0.5
     with pytest.raises(ValueError, match="delta_d"):
         a.set_delta_d((1.0, 0.5))
+
+
+def test_training_plays_the_schedules_seeds_never_a_validation_or_test_seed(tmp_path):
+    """The seeds train_rl.py really uses: SB3's first reset and later ones, and the demonstrations."""
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    args = train_rl.Args(seed=3, n_envs=4, total_timesteps=1000, eval_freq=500, out=str(tmp_path), progress=False)
+    base = training_seed_base(args.seed)
+    envs = DummyVecEnv([train_rl.make_env(args, base + i, args.n_envs, (0.0, 0.25), (4, 12)) for i in range(args.n_envs)])
+    model = train_rl.build_model(args, envs, tmp_path)  # what SB3 does to the env's seeding happens here
+    model.env.reset()
+    played = [set(model.env.get_attr("last_seed"))]
+    for _ in range(400):  # random actions: episodes end often
+        model.env.step(np.array([model.env.action_space.sample() for _ in range(args.n_envs)]))
+        played.append(set(model.env.get_attr("last_seed")))
+    seeds = set().union(*played)
+    assert min(seeds) == base and len(seeds) > 2 * args.n_envs  # the schedules' own seeds from the first reset on
+    assert all(base <= s < base + TRAINING_SEEDS_PER_RUN // 2 for s in seeds)
+    demonstrations = base + TRAINING_SEEDS_PER_RUN // 2  # where train_rl.py's teacher episodes start
+    assert all(s < demonstrations for s in seeds) and all(is_training_seed(s) for s in seeds)
 
 
 def test_seed_splits_are_disjoint():

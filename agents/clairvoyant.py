@@ -32,31 +32,32 @@ class ClairvoyantOracle(Agent):
     :param n_headings: move directions per node (evenly spaced).
     :param speed_fractions: move lengths, as fractions of the robot's step (waiting and a move
         onto the goal are always tried too).
-    :param cell: grid (m) on which positions reached at the same step are merged.
-    :param max_expansions: node budget of one search; past it the next of ``h_weights`` is tried,
-        and after the last the episode is "undetermined" unless the reachable-set test proves it lost.
-    :param h_weights: heuristic weights of the successive searches (weighted A*: 3 finds plans
-        fast, 1.5 gets out of the dead ends where the greedy one spends its budget).
+    :param searches: the successive searches, ``(heuristic weight, merge grid in m)`` each: a search
+        that spends ``max_expansions`` without an answer hands over to the next (weighted A*: weight 3
+        finds plans fast; 1.5 gets out of dead ends where the greedy one spends its budget; a coarser
+        grid reaches farther in slow, cluttered scenes, where fine cells multiply the nodes).
+    :param max_expansions: node budget of each search; after the last the episode is
+        "undetermined" unless the reachable-set test proves it lost.
     :param lost_cell: grid (m) of that reachable-set test.
     """
 
     def __init__(self, env, seed: int | None = None, *, n_headings: int = 32, speed_fractions=(1.0, 0.5),
-                 cell: float = 0.03, max_expansions: int = 100_000, lost_cell: float = 0.005, h_weights=(3.0, 1.5)):  # fmt: skip
+                 searches=((3.0, 0.03), (1.5, 0.03), (3.0, 0.06)), max_expansions: int = 100_000, lost_cell: float = 0.005):  # fmt: skip
         super().__init__(env, seed)
         if not isinstance(getattr(env, "unwrapped", None), DynamicObstacleEnv):
             raise ValueError("oracle-clairvoyant reads the simulator: it needs one DynamicObstacleEnv, not a vector env")
         if int(n_headings) != n_headings or n_headings < 4:
             raise ValueError(f"n_headings must be an integer >= 4, got {n_headings!r}")
-        if not (cell > 0 and lost_cell > 0):
-            raise ValueError(f"cell and lost_cell must be > 0, got {cell!r}, {lost_cell!r}")
+        self.searches = tuple((float(w), float(c)) for w, c in searches)
+        if not self.searches or min(w for w, _ in self.searches) < 1.0 or min(c for _, c in self.searches) <= 0:
+            raise ValueError(f"searches must be (weight >= 1, grid > 0) pairs, got {searches!r}")
+        if not lost_cell > 0:
+            raise ValueError(f"lost_cell must be > 0, got {lost_cell!r}")
         self._env: DynamicObstacleEnv = env.unwrapped
         spec = getattr(env, "spec", None)
         self.max_steps = int(spec.max_episode_steps) if spec is not None and spec.max_episode_steps else pathplan_env.MAX_EPISODE_STEPS
         self.moves = heading_moves(int(n_headings), speed_fractions)
-        self.cell, self.max_expansions, self.lost_cell = float(cell), int(max_expansions), float(lost_cell)
-        self.h_weights = tuple(float(w) for w in h_weights)
-        if not self.h_weights or min(self.h_weights) < 1.0:
-            raise ValueError(f"h_weights must be one or more heuristic weights >= 1, got {h_weights!r}")
+        self.max_expansions, self.lost_cell = int(max_expansions), float(lost_cell)
         self.verdict: str | None = None  # of the episode planned last
         self.last_search: dict = {}
 
@@ -74,10 +75,10 @@ class ClairvoyantOracle(Agent):
         start = np.array(world.robot_xy)
         goal = np.array(scenario.goal)
         expansions = 0
-        for weight in self.h_weights:  # greedy first; a search that runs out of budget tries a less greedy one
+        for weight, cell in self.searches:
             outcome, targets, spent = search(
                 trajectory, future.substeps, r, world.radii, start, goal, scenario.goal_radius, env._waypoint_params,
-                self._arena_low, self._arena_size, env._reach, self.moves, remaining, self.cell, self.max_expansions, weight,
+                self._arena_low, self._arena_size, env._reach, self.moves, remaining, cell, self.max_expansions, weight,
             )  # fmt: skip
             expansions += spent
             if outcome != BUDGET:

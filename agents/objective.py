@@ -92,7 +92,7 @@ def path_cost(x, robot, goal, centers, velocities, radii, speed, horizon, penalt
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
-def _walk(pts, seg, px, py, distance):
+def walk_along(pts, seg, px, py, distance):
     """Advance ``distance`` metres along the polyline ``pts`` from ``(px, py)`` on segment ``seg``."""
     last = pts.shape[0] - 1
     while distance > 0.0 and seg < last:
@@ -140,7 +140,7 @@ def timed_path_cost(
     seg, px, py = 0, robot[0], robot[1]
     arrival = -1.0
     for step in range(horizon_steps):
-        nseg, qx, qy = _walk(pts, seg, px, py, x[2 * k + seg] * reach)
+        nseg, qx, qy = walk_along(pts, seg, px, py, x[2 * k + seg] * reach)
         dx, dy = qx - px, qy - py
         goal_t = reach_fraction(px, py, dx, dy, goal[0], goal[1], goal_radius)
         first = step * n

@@ -25,7 +25,7 @@ from pathplan_env.wrappers import EnvFacts
 
 from .base import Agent, real_obstacles
 from .metaheuristic import MetaheuristicAgent
-from .objective import _walk
+from .objective import walk_along
 from .prediction import predict_obstacles, substeps_for
 from .spacetime_search import BUDGET, heading_moves, replay, search
 
@@ -87,13 +87,12 @@ class SpacetimeAStarAgent(Agent):
         f = self.facts
         common = (n, f.robot_radius, radii, robot, goal, f.goal_radius, self.model.move_params, self._arena_low, self._arena_size, self.step_length)
         targets = memory.get("plan")
-        if targets is not None and len(targets) > 0:
+        if targets is not None and len(targets) > 0:  # keep the previous plan while it still holds
             free, reached = replay(trajectory, *common, targets)
-            if not (reached or (free == len(targets) and len(targets) >= self.keep_plan_steps)):
-                targets = None
+            keep = reached or (free == len(targets) and len(targets) >= self.keep_plan_steps)
         else:
-            targets = None
-        if targets is None:
+            keep = False
+        if not keep:
             for budget in (self.max_expansions, self.max_expansions * self.retry_factor):
                 outcome, targets, _ = search(trajectory, *common, self.moves, self.horizon_steps, self.cell, budget, self.h_weight)
                 if outcome != BUDGET:
@@ -160,5 +159,5 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         k = self.n_waypoints
         path = np.vstack([robot, best[: 2 * k].reshape(-1, 2), goal])
         self.last_plan = path
-        _, x, y = _walk(path, 0, robot[0], robot[1], best[2 * k] * self.step_length)
+        _, x, y = walk_along(path, 0, robot[0], robot[1], best[2 * k] * self.step_length)
         return np.array([x, y])

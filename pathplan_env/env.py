@@ -264,7 +264,7 @@ class DynamicObstacleEnv(gym.Env):
         world = self._world
         if world is None:
             raise RuntimeError("call reset() before step()")
-        if type(action) is not np.ndarray or action.shape != (2,) or action.dtype.kind != "f":
+        if type(action) is not np.ndarray or action.shape != (2,) or action.dtype.char not in "fd":
             action = self._parse_action(action)
         px, py = world.robot_xy
         finite, wx, wy, dx, dy = robot_move(action, self._waypoint_params, px, py, self._reach)

@@ -87,6 +87,16 @@ def _finish_substep(state, new_state, ax, ay, bx, by, robot_radius, radii, speed
     return min_gap, t_contact, restored
 
 
+@numba.njit(cache=True)
+def _clearance(state, radii, x, y, robot_radius):
+    """Smallest surface gap from the robot at ``(x, y)`` to the obstacles (one call: numpy 2's
+    per-call cost on a few rows exceeded the arithmetic)."""
+    gap = np.inf
+    for i in range(radii.shape[0]):
+        gap = min(gap, math.hypot(state[i, 0] - x, state[i, 1] - y) - radii[i] - robot_radius)
+    return gap
+
+
 class _BatchBuffer(pymunk.batch.Buffer):
     """``pymunk.batch.Buffer`` that frees its C arrays when collected (pymunk 7.3's never does: a new
     one per reset leaked 0.5 KiB each)."""
@@ -130,6 +140,7 @@ class World:
         self.space.collision_slop = 1e-4 * min_radius  # default 0.1 m is a fifth of a small obstacle
         walls = recycle._release_walls(scenario.bounds) if recycle is not None else None
         self._walls = walls if walls is not None else self._make_walls(scenario.bounds, thickness=max(scenario.arena_diagonal, 1.0))
+        self._walls_bounds = scenario.bounds
         self.space.add(*self._walls)
         spare = recycle._release_moving_obstacles() if recycle is not None else []
         objects, self._moving = [], []
@@ -194,13 +205,12 @@ class World:
             seg = pymunk.Segment(body, a, b, h)
             seg.elasticity = 1.0
             shapes.append(seg)
-        self._walls_bounds = tuple(bounds)
         return (body, *shapes)
 
     def _release_walls(self, bounds) -> tuple | None:
         """Hand this world's walls to the next one if the arena is the same (building them was a
         sixth of a reset)."""
-        if getattr(self, "_walls_bounds", None) != tuple(bounds):
+        if self._walls_bounds != tuple(bounds):
             return None
         self.space.remove(*self._walls)
         walls, self._walls = self._walls, ()
@@ -309,8 +319,7 @@ class World:
         if self.n_obstacles == 0:
             return self.scenario.arena_diagonal
         x, y = self.robot_xy
-        d = np.hypot(self.obstacle_state[:, 0] - x, self.obstacle_state[:, 1] - y) - self.radii - self.scenario.robot_radius
-        return float(d.min())
+        return _clearance(self.obstacle_state, self.radii, x, y, self.scenario.robot_radius)
 
     # -- pickling: pymunk's Space pickles itself; the batch buffer and its view are rebuilt ----
     def __getstate__(self):

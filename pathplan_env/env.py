@@ -195,6 +195,7 @@ class DynamicObstacleEnv(gym.Env):
         self._arena_size = np.array([xmax - xmin, ymax - ymin], np.float64)
         self._world: World | None = None
         self._moves: list[tuple[float, float]] | None = None
+        self._waypoint_key: tuple | None = None
         self._renderer = None
         self.trail: list[tuple[float, float]] = []
         self.waypoint: tuple[float, float] | None = None
@@ -247,7 +248,9 @@ class DynamicObstacleEnv(gym.Env):
         r = scenario.robot_radius
         xmin, ymin, xmax, ymax = scenario.bounds
         # what robot_move needs, in one array: arena corner, half size, the box where the robot's disc fits
-        self._waypoint_params = np.array([xmin, ymin, 0.5 * (xmax - xmin), 0.5 * (ymax - ymin), xmin + r, ymin + r, xmax - r, ymax - r])
+        params = (xmin, ymin, 0.5 * (xmax - xmin), 0.5 * (ymax - ymin), xmin + r, ymin + r, xmax - r, ymax - r)
+        if params != self._waypoint_key:  # the same for every episode of a preset: built once
+            self._waypoint_key, self._waypoint_params = params, np.array(params)
         self._reach = scenario.robot_speed * scenario.dt
         self._start_distance = max(float(np.hypot(self._goal_xy[0] - scenario.start[0], self._goal_xy[1] - scenario.start[1])), 1e-9)
         self._distance = self._start_distance
@@ -384,13 +387,8 @@ class DynamicObstacleEnv(gym.Env):
         Layout: robot position (2), robot velocity (2), goal (2), obstacle positions (N, 2),
         obstacle velocities (N, 2), radii (N), mask (N); padding rows sit at the arena's lower corner.
         """
-        n, n_max = self.scenario.n_obstacles, self.max_obstacles
-        template = np.zeros(6 + 6 * n_max, np.float32)
-        template[4:6] = self._goal_xy
-        positions = template[6 : 6 + 2 * n_max].reshape(n_max, 2)
-        positions[n:] = self._arena_low
-        template[6 + 4 * n_max : 6 + 5 * n_max][:n] = self._world.radii
-        template[6 + 5 * n_max :][:n] = 1.0
+        template = np.empty(6 + 6 * self.max_obstacles, np.float32)
+        _fill_template(template, self._goal_xy[0], self._goal_xy[1], self._arena_low, self._world.radii, self.max_obstacles)
         self._observation_template = template
 
     def _observation(self) -> dict[str, np.ndarray]:
@@ -437,6 +435,20 @@ class DynamicObstacleEnv(gym.Env):
             for dx, dy in self._moves:
                 world.step(dx, dy)
             self._world = world
+
+
+@numba.njit(cache=True)
+def _fill_template(template, gx, gy, arena_low, radii, n_max):
+    """The episode's observation template (layout: ``_prepare_observation_padding``), in one
+    compiled call instead of half a dozen numpy ones on a few rows."""
+    n = radii.shape[0]
+    template[:] = 0.0
+    template[4], template[5] = gx, gy
+    for i in range(n, n_max):  # padding rows sit at the arena's lower corner
+        template[6 + 2 * i], template[7 + 2 * i] = arena_low[0], arena_low[1]
+    for i in range(n):
+        template[6 + 4 * n_max + i] = radii[i]
+        template[6 + 5 * n_max + i] = 1.0
 
 
 @numba.njit(cache=True)

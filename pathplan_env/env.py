@@ -10,7 +10,7 @@ import numba
 import numpy as np
 from gymnasium import spaces
 
-from .kinematics import reach_fraction, robot_move
+from .kinematics import move_and_goal
 from .presets import make_scenario
 from .scenarios import MIN_LENGTH, Scenario, check_delta_d
 from .world import World, substeps_for
@@ -252,6 +252,7 @@ class DynamicObstacleEnv(gym.Env):
         if params != self._waypoint_key:  # the same for every episode of a preset: built once
             self._waypoint_key, self._waypoint_params = params, np.array(params)
         self._reach = scenario.robot_speed * scenario.dt
+        self._goal_radius = scenario.goal_radius
         self._start_distance = max(float(np.hypot(self._goal_xy[0] - scenario.start[0], self._goal_xy[1] - scenario.start[1])), 1e-9)
         self._distance = self._start_distance
         self._path_length = 0.0
@@ -270,13 +271,13 @@ class DynamicObstacleEnv(gym.Env):
         if type(action) is not np.ndarray or action.shape != (2,) or action.dtype.char not in "fd":
             action = self._parse_action(action)
         px, py = world.robot_xy
-        finite, wx, wy, dx, dy = robot_move(action, self._waypoint_params, px, py, self._reach)
+        gx, gy = self._goal_xy
+        finite, wx, wy, dx, dy, goal_fraction = move_and_goal(action, self._waypoint_params, px, py, self._reach, gx, gy, self._goal_radius)
         if not finite:
             raise ValueError(f"action must be finite, got {action!r} (NaN or infinite)")
         self.waypoint = (wx, wy)
         min_gap, contact_fraction = world.step(dx, dy)
         self._moves.append((dx, dy))
-        goal_fraction = reach_fraction(px, py, dx, dy, self._goal_xy[0], self._goal_xy[1], self.scenario.goal_radius)
         collision = contact_fraction <= 1.0 and contact_fraction <= goal_fraction
         success = goal_fraction <= 1.0 and not collision
 
@@ -393,9 +394,9 @@ class DynamicObstacleEnv(gym.Env):
 
     def _observation(self) -> dict[str, np.ndarray]:
         world, n_max = self._world, self.max_obstacles
-        block = self._observation_template.copy()  # one allocation per observation; the entries are views
         (x, y), (vx, vy) = world.robot_xy, world.robot_velocity_xy
-        _fill_observation(block, x, y, vx, vy, world.obstacle_state, n_max)
+        # one allocation per observation; the entries are views of it
+        block = _observation_block(self._observation_template, x, y, vx, vy, world.obstacle_state, n_max)
         return {
             "robot_position": block[0:2],
             "robot_velocity": block[2:4],
@@ -452,12 +453,14 @@ def _fill_template(template, gx, gy, arena_low, radii, n_max):
 
 
 @numba.njit(cache=True)
-def _fill_observation(block, x, y, vx, vy, obstacle_state, n_max):
-    """Write the robot's and the obstacles' state into an observation block (float32), in one
-    compiled call instead of six numpy slice assignments."""
+def _observation_block(template, x, y, vx, vy, obstacle_state, n_max):
+    """A copy of the episode's template with the robot's and the obstacles' state written in
+    (float32), in one compiled call instead of a copy and six numpy slice assignments."""
+    block = template.copy()
     block[0], block[1], block[2], block[3] = x, y, vx, vy
     for i in range(obstacle_state.shape[0]):
         block[6 + 2 * i] = obstacle_state[i, 0]
         block[7 + 2 * i] = obstacle_state[i, 1]
         block[6 + 2 * n_max + 2 * i] = obstacle_state[i, 2]
         block[7 + 2 * n_max + 2 * i] = obstacle_state[i, 3]
+    return block

@@ -47,6 +47,14 @@ def reach_fraction(px: float, py: float, dx: float, dy: float, gx: float, gy: fl
 
 
 @numba.njit(cache=True)
+def move_and_goal(action, params, px, py, reach, gx, gy, goal_radius):
+    """``robot_move`` and the move's ``reach_fraction`` in one call (the env's step: one dispatch
+    instead of two): ``(finite, wx, wy, dx, dy, goal_fraction)``."""
+    finite, wx, wy, dx, dy = robot_move(action, params, px, py, reach)
+    return finite, wx, wy, dx, dy, reach_fraction(px, py, dx, dy, gx, gy, goal_radius)
+
+
+@numba.njit(cache=True)
 def substep_point(x0: float, d: float, k: int, n: int) -> float:
     """The robot's coordinate after substep ``k`` of ``n`` of a step from ``x0`` by ``d`` (as ``World.step``)."""
     return x0 + d if k == n else x0 + (k / n) * d

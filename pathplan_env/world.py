@@ -33,7 +33,7 @@ MAX_SUBSTEP_DISPLACEMENT = 0.5
 SPEED_TOLERANCE = 1e-9
 _STATE_FIELDS = pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.VELOCITY
 _batch = pymunk.batch  # its ffi and lib, for the per-substep read below
-_space_step, _each_body = _batch.lib.cpSpaceStep, _batch.lib.cpSpaceEachBody
+_space_step, _each_body, _set_mass = _batch.lib.cpSpaceStep, _batch.lib.cpSpaceEachBody, _batch.lib.cpBodySetMass
 _READ_BODY = _batch.ffi.addressof(_batch.lib, "pmSpaceBodyGetIteratorFuncBatched")
 _WRITE_BODY = _batch.ffi.addressof(_batch.lib, "pmSpaceBodySetIteratorFuncBatched")
 
@@ -147,7 +147,7 @@ class World:
         for r, speed in zip(self.radii.tolist(), self._speeds.tolist()):
             if speed > 0 and spare:
                 body, shape = spare.pop()
-                body.mass = r * r
+                _set_mass(body._body, r * r)  # Body.mass's own C call, without its Python property layers
                 shape.unsafe_set_radius(r)
             else:
                 if speed > 0:

@@ -299,9 +299,21 @@ def evaluate(
     agent_names: list[str], scenarios: list[str], deltas: list[float], episodes: int, out: str | Path, *,
     seed: int = 0, split: str = "test", n_obstacles: int = 8, workers: int = 1, agent_kwargs: dict | None = None,
     limit: bool = True, resume: bool = False, plots: bool = True, config: dict | None = None,
+    backend: str = "process", address: str | None = None,
 ) -> list[dict]:  # fmt: skip
-    """Run the cells, write the results to ``out`` and return the summary rows (see the module doc)."""
+    """Run the cells, write the results to ``out`` and return the summary rows (see the module doc).
+
+    ``backend``: ``"process"`` (a local pool of ``workers`` processes) or ``"ray"`` (a local Ray, or
+    the cluster at ``address``; :mod:`agents.ray_backend`). Both run the same jobs: same results."""
     from pathplan_env.splits import heldout_seeds, validation_seeds
+
+    if backend not in ("process", "ray"):
+        raise ValueError(f"backend must be 'process' or 'ray', got {backend!r}")
+    if backend == "ray":
+        try:
+            import ray  # noqa: F401  (checked before any work)
+        except ImportError:
+            raise ValueError('--backend ray needs Ray: pip install -e ".[ray]"') from None
 
     agent_names = list(agent_names)
     own = resolve_agent_kwargs(agent_names, agent_kwargs or {})
@@ -336,7 +348,12 @@ def evaluate(
             sink.write(json.dumps({"job": list(_job_key(job)), "result": asdict(res)}) + "\n")
             sink.flush()
 
-        run_jobs(jobs, workers, record)
+        if backend == "ray":
+            from .ray_backend import run_jobs_on_ray
+
+            run_jobs_on_ray(jobs, record, address=address, num_cpus=workers)
+        else:
+            run_jobs(jobs, workers, record)
     elapsed = time.perf_counter() - start
     results.sort(key=lambda r: (r.agent, r.scenario, r.delta_d, r.episode))
     rows = summarize(results)

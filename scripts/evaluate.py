@@ -39,6 +39,9 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--agent-kwargs", default="{}",
                         help='JSON overrides: for every agent, e.g. \'{"n_waypoints": 3}\', or per agent, e.g. \'{"pso": {"n_waypoints": 3}}\'')
     parser.add_argument("--resume", action="store_true", help="continue the run recorded in --out/episodes.jsonl")
+    parser.add_argument("--backend", choices=("process", "ray"), default="process",
+                        help='where episodes run: a local process pool (--workers) or Ray (pip install -e ".[ray]")')
+    parser.add_argument("--address", help="with --backend ray: a running cluster's address (default: a local Ray)")
     parser.add_argument("--out", default="results/latest", help="output directory")
     parser.add_argument("--no-plots", action="store_true")
     parser.add_argument("--no-limit", action="store_true",
@@ -81,10 +84,11 @@ def main(argv=None) -> list[dict]:
         rows = evaluate(
             agent_names, scenarios, deltas, args.episodes, args.out, seed=args.seed, split=args.split,
             n_obstacles=args.n_obstacles, workers=args.workers, agent_kwargs=agent_kwargs, limit=not args.no_limit,
-            resume=args.resume, plots=not args.no_plots, config={"suite": args.suite},
+            resume=args.resume, plots=not args.no_plots, config={"suite": args.suite}, backend=args.backend,
+            address=args.address,
         )  # fmt: skip
-    except ValueError as error:  # bad agent kwargs: named before any episode ran
-        raise SystemExit(f"--agent-kwargs: {error}") from None
+    except ValueError as error:  # bad agent kwargs or a missing Ray: named before any episode ran
+        raise SystemExit(f"--backend: {error}" if "Ray" in str(error) else f"--agent-kwargs: {error}") from None
     print(markdown_table(rows))
     for scenario in scenarios:
         table = limit_table(rows, scenario)

@@ -69,7 +69,8 @@ def table_1(runs: int, margin: float = 0.05):
     return rows, histories
 
 
-def table_2(episodes: int, names: list[str], out: Path, workers: int, margin: float | None = None, resume: bool = False) -> list[dict]:
+def table_2(episodes: int, names: list[str], out: Path, workers: int, margin: float | None = None, resume: bool = False,
+            backend: str = "process", address: str | None = None) -> list[dict]:
     """Verdicts per Δd over the three cases, run by the evaluation harness (same test episodes for
     every planner). ``margin`` (m) overrides the safety margin of the paper's planners (abc, pso)."""
     from agents.evaluation import LIMIT_AGENT, evaluate, wilson_interval
@@ -77,7 +78,7 @@ def table_2(episodes: int, names: list[str], out: Path, workers: int, margin: fl
     planners = [n for n in names if n != LIMIT_AGENT]
     kwargs = {n: {"margin": margin} for n in planners if n in PLANNERS} if margin is not None else {}
     cells = evaluate(planners, CASES, sorted(PAPER_TABLE_2), episodes, out, workers=workers, agent_kwargs=kwargs,
-                     limit=LIMIT_AGENT in names, plots=False, resume=resume)  # fmt: skip
+                     limit=LIMIT_AGENT in names, plots=False, resume=resume, backend=backend, address=address)  # fmt: skip
     rows = []
     for delta_d in sorted(PAPER_TABLE_2, reverse=True):
         row = {"delta_d": delta_d}
@@ -133,6 +134,8 @@ def parse_args(argv=None) -> argparse.Namespace:
                         help="also sweep the paper planners' safety margin (m), e.g. 0.05,0.15,0.25: Table 1 lengths and Table 2 at each")
     parser.add_argument("--margin-episodes", type=int, default=100, help="episodes per case and Δd in the margin sweep (300 a cell)")
     parser.add_argument("--resume", action="store_true", help="continue Table 2's runs recorded under --out")
+    parser.add_argument("--backend", choices=("process", "ray"), default="process", help="Table 2's executor (see scripts/evaluate.py)")
+    parser.add_argument("--address", help="with --backend ray: a running cluster's address")
     return parser.parse_args(argv)
 
 
@@ -154,7 +157,8 @@ def main(argv=None) -> None:
     print("\nTable 2: verdict (success rate, episodes) over the three paper cases; success = Wilson 95% lower bound >= 0.9")
     print(f"(oracle-clairvoyant, privileged, is the physical limit: the share of episodes that can be won at all; "
           f"with n = {3 * args.episodes}, success needs at least {min_wins(3 * args.episodes)} wins)")  # fmt: skip
-    print_table_2(table_2(args.episodes, names, out / "table2", args.workers, resume=args.resume), names)
+    run = dict(resume=args.resume, backend=args.backend, address=args.address)
+    print_table_2(table_2(args.episodes, names, out / "table2", args.workers, **run), names)
 
     for margin in args.margins:
         print(f"\nMargin {margin:g} m (the paper states none; ours is 0.05): Table 1 lengths and Table 2 for the paper's planners")
@@ -162,7 +166,7 @@ def main(argv=None) -> None:
         print("|---|---|---:|---:|")
         for case, name, _, _, length, std in table_1(min(args.runs, 10), margin=margin)[0]:
             print(f"| {case} | {PLANNERS[name]} | {length:.3f} | {std:.4f} |")
-        print_table_2(table_2(args.margin_episodes, list(PLANNERS), out / f"table2_margin_{margin:g}", args.workers, margin, args.resume), list(PLANNERS))
+        print_table_2(table_2(args.margin_episodes, list(PLANNERS), out / f"table2_margin_{margin:g}", args.workers, margin, **run), list(PLANNERS))
 
 
 def min_wins(n: int) -> int | None:

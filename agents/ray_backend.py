@@ -1,0 +1,46 @@
+"""The evaluation's Ray executor: the same ``run_episode`` jobs as the local process pool, on a local
+Ray or a cluster (``ray start --head``, then ``--address``). Optional: ``pip install -e ".[ray]"``.
+
+Results come back as episodes finish (the progress bar moves); a task whose worker dies is
+retried by Ray (``max_retries``); an interrupted run resumes from ``episodes.jsonl`` like any other.
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import asdict
+
+from tqdm import tqdm
+
+#: How many times Ray re-runs an episode whose worker process died.
+MAX_RETRIES = 3
+
+
+def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, num_cpus: int | None = None) -> None:
+    """Run ``jobs`` on Ray, calling ``on_result`` with each finished episode as it arrives."""
+    try:
+        import ray
+    except ImportError:
+        raise ValueError('--backend ray needs Ray: pip install -e ".[ray]"') from None
+    from .evaluation import EpisodeResult, run_episode
+
+    started_here = not ray.is_initialized()
+    if started_here:
+        ray.init(address=address, num_cpus=None if address else num_cpus, include_dashboard=False,
+                 log_to_driver=False, runtime_env={"env_vars": {"OMP_NUM_THREADS": "1"}})  # fmt: skip
+
+    @ray.remote(max_retries=MAX_RETRIES)
+    def episode(job):
+        return asdict(run_episode(*job))  # a plain dict travels without our classes' pickles
+
+    try:
+        pending = [episode.remote(job) for job in jobs]
+        with tqdm(total=len(jobs), desc="episodes (ray)", file=sys.stderr) as bar:
+            while pending:
+                done, pending = ray.wait(pending, num_returns=min(len(pending), 16), timeout=1.0)
+                for ref in done:
+                    on_result(EpisodeResult(**ray.get(ref)))
+                    bar.update()
+    finally:
+        if started_here:
+            ray.shutdown()

@@ -1,0 +1,38 @@
+"""The Ray backend runs the same jobs as the process pool: the same results, timing aside."""
+
+import importlib.util
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "scripts"))
+import evaluate  # noqa: E402
+
+TINY = ["--agents", "straight,pso-predictive", "--scenarios", "paper-case-1", "--delta-d", "0,0.5", "--episodes", "3", "--no-plots"]
+
+
+def strip(cells):
+    return [{k: v for k, v in c.items() if not k.startswith("plan_ms")} for c in cells]
+
+
+@pytest.mark.skipif(importlib.util.find_spec("ray") is None, reason='Ray not installed (pip install -e ".[ray]")')
+def test_ray_backend_gives_the_process_pools_results(tmp_path):
+    on_ray = evaluate.main(TINY + ["--backend", "ray", "--workers", "2", "--out", str(tmp_path / "ray")])
+    local = evaluate.main(TINY + ["--workers", "1", "--out", str(tmp_path / "local")])
+    assert strip(on_ray) == strip(local)
+    assert len((tmp_path / "ray" / "episodes.jsonl").read_text().splitlines()) == 18  # 3 agents x 2 Δd x 3
+
+
+def test_ray_backend_without_ray_is_one_line_before_any_work(tmp_path):
+    code = (
+        "import sys; sys.modules['ray'] = None\n"  # as if Ray were not installed
+        f"sys.path.insert(0, {str(ROOT / 'scripts')!r})\n"
+        "import evaluate\n"
+        f"evaluate.main(['--backend', 'ray', '--out', {str(tmp_path)!r}])\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.returncode != 0 and "--backend ray needs Ray" in out.stderr.strip().splitlines()[-1]
+    assert not (tmp_path / "episodes.jsonl").exists() and "Traceback" not in out.stderr

@@ -168,9 +168,7 @@ def common_successes(results: list[EpisodeResult]) -> dict[tuple, set]:
             seeds = per_agent.setdefault(res.agent, set())
             if res.success and np.isfinite(res.path_length_ratio):
                 seeds.add(res.seed)
-    return {key: set.intersection(*per_agent.values()) if per_agent else set() for key, per_agent in solved.items()} | {
-        (r.scenario, r.delta_d): set() for r in results if (r.scenario, r.delta_d) not in solved
-    }
+    return {key: set.intersection(*per_agent.values()) for key, per_agent in solved.items()}
 
 
 def summarize(results: list[EpisodeResult]) -> list[dict]:
@@ -178,9 +176,10 @@ def summarize(results: list[EpisodeResult]) -> list[dict]:
     for res in results:
         cells.setdefault((res.agent, res.scenario, res.delta_d), []).append(res)
     limit_of = limits(results)
-    common = common_successes(results)
+    common_of = common_successes(results)
     rows = []
     for (agent, scenario, delta_d), eps in cells.items():
+        common = common_of.get((scenario, delta_d), set())  # none when the limit ran alone
         n = len(eps)
         wins = [e for e in eps if e.success]
         mean_over = lambda values: float(np.mean(values)) if len(values) else None  # noqa: E731
@@ -200,8 +199,8 @@ def summarize(results: list[EpisodeResult]) -> list[dict]:
                 # SPL (Anderson et al. 2018): success x shortest / max(flown, shortest), over all episodes
                 "spl": float(np.mean([spl_term(e) for e in eps])),
                 # the length ratio on the episodes every agent of the run solved (no survivorship bias)
-                "common_length_ratio": mean_over([e.path_length_ratio for e in eps if e.seed in common[(scenario, delta_d)]]),
-                "common_episodes": len(common[(scenario, delta_d)]),
+                "common_length_ratio": mean_over([e.path_length_ratio for e in eps if e.seed in common]),
+                "common_episodes": len(common),
                 "time_to_goal": mean_over([e.time_to_goal for e in wins]),
                 "plan_ms_median": float(np.median(plans)),
                 "plan_ms_p95": float(np.percentile(plans, 95)),

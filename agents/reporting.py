@@ -41,7 +41,7 @@ def limit_table(rows: list[dict], scenario: str) -> str:
     fmt = lambda v: "-" if v is None else f"{v:.2f}"  # noqa: E731
     lines = [f"| {scenario}: success ÷ limit | " + " | ".join(f"Δd = {d:g}" for d in deltas) + " |",
              "|---|" + "---:|" * len(deltas)]  # fmt: skip
-    limit_row = [by[(LIMIT_AGENT, d)] if (LIMIT_AGENT, d) in by else next(r for r in cells if r["delta_d"] == d) for d in deltas]
+    limit_row = [next(r for r in cells if r["delta_d"] == d) for d in deltas]  # every row of a cell carries its limit
     lines.append("| **limit** (oracle-clairvoyant's success) | " + " | ".join(f"**{r['limit']:.2f}**" for r in limit_row) + " |")
     for agent in sorted({r["agent"] for r in cells} - {LIMIT_AGENT}):
         lines.append(f"| {agent} | " + " | ".join(fmt(by[(agent, d)]["success_over_limit"]) if (agent, d) in by else "-" for d in deltas) + " |")

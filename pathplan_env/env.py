@@ -162,8 +162,7 @@ class DynamicObstacleEnv(gym.Env):
         self.proximity_distance = float(proximity_distance)
         # Build one scenario now so that bad input fails when the env is made, and to fix the spaces.
         self.scenario: Scenario = make_scenario(scenario, np.random.default_rng(0), self._n_obstacles, self._delta_d)
-        arrays = self.scenario.arrays()
-        substeps_for(np.hypot(*arrays["velocities"].T), arrays["radii"], self.scenario.dt)
+        self._check_substeps(self.scenario)
         self.bounds = self.scenario.bounds
         if max_obstacles is None:
             max_obstacles = max(16, self._n_obstacles, self.scenario.n_obstacles)
@@ -360,8 +359,13 @@ class DynamicObstacleEnv(gym.Env):
         if scenario.n_obstacles > self.max_obstacles:
             raise ValueError(f"scenario has {scenario.n_obstacles} obstacles, more than max_obstacles={self.max_obstacles}")
         if physics:
-            arrays = scenario.arrays()
-            substeps_for(np.hypot(*arrays["velocities"].T), arrays["radii"], scenario.dt)
+            self._check_substeps(scenario)
+
+    @staticmethod
+    def _check_substeps(scenario: Scenario) -> None:
+        """The scenario's physics within the substep bound (``World`` checks it again when built)."""
+        arrays = scenario.arrays()
+        substeps_for(np.hypot(*arrays["velocities"].T), arrays["radii"], scenario.dt)
 
     @staticmethod
     def _check_n_obstacles(n) -> int:

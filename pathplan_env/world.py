@@ -129,7 +129,7 @@ class World:
         self.time = 0.0
 
         self.substeps = substeps_for(self._speeds, self.radii, scenario.dt)
-        min_radius = float(self.radii.min()) if self.n_obstacles else 1.0
+        min_radius = min(self.radii.tolist()) if self.n_obstacles else 1.0
 
         self.space = pymunk.Space()
         # No overlap correction: Chipmunk's bias velocity pushes interpenetrating bodies apart farther

@@ -10,11 +10,13 @@ from .clairvoyant import ClairvoyantOracle
 from .classical import StraightAgent, VelocityObstacleAgent
 from .metaheuristic import MetaheuristicAgent
 from .oracle import StaticOracleAgent
+from .reciprocal import ORCAAgent
 from .rl import RLAgent
 from .spacetime import SpacetimeAStarAgent, SpacetimeMetaheuristicAgent
 
 register("straight", StraightAgent)
 register("velocity-obstacle", VelocityObstacleAgent)
+register("orca", ORCAAgent)
 register("oracle-static", StaticOracleAgent)
 register("oracle-clairvoyant", ClairvoyantOracle)  # privileged: reads the simulator
 register("ppo", partial(RLAgent, algo="ppo"))
@@ -26,4 +28,4 @@ for _optimizer in ("pso", "abc"):
 register("pso-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="pso"))
 register("abc-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="abc", population=40))  # 20 food sources
 
-__all__ = ["Agent", "ClairvoyantOracle", "MetaheuristicAgent", "RLAgent", "SpacetimeAStarAgent", "SpacetimeMetaheuristicAgent", "StaticOracleAgent", "StraightAgent", "VelocityObstacleAgent", "available", "make", "register", "rollout"]
+__all__ = ["Agent", "ClairvoyantOracle", "MetaheuristicAgent", "ORCAAgent", "RLAgent", "SpacetimeAStarAgent", "SpacetimeMetaheuristicAgent", "StaticOracleAgent", "StraightAgent", "VelocityObstacleAgent", "available", "make", "register", "rollout"]

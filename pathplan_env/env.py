@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any
 
@@ -132,8 +133,9 @@ class DynamicObstacleEnv(gym.Env):
         self,
         scenario: str | Scenario = "random",
         delta_d: float | None = 0.25,
-        n_obstacles: int = 8,
+        n_obstacles: int | None = None,
         max_obstacles: int | None = None,
+        robot_visible: bool | None = None,
         reward_progress: float = 1.0,
         reward_goal: float = 1.0,
         reward_collision: float = -1.0,
@@ -148,6 +150,9 @@ class DynamicObstacleEnv(gym.Env):
         self._scenario_spec = scenario
         self._delta_d = check_delta_d(delta_d)
         self._n_obstacles = self._check_n_obstacles(n_obstacles)
+        if robot_visible is not None and not isinstance(robot_visible, (bool, np.bool_)):
+            raise ValueError(f"robot_visible must be True, False or None, got {robot_visible!r}")
+        self._robot_visible = None if robot_visible is None else bool(robot_visible)
         weights = {"progress": reward_progress, "goal": reward_goal, "collision": reward_collision,
                    "time": reward_time, "proximity": reward_proximity}  # fmt: skip
         for name, value in weights.items():
@@ -161,11 +166,11 @@ class DynamicObstacleEnv(gym.Env):
             raise ValueError(f"proximity_distance must be finite and >= {MIN_LENGTH:g} m, got {proximity_distance!r}")
         self.proximity_distance = float(proximity_distance)
         # Build one scenario now so that bad input fails when the env is made, and to fix the spaces.
-        self.scenario: Scenario = make_scenario(scenario, np.random.default_rng(0), self._n_obstacles, self._delta_d)
+        self.scenario: Scenario = self._make_scenario(scenario, np.random.default_rng(0), self._n_obstacles, self._delta_d)
         self._check_substeps(self.scenario)
         self.bounds = self.scenario.bounds
         if max_obstacles is None:
-            max_obstacles = max(16, self._n_obstacles, self.scenario.n_obstacles)
+            max_obstacles = max(16, self._n_obstacles or 0, self.scenario.n_obstacles)
         if int(max_obstacles) != max_obstacles or max_obstacles < self.scenario.n_obstacles:
             raise ValueError(
                 f"max_obstacles must be an integer >= the scenario's {self.scenario.n_obstacles} obstacles, got {max_obstacles!r}"
@@ -235,9 +240,9 @@ class DynamicObstacleEnv(gym.Env):
         spec, delta_d, n_obstacles = self._scenario_spec, self._delta_d, self._n_obstacles
         if options:  # validated in full before anything changes: a rejected reset leaves the env as it was
             spec, delta_d, n_obstacles = self._parse_options(options)
-            self._check_fits(make_scenario(spec, np.random.default_rng(0), n_obstacles, delta_d), physics=True)
+            self._check_fits(self._make_scenario(spec, np.random.default_rng(0), n_obstacles, delta_d), physics=True)
         super().reset(seed=seed)
-        scenario = make_scenario(spec, self.np_random, n_obstacles, delta_d)
+        scenario = self._make_scenario(spec, self.np_random, n_obstacles, delta_d)
         self._check_fits(scenario)
         world = World(scenario, recycle=self._world)  # checks the substeps before it touches the old world
         self._scenario_spec, self._delta_d, self._n_obstacles = spec, delta_d, n_obstacles
@@ -292,6 +297,9 @@ class DynamicObstacleEnv(gym.Env):
             "proximity": w["proximity"] * max(0.0, 1.0 - min_gap / self.proximity_distance) if w["proximity"] else 0.0,
         }
         self._distance = distance
+        # the scenario's own time limit (CrowdNav's 25 s); the registration's step limit is TimeLimit's
+        limit = self.scenario.time_limit
+        truncated = limit is not None and not (success or collision) and world.time >= limit * (1.0 - 1e-12)
         if self.render_mode is not None:
             self.trail.append(world.robot_xy)
         info = {  # as _info() builds it, inlined on the hot path
@@ -308,7 +316,7 @@ class DynamicObstacleEnv(gym.Env):
         if self.render_mode == "human":
             self.render()
         reward = rewards["progress"] + rewards["goal"] + rewards["collision"] + rewards["time"] + rewards["proximity"]
-        return self._observation(), reward, success or collision, False, info
+        return self._observation(), reward, success or collision, truncated, info
 
     def render(self):
         if self.render_mode is None:
@@ -339,6 +347,12 @@ class DynamicObstacleEnv(gym.Env):
             self._renderer = None
 
     # -- helpers -------------------------------------------------------------------------------
+    def _make_scenario(self, spec, rng, n_obstacles, delta_d) -> Scenario:
+        scenario = make_scenario(spec, rng, n_obstacles, delta_d)
+        if self._robot_visible is not None and scenario.robot_visible != self._robot_visible:
+            scenario = dataclasses.replace(scenario, robot_visible=self._robot_visible)
+        return scenario
+
     def _parse_options(self, options: dict[str, Any]):
         unknown = set(options) - {"scenario", "delta_d", "n_obstacles"}
         if unknown:
@@ -365,10 +379,13 @@ class DynamicObstacleEnv(gym.Env):
     def _check_substeps(scenario: Scenario) -> None:
         """The scenario's physics within the substep bound (``World`` checks it again when built)."""
         arrays = scenario.arrays()
-        substeps_for(np.hypot(*arrays["velocities"].T), arrays["radii"], scenario.dt)
+        speeds = np.array([scenario.top_speed(i) for i in range(scenario.n_obstacles)]) if scenario.goal_directed else np.hypot(*arrays["velocities"].T)
+        substeps_for(speeds, arrays["radii"], scenario.dt)
 
     @staticmethod
-    def _check_n_obstacles(n) -> int:
+    def _check_n_obstacles(n) -> int | None:
+        if n is None:
+            return None
         if isinstance(n, bool) or int(n) != n or n < 0:
             raise ValueError(f"n_obstacles must be a non-negative integer, got {n!r}")
         return int(n)

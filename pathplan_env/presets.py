@@ -9,6 +9,7 @@ from typing import Callable
 import numba
 import numpy as np
 
+from .crowdnav import CROWDNAV_PRESETS
 from .scenarios import Obstacle, Scenario, Vec2
 
 #: The paper's Table 1 obstacle centres. The paper states nothing else; our assumptions
@@ -145,16 +146,22 @@ def sample_random_scenario(rng: np.random.Generator, n_obstacles: int = 8, delta
     )  # fmt: skip
 
 
-PRESETS: dict[str, Callable[[np.random.Generator, int], Scenario]] = {
+#: Obstacle count of the random preset when none is given.
+RANDOM_DEFAULT_OBSTACLES = 8
+
+#: Every preset: ``(rng, n_obstacles or None for the preset's own count) -> Scenario``.
+PRESETS: dict[str, Callable[[np.random.Generator, int | None], Scenario]] = {
     **{name: (lambda rng, n, name=name: paper_case(name)) for name in PAPER_CASES},
-    "random": sample_random_scenario,
+    "random": lambda rng, n: sample_random_scenario(rng, RANDOM_DEFAULT_OBSTACLES if n is None else n),
+    **CROWDNAV_PRESETS,
 }
 
 
 def make_scenario(
-    spec: "str | Scenario", rng: np.random.Generator, n_obstacles: int = 8, delta_d: float | None = None
+    spec: "str | Scenario", rng: np.random.Generator, n_obstacles: int | None = None, delta_d: float | None = None
 ) -> Scenario:
-    """Resolve a preset name, a :class:`Scenario` or its dict form, then apply ``delta_d`` (``None`` keeps the velocities)."""
+    """Resolve a preset name, a :class:`Scenario` or its dict form, then apply ``delta_d`` (``None`` keeps the
+    velocities). ``n_obstacles`` sets the random and CrowdNav presets' counts (``None``: their own)."""
     if isinstance(spec, dict):
         spec = Scenario.from_dict(spec)
     if isinstance(spec, Scenario):
@@ -163,7 +170,7 @@ def make_scenario(
         if spec not in PRESETS:
             raise ValueError(f"scenario: unknown preset {spec!r}; known presets: {sorted(PRESETS)}")
         if spec == "random":  # Δd applied while sampling: the same draws, without a second copy
-            return sample_random_scenario(rng, n_obstacles, delta_d)
+            return sample_random_scenario(rng, RANDOM_DEFAULT_OBSTACLES if n_obstacles is None else n_obstacles, delta_d)
         scenario = PRESETS[spec](rng, n_obstacles)
     else:
         raise ValueError(f"scenario must be a preset name or a Scenario, got {type(spec).__name__}")

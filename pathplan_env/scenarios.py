@@ -17,6 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .behaviours import BOUNCE, Behaviour, make_behaviour
+
 Vec2 = tuple[float, float]
 
 
@@ -51,16 +53,28 @@ def _positive(value, name: str, allow_zero: bool = False, minimum: float = 0.0) 
 
 @dataclass(frozen=True)
 class Obstacle:
-    """A circular obstacle: centre (m), radius (m) and initial velocity (m/s)."""
+    """A circular obstacle: centre (m), radius (m) and initial velocity (m/s).
+
+    Goal-directed obstacles (behaviour ``"orca"`` or ``"social-force"``, here or the scenario's)
+    head for ``goal`` at up to ``preferred_speed`` (m/s); ``behaviour=None`` takes the scenario's.
+    """
 
     center: Vec2
     radius: float
     velocity: Vec2 = (0.0, 0.0)
+    goal: Vec2 | None = None
+    preferred_speed: float = 0.0
+    behaviour: Behaviour | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "center", _vec2(self.center, "Obstacle.center"))
         object.__setattr__(self, "radius", _positive(self.radius, "Obstacle.radius", minimum=MIN_LENGTH))
         object.__setattr__(self, "velocity", _vec2(self.velocity, "Obstacle.velocity"))
+        if self.goal is not None:
+            object.__setattr__(self, "goal", _vec2(self.goal, "Obstacle.goal"))
+        object.__setattr__(self, "preferred_speed", _positive(self.preferred_speed, "Obstacle.preferred_speed", allow_zero=True))
+        if self.behaviour is not None:
+            object.__setattr__(self, "behaviour", make_behaviour(self.behaviour, "Obstacle.behaviour"))
 
     @property
     def speed(self) -> float:
@@ -89,6 +103,11 @@ class Scenario:
     :param dt: control period (s): one env step advances the world by ``dt``.
     :param goal_radius: goal tolerance (m); ``None`` means the robot radius.
     :param name: a label (the preset's name), used in logs and results.
+    :param behaviour: the obstacles' motion model where their own ``behaviour`` is ``None``
+        (``pathplan_env.behaviours``: ``"bounce"``, ``"orca"``, ``"social-force"``).
+    :param robot_visible: whether goal-directed obstacles see the robot and avoid it.
+    :param time_limit: episode time limit (s): the env truncates once it has passed; ``None``
+        leaves only the registration's step limit.
     """
 
     bounds: tuple[float, float, float, float]
@@ -100,6 +119,9 @@ class Scenario:
     dt: float = 0.1
     goal_radius: float | None = None
     name: str = "custom"
+    behaviour: Behaviour = BOUNCE
+    robot_visible: bool = False
+    time_limit: float | None = None
 
     def __post_init__(self):
         try:
@@ -119,6 +141,12 @@ class Scenario:
         set_("dt", _positive(self.dt, "Scenario.dt"))
         goal_radius = self.robot_radius if self.goal_radius is None else self.goal_radius
         set_("goal_radius", _positive(goal_radius, "Scenario.goal_radius", minimum=MIN_LENGTH))
+        set_("behaviour", make_behaviour(self.behaviour, "Scenario.behaviour"))
+        if not isinstance(self.robot_visible, (bool, np.bool_)):
+            raise ValueError(f"Scenario.robot_visible must be True or False, got {self.robot_visible!r}")
+        set_("robot_visible", bool(self.robot_visible))
+        if self.time_limit is not None:
+            set_("time_limit", _positive(self.time_limit, "Scenario.time_limit"))
         obstacles = tuple(self.obstacles)
         for i, ob in enumerate(obstacles):
             if not isinstance(ob, Obstacle):
@@ -190,6 +218,16 @@ class Scenario:
                 f"Scenario.obstacles[{i}].velocity {self.obstacles[i].velocity} crosses the whole arena in one step; "
                 f"lower the speed or delta_d"
             )
+        for i, ob in enumerate(self.obstacles):
+            if not self.behaviour_of(i).goal_directed:
+                continue
+            if ob.goal is None:
+                raise ValueError(f"Scenario.obstacles[{i}]: behaviour {self.behaviour_of(i).model!r} needs a goal (Obstacle.goal)")
+            gx, gy = ob.goal
+            if not (xmin + ob.radius <= gx <= xmax - ob.radius and ymin + ob.radius <= gy <= ymax - ob.radius):
+                raise ValueError(f"Scenario.obstacles[{i}].goal {ob.goal} is not inside the arena {self.bounds} (radius {ob.radius})")
+            if ob.preferred_speed * self.dt > max_step:
+                raise ValueError(f"Scenario.obstacles[{i}].preferred_speed {ob.preferred_speed} crosses the whole arena in one step")
 
     # -- derived facts -------------------------------------------------------------------------
     @property
@@ -201,15 +239,34 @@ class Scenario:
         xmin, ymin, xmax, ymax = self.bounds
         return math.hypot(xmax - xmin, ymax - ymin)
 
+    def behaviour_of(self, i: int) -> Behaviour:
+        """Obstacle ``i``'s motion model: its own, else the scenario's."""
+        own = self.obstacles[i].behaviour
+        return self.behaviour if own is None else own
+
+    @property
+    def goal_directed(self) -> bool:
+        """Whether any obstacle steers itself (then its moves depend on the others, and maybe the robot)."""
+        return self.behaviour.goal_directed or any(ob.behaviour is not None and ob.behaviour.goal_directed for ob in self.obstacles)
+
+    def top_speed(self, i: int) -> float:
+        """The fastest obstacle ``i`` can move: its speed, or its preferred speed when goal-directed."""
+        ob = self.obstacles[i]
+        return max(ob.speed, ob.preferred_speed) if self.behaviour_of(i).goal_directed else ob.speed
+
     @property
     def delta_d(self) -> float:
-        """The largest Δd among the obstacles (all equal once set by :meth:`with_delta_d`); 0 if none move."""
+        """The largest Δd among the obstacles (all equal once set by :meth:`with_delta_d`); 0 if none move.
+        For goal-directed obstacles, ``preferred_speed * dt / radius``."""
+        if self.goal_directed:
+            return max((self.top_speed(i) * self.dt / ob.radius for i, ob in enumerate(self.obstacles)), default=0.0)
         return max((ob.speed * self.dt / ob.radius for ob in self.obstacles), default=0.0)
 
     def with_delta_d(self, delta_d: float, rng: np.random.Generator) -> "Scenario":
         """A copy whose every obstacle moves exactly ``delta_d`` radii per step.
 
         Obstacles that already move keep their direction; resting ones get a direction from ``rng``.
+        Goal-directed obstacles get that preferred speed instead (their velocity is theirs to choose).
         """
         delta_d = float(delta_d)
         if not (math.isfinite(delta_d) and delta_d >= 0):
@@ -224,6 +281,8 @@ class Scenario:
         new_velocities = (delta_d * radii / self.dt)[:, None] * units
         if len(radii) and delta_d * float(radii.max()) > self.arena_diagonal:
             raise ValueError(f"delta_d {delta_d} makes obstacles cross the whole arena in one step; lower delta_d")
+        if self.goal_directed:
+            return self._with_preferred_speeds(delta_d, new_velocities)
         moved = tuple(
             Obstacle._from_checked(ob.center, ob.radius, (vx, vy)) for ob, (vx, vy) in zip(self.obstacles, new_velocities.tolist())
         )
@@ -233,6 +292,15 @@ class Scenario:
         new_velocities.flags.writeable = False
         object.__setattr__(scenario, "_arrays", {**self._arrays, "velocities": new_velocities})
         return scenario
+
+    def _with_preferred_speeds(self, delta_d: float, bounce_velocities: np.ndarray) -> "Scenario":
+        obstacles = []
+        for i, ob in enumerate(self.obstacles):
+            if self.behaviour_of(i).goal_directed:
+                obstacles.append(dataclasses.replace(ob, preferred_speed=delta_d * ob.radius / self.dt))
+            else:
+                obstacles.append(dataclasses.replace(ob, velocity=tuple(bounce_velocities[i].tolist())))
+        return dataclasses.replace(self, obstacles=tuple(obstacles))
 
     @classmethod
     def from_dict(cls, data: dict) -> "Scenario":

@@ -123,12 +123,14 @@ class World:
         self.radii = data["radii"]
         self.n_obstacles = len(self.radii)
         self._speeds = np.hypot(data["velocities"][:, 0], data["velocities"][:, 1])
+        self._drivers = self._group_drivers(scenario)
         # the robot's state as Python floats: the env's per-step arithmetic on numpy scalars cost more
         self.robot_xy = (float(scenario.start[0]), float(scenario.start[1]))
         self.robot_velocity_xy = (0.0, 0.0)
         self.time = 0.0
 
-        self.substeps = substeps_for(self._speeds, self.radii, scenario.dt)
+        top_speeds = self._speeds if not self._drivers else np.array([scenario.top_speed(i) for i in range(self.n_obstacles)])
+        self.substeps = substeps_for(top_speeds, self.radii, scenario.dt)
         min_radius = min(self.radii.tolist()) if self.n_obstacles else 1.0
 
         self.space = pymunk.Space()
@@ -144,7 +146,7 @@ class World:
         self.space.add(*self._walls)
         spare = recycle._release_moving_obstacles() if recycle is not None else []
         objects, self._moving = [], []
-        for r, speed in zip(self.radii.tolist(), self._speeds.tolist()):
+        for r, speed in zip(self.radii.tolist(), top_speeds.tolist()):  # a goal-directed obstacle is dynamic even at rest
             if speed > 0 and spare:
                 body, shape = spare.pop()
                 _set_mass(body._body, r * r)  # Body.mass's own C call, without its Python property layers
@@ -167,6 +169,38 @@ class World:
         self._pymunk_state[:, 2:] = data["velocities"]
         self._write_bodies()
         self.obstacle_state = self._pymunk_state.copy()  # (N, 4): x, y, vx, vy
+
+    @staticmethod
+    def _group_drivers(scenario: Scenario) -> list:
+        """``(behaviour, obstacle indices, goals, preferred speeds)`` per goal-directed behaviour; empty
+        for a scenario of bouncing obstacles (then stepping costs nothing extra)."""
+        if not scenario.goal_directed:
+            return []
+        groups: dict = {}
+        for i in range(scenario.n_obstacles):
+            behaviour = scenario.behaviour_of(i)
+            if behaviour.goal_directed:
+                groups.setdefault(behaviour, []).append(i)
+        n = scenario.n_obstacles
+        goals = np.array([ob.goal if ob.goal is not None else ob.center for ob in scenario.obstacles], np.float64).reshape(n, 2)
+        preferred = np.array([ob.preferred_speed for ob in scenario.obstacles], np.float64)
+        return [(behaviour, np.array(idx, np.int64), goals, preferred) for behaviour, idx in groups.items()]
+
+    def _steer(self) -> None:
+        """Goal-directed obstacles choose this step's velocities (all from the same snapshot); the
+        speed each chose is the one bounces keep for the step."""
+        if self.scenario.robot_visible:
+            (x, y), (vx, vy) = self.robot_xy, self.robot_velocity_xy
+            robot = np.array([x, y, vx, vy, self.scenario.robot_radius])
+        else:
+            robot = np.empty(0)
+        chosen = [(idx, b.velocities(idx, self.obstacle_state, self.radii, goals, speeds, robot, self.scenario.dt))
+                  for b, idx, goals, speeds in self._drivers]  # fmt: skip
+        for idx, velocities in chosen:
+            self.obstacle_state[idx, 2:] = velocities
+            self._speeds[idx] = np.hypot(velocities[:, 0], velocities[:, 1])
+        self._pymunk_state[:] = self.obstacle_state
+        self._write_bodies()
 
     def _release_moving_obstacles(self) -> list:
         """Empty this world and hand over its moving obstacles' (body, shape) pairs for reuse.
@@ -264,6 +298,8 @@ class World:
             the first contact began (``NO_CONTACT``, > 1, if none).
         """
         dt, n = self.scenario.dt, self.substeps
+        if self._drivers:
+            self._steer()
         x0, y0 = self.robot_xy
         min_gap, first_contact = self.scenario.arena_diagonal, NO_CONTACT  # no gap is wider: finite with no obstacles
         ax, ay = x0, y0
@@ -294,9 +330,10 @@ class World:
     def obstacle_trajectory(self, n_steps: int) -> np.ndarray:
         """Advance the obstacles by ``n_steps`` steps and return their state at every substep.
 
-        The robot never moves an obstacle, so the obstacles of a fresh world built from an episode's
-        scenario follow this trajectory whatever the robot does: it is the future that the
-        privileged clairvoyant oracle reads. ``out[s]`` is the (N, 4) state after ``s`` substeps
+        The robot never moves an obstacle, so unless goal-directed obstacles see it
+        (``Scenario.robot_visible``), the obstacles of a fresh world built from an episode's scenario
+        follow this trajectory whatever the robot does: it is the future that the privileged
+        clairvoyant oracle reads. ``out[s]`` is the (N, 4) state after ``s`` substeps
         (``out[0]`` now); the robot does not move.
         """
         n, dt = self.substeps, self.scenario.dt
@@ -304,6 +341,8 @@ class World:
         out[0] = self.obstacle_state
         space, array, request = self.space._space, self._buffer._float_arr, self._request
         for s in range(1, n_steps * n + 1):  # World.step's obstacle half, substep for substep
+            if self._drivers and (s - 1) % n == 0:
+                self._steer()  # (a visible robot is seen resting where it is)
             _space_step(space, dt / n)
             array.num = 0
             _each_body(space, _READ_BODY, request)

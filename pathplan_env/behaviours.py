@@ -1,0 +1,203 @@
+"""Obstacle behaviours: the motion model that sets an obstacle's velocity at the start of every step.
+
+Each behaviour is a small frozen object (HighwayEnv's style), set per obstacle
+(``Obstacle.behaviour``) or for a whole scenario (``Scenario.behaviour``); pymunk integrates every
+body either way, and contacts still bounce.
+
+- :class:`Bounce` (the default): no steering. The obstacle keeps its velocity and bounces
+  elastically, the paper's obstacles; existing scenarios replay bit for bit.
+- :class:`ORCA`: a goal-directed agent (``Obstacle.goal``, ``Obstacle.preferred_speed``) that
+  picks its velocity each step by ORCA among the other obstacles and, when
+  ``Scenario.robot_visible``, the robot, which it assumes reciprocates (it does not). CrowdNav's
+  humans, with its defaults.
+- :class:`SocialForce`: Helbing & Molnar's social force model, as CrowdNav++ implements it: a pull
+  toward the goal at the preferred speed plus exponential repulsion from every other agent.
+
+For goal-directed behaviours Δd is ``preferred_speed * dt / radius``: no speed they choose exceeds it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+
+import numba
+import numpy as np
+
+from .orca import orca_velocity, preferred_velocity
+
+#: Goal-directed agents slow down within this time of their goal (CrowdNav's rule: 1 s at 1 m/s).
+SLOW_DOWN_TIME = 1.0
+
+
+def _positive(cls_name: str, name: str, value, allow_zero: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise ValueError(f"{cls_name}.{name} must be a number, got {value!r}")
+    value = float(value)
+    if not (math.isfinite(value) and (value >= 0 if allow_zero else value > 0)):
+        raise ValueError(f"{cls_name}.{name} must be finite and {'>= 0' if allow_zero else '> 0'}, got {value!r}")
+    return value
+
+
+@dataclass(frozen=True)
+class Bounce:
+    """Straight lines at constant speed, elastic bounces off walls and other obstacles (default)."""
+
+    model: str = field(default="bounce", init=False)
+    goal_directed = False  # class attribute, not a field
+
+
+@dataclass(frozen=True)
+class ORCA:
+    """ORCA agents (van den Berg et al. 2011) with CrowdNav's parameters as defaults.
+
+    :param neighbor_dist: only agents closer than this (m, centre to centre) are considered.
+    :param max_neighbors: at most this many of them, nearest first.
+    :param time_horizon: velocities are chosen collision-free for this long (s).
+    :param safety_space: extra radius (m) added to every agent, on top of ``radius_padding``.
+    :param radius_padding: CrowdNav adds 1 cm to every radius in its ORCA calls.
+    """
+
+    neighbor_dist: float = 10.0
+    max_neighbors: int = 10
+    time_horizon: float = 5.0
+    safety_space: float = 0.0
+    radius_padding: float = 0.01
+    model: str = field(default="orca", init=False)
+    goal_directed = True
+
+    def __post_init__(self):
+        set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731 (frozen dataclass normalisation)
+        set_("neighbor_dist", _positive("ORCA", "neighbor_dist", self.neighbor_dist))
+        n = self.max_neighbors
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+            raise ValueError(f"ORCA.max_neighbors must be an integer >= 1, got {n!r}")
+        set_("max_neighbors", int(n))
+        set_("time_horizon", _positive("ORCA", "time_horizon", self.time_horizon))
+        set_("safety_space", _positive("ORCA", "safety_space", self.safety_space, allow_zero=True))
+        set_("radius_padding", _positive("ORCA", "radius_padding", self.radius_padding, allow_zero=True))
+
+    def velocities(self, idx, state, radii, goals, speeds, robot, dt) -> np.ndarray:
+        pad = self.radius_padding + self.safety_space
+        return _orca_step(idx, state, radii, goals, speeds, robot, dt, pad, self.neighbor_dist, self.max_neighbors, self.time_horizon, SLOW_DOWN_TIME)
+
+
+@dataclass(frozen=True)
+class SocialForce:
+    """Helbing & Molnar's social force model with CrowdNav++'s parameters as defaults.
+
+    Acceleration: ``(v_desired - v) / relaxation_time`` toward the goal plus
+    ``strength * exp((r_i + r_j - d) / range)`` away from every other agent ``j`` at distance ``d``;
+    the new speed is capped at the preferred speed.
+
+    :param relaxation_time: seconds to reach the desired velocity (CrowdNav++'s ``1 / KI``).
+    :param strength: repulsion magnitude at contact (m/s², CrowdNav++'s ``A``).
+    :param range: repulsion decay length (m, CrowdNav++'s ``B``).
+    """
+
+    relaxation_time: float = 1.0
+    strength: float = 2.0
+    range: float = 1.0
+    model: str = field(default="social-force", init=False)
+    goal_directed = True
+
+    def __post_init__(self):
+        for name in ("relaxation_time", "range"):
+            object.__setattr__(self, name, _positive("SocialForce", name, getattr(self, name)))
+        object.__setattr__(self, "strength", _positive("SocialForce", "strength", self.strength, allow_zero=True))
+
+    def velocities(self, idx, state, radii, goals, speeds, robot, dt) -> np.ndarray:
+        return _social_force_step(idx, state, radii, goals, speeds, robot, dt, self.relaxation_time, self.strength, self.range)
+
+
+BEHAVIOURS = {"bounce": Bounce, "orca": ORCA, "social-force": SocialForce}
+Behaviour = Bounce | ORCA | SocialForce
+BOUNCE = Bounce()
+
+
+def make_behaviour(spec, where: str = "behaviour") -> Behaviour:
+    """A behaviour from its name (``"orca"``), its dict form (``{"model": "orca", "time_horizon": 3}``,
+    what ``dataclasses.asdict`` and a JSON ``EnvSpec`` hold) or an instance.
+
+    :raises ValueError: naming ``where`` and the bad model or parameter.
+    """
+    if isinstance(spec, (Bounce, ORCA, SocialForce)):
+        return spec
+    if isinstance(spec, str):
+        spec = {"model": spec}
+    if not isinstance(spec, dict) or "model" not in spec:
+        raise ValueError(f"{where} must be one of {sorted(BEHAVIOURS)}, a dict with a 'model' key or a behaviour, got {spec!r}")
+    params = dict(spec)
+    name = params.pop("model")
+    if name not in BEHAVIOURS:
+        raise ValueError(f"{where}: unknown model {name!r}; known: {sorted(BEHAVIOURS)}")
+    cls = BEHAVIOURS[name]
+    known = {f.name for f in dataclasses.fields(cls) if f.init}
+    unknown = sorted(set(params) - known)
+    if unknown:
+        raise ValueError(f"{where}: {name!r} takes no parameters {unknown}; it takes {sorted(known)}")
+    return cls(**params)
+
+
+# -- compiled steps: every driven obstacle in one call ------------------------------------------
+@numba.njit(cache=True)
+def _agents(state, radii, robot, pad):
+    """Every agent's position, velocity and padded radius: the obstacles, then the robot if visible
+    (``robot`` is ``(x, y, vx, vy, radius)`` or empty)."""
+    n = state.shape[0]
+    m = n + (1 if robot.shape[0] == 5 else 0)
+    positions, velocities, padded = np.empty((m, 2)), np.empty((m, 2)), np.empty(m)
+    for i in range(n):
+        positions[i, 0], positions[i, 1] = state[i, 0], state[i, 1]
+        velocities[i, 0], velocities[i, 1] = state[i, 2], state[i, 3]
+        padded[i] = radii[i] + pad
+    if m > n:
+        positions[n, 0], positions[n, 1] = robot[0], robot[1]
+        velocities[n, 0], velocities[n, 1] = robot[2], robot[3]
+        padded[n] = robot[4] + pad
+    return positions, velocities, padded
+
+
+@numba.njit(cache=True)
+def _orca_step(idx, state, radii, goals, speeds, robot, dt, pad, neighbor_dist, max_neighbors, time_horizon, slow_down):
+    positions, velocities, padded = _agents(state, radii, robot, pad)
+    out = np.empty((idx.shape[0], 2))
+    for k in range(idx.shape[0]):  # every agent decides from the same snapshot, as CrowdNav's humans do
+        i = idx[k]
+        px, py = preferred_velocity(state[i, 0], state[i, 1], goals[i, 0], goals[i, 1], speeds[i], slow_down)
+        out[k, 0], out[k, 1] = orca_velocity(state[i, 0], state[i, 1], state[i, 2], state[i, 3], padded[i], i,
+                                             positions, velocities, padded, speeds[i], px, py,
+                                             neighbor_dist, max_neighbors, time_horizon, dt)  # fmt: skip
+    return out
+
+
+@numba.njit(cache=True)
+def _social_force_step(idx, state, radii, goals, speeds, robot, dt, relaxation_time, strength, decay):
+    positions, velocities, padded = _agents(state, radii, robot, 0.0)
+    m = positions.shape[0]
+    out = np.empty((idx.shape[0], 2))
+    for k in range(idx.shape[0]):
+        i = idx[k]
+        x, y, vx, vy = state[i, 0], state[i, 1], state[i, 2], state[i, 3]
+        gx, gy = goals[i, 0] - x, goals[i, 1] - y
+        dist = math.hypot(gx, gy)
+        desired_x, desired_y = gx / (dist + 1e-6) * speeds[i], gy / (dist + 1e-6) * speeds[i]
+        ax, ay = (desired_x - vx) / relaxation_time, (desired_y - vy) / relaxation_time
+        for j in range(m):
+            if j == i:
+                continue
+            dx, dy = x - positions[j, 0], y - positions[j, 1]
+            d = max(math.hypot(dx, dy), 1e-9)
+            push = strength * math.exp((padded[i] + padded[j] - d) / decay)
+            ax += push * dx / d
+            ay += push * dy / d
+        nvx, nvy = vx + ax * dt, vy + ay * dt
+        s = math.hypot(nvx, nvy)
+        if s > speeds[i]:  # capped at the preferred speed, so that Δd bounds every displacement
+            nvx, nvy = nvx / s * speeds[i], nvy / s * speeds[i]
+        out[k, 0], out[k, 1] = nvx, nvy
+    return out
+
+
+__all__ = ["BEHAVIOURS", "BOUNCE", "Behaviour", "Bounce", "ORCA", "SocialForce", "make_behaviour"]

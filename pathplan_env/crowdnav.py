@@ -1,0 +1,123 @@
+"""CrowdNav's protocol (Chen et al. 2019, vita-epfl/CrowdNav): humans crossing under ORCA.
+
+The settings are read from CrowdNav's ``crowd_nav/configs/env.config``, ``crowd_sim/envs/crowd_sim.py``
+and ``crowd_sim/envs/policy/orca.py``: 5 humans of radius 0.3 m and preferred speed 1 m/s; a
+holonomic robot of radius 0.3 m and speed 1 m/s from (0, -4) to (0, 4); dt 0.25 s; time limit 25 s;
+ORCA with neighbour distance 10 m, 10 neighbours, time horizon 5 s, safety space 0 and CrowdNav's
+1 cm radius padding. The robot is invisible to the humans unless ``visible=True``.
+
+- ``crowdnav-circle-crossing``: humans start on a circle of radius 4 m (uniform angle, uniform noise
+  of +-0.5 m on each coordinate) and head for the antipodal point.
+- ``crowdnav-square-crossing``: humans start uniformly on one half of a 10 m square and head for a
+  uniform point on the other half.
+
+Starts and goals are drawn by CrowdNav's rejection rule: at least the two radii plus its 0.2 m
+discomfort distance from the robot and the humans already placed. The differences from CrowdNav
+are listed in ``docs/crowdnav.md``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .behaviours import ORCA
+from .scenarios import Obstacle, Scenario
+
+HUMAN_RADIUS = 0.3
+HUMAN_SPEED = 1.0
+ROBOT_RADIUS = 0.3
+ROBOT_SPEED = 1.0
+DT = 0.25
+TIME_LIMIT = 25.0
+CIRCLE_RADIUS = 4.0
+CIRCLE_NOISE = 0.5  # CrowdNav's (rand - 0.5) * v_pref with v_pref = 1 m/s
+SQUARE_WIDTH = 10.0
+DISCOMFORT_DISTANCE = 0.2
+HUMANS = 5
+ROBOT_START, ROBOT_GOAL = (0.0, -CIRCLE_RADIUS), (0.0, CIRCLE_RADIUS)
+#: CrowdNav has no walls; ours stand 1.5 m beyond the farthest start or goal, where ORCA humans never go.
+BOUNDS = (-7.0, -7.0, 7.0, 7.0)
+HUMAN_ORCA = ORCA(neighbor_dist=10.0, max_neighbors=10, time_horizon=5.0, safety_space=0.0, radius_padding=0.01)
+
+
+#: Draws allowed per human before a layout is declared too crowded (CrowdNav would loop forever).
+MAX_DRAWS = 10_000
+
+
+def _clear(point, others, min_dist: float) -> bool:
+    return all(math.dist(point, q) >= min_dist for q in others)
+
+
+def _too_crowded(n: int, placed: int):
+    return ValueError(f"n_obstacles={n}: only {placed} humans fit this CrowdNav layout by its spacing rule; use fewer")
+
+
+def _circle_crossing(rng: np.random.Generator, n: int):
+    min_dist = 2 * HUMAN_RADIUS + DISCOMFORT_DISTANCE
+    starts, goals = [], []
+    draws = 0
+    while len(starts) < n:
+        draws += 1
+        if draws > MAX_DRAWS * (len(starts) + 1):
+            raise _too_crowded(n, len(starts))
+        angle = rng.random() * 2 * math.pi
+        px = CIRCLE_RADIUS * math.cos(angle) + (rng.random() - 0.5) * 2 * CIRCLE_NOISE
+        py = CIRCLE_RADIUS * math.sin(angle) + (rng.random() - 0.5) * 2 * CIRCLE_NOISE
+        # CrowdNav: the start clear of every agent's position and goal (the robot's included)
+        if _clear((px, py), [ROBOT_START, ROBOT_GOAL, *starts, *goals], min_dist):
+            starts.append((px, py))
+            goals.append((-px, -py))
+    return starts, goals
+
+
+def _square_crossing(rng: np.random.Generator, n: int):
+    min_dist = 2 * HUMAN_RADIUS + DISCOMFORT_DISTANCE
+    starts, goals = [], []
+    for _ in range(n):
+        sign = -1.0 if rng.random() > 0.5 else 1.0
+        for _ in range(MAX_DRAWS):  # CrowdNav checks starts against positions only; we add the robot's goal (see docs)
+            px = rng.random() * SQUARE_WIDTH * 0.5 * sign
+            py = (rng.random() - 0.5) * SQUARE_WIDTH
+            if _clear((px, py), [ROBOT_START, ROBOT_GOAL, *starts], min_dist):
+                break
+        else:
+            raise _too_crowded(n, len(starts))
+        for _ in range(MAX_DRAWS):
+            gx = rng.random() * SQUARE_WIDTH * 0.5 * -sign
+            gy = (rng.random() - 0.5) * SQUARE_WIDTH
+            if _clear((gx, gy), [ROBOT_GOAL, *goals], min_dist):
+                break
+        else:
+            raise _too_crowded(n, len(starts))
+        starts.append((px, py))
+        goals.append((gx, gy))
+    return starts, goals
+
+
+_LAYOUTS = {"circle-crossing": _circle_crossing, "square-crossing": _square_crossing}
+
+
+def crowdnav_scenario(layout: str, rng: np.random.Generator, n_humans: int | None = None, visible: bool = False) -> Scenario:
+    """One CrowdNav test scene (``layout``: ``"circle-crossing"`` or ``"square-crossing"``), drawn from ``rng``."""
+    if layout not in _LAYOUTS:
+        raise ValueError(f"layout must be one of {sorted(_LAYOUTS)}, got {layout!r}")
+    n = HUMANS if n_humans is None else n_humans
+    starts, goals = _LAYOUTS[layout](rng, n)
+    humans = tuple(Obstacle(s, HUMAN_RADIUS, goal=g, preferred_speed=HUMAN_SPEED) for s, g in zip(starts, goals))
+    return Scenario(
+        bounds=BOUNDS, start=ROBOT_START, goal=ROBOT_GOAL, obstacles=humans, robot_radius=ROBOT_RADIUS,
+        robot_speed=ROBOT_SPEED, dt=DT, goal_radius=ROBOT_RADIUS, behaviour=HUMAN_ORCA, robot_visible=visible,
+        time_limit=TIME_LIMIT, name=f"crowdnav-{layout}" + ("-visible" if visible else ""),
+    )  # fmt: skip
+
+
+#: Presets registered in ``pathplan_env.presets.PRESETS``: ``(rng, n_obstacles) -> Scenario``.
+CROWDNAV_PRESETS = {
+    f"crowdnav-{layout}" + ("-visible" if visible else ""): (
+        lambda rng, n, layout=layout, visible=visible: crowdnav_scenario(layout, rng, n, visible)
+    )
+    for layout in _LAYOUTS
+    for visible in (False, True)
+}

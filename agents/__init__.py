@@ -21,6 +21,8 @@ register("oracle-static", StaticOracleAgent)
 register("oracle-clairvoyant", ClairvoyantOracle)  # privileged: reads the simulator
 register("ppo", partial(RLAgent, algo="ppo"))
 register("astar-spacetime", SpacetimeAStarAgent)
+# for crowds that steer: a cone of predicted futures, a wider margin, and an escape when every plan ends in contact
+register("astar-crowd", partial(SpacetimeAStarAgent, prediction="cone", margin=0.15, escape_trapped=True, escape_steps=8))
 for _optimizer in ("pso", "abc"):
     register(_optimizer, partial(MetaheuristicAgent, optimizer=_optimizer, variant="paper"))
     register(f"{_optimizer}-vanilla", partial(MetaheuristicAgent, optimizer=_optimizer, variant="vanilla"))

@@ -7,10 +7,16 @@ never moves an obstacle, so that future does not depend on what the robot does).
 (step, position) for the earliest collision-free arrival (:mod:`agents.spacetime_search`) and flies
 the plan, which replays exactly because every move was made with the env's own kinematics and
 contact test. The evaluation harness runs it on every cell's episodes to report the ``limit``.
+
+Where goal-directed obstacles see the robot (``Scenario.robot_visible``), their future depends on
+what the robot does and no fixed trajectory bounds it: the oracle then plans against the future
+they would have without the robot, says so (verdict ``"reactive"``) and gives no limit.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import math
 import time
 
 import numpy as np
@@ -22,8 +28,9 @@ from pathplan_env.world import World
 from .base import Agent
 from .spacetime_search import BUDGET, FOUND, heading_moves, provably_lost, search
 
-#: What the oracle concludes about an episode: a plan, provably no plan, or a failed search.
-VERDICTS = ("plan", "lost", "undetermined")
+#: What the oracle concludes about an episode: a plan, provably no plan, a failed search, or no
+#: limit because the obstacles react to the robot.
+VERDICTS = ("plan", "lost", "undetermined", "reactive")
 
 
 class ClairvoyantOracle(Agent):
@@ -67,9 +74,14 @@ class ClairvoyantOracle(Agent):
         scenario, world = env.scenario, env._world
         begin = time.perf_counter()
         now = int(round(world.time / scenario.dt))
-        remaining = self.max_steps - now
-        future = World(scenario)  # the same episode, bit for bit, from its start
-        trajectory = future.obstacle_trajectory(self.max_steps)[now * future.substeps :]
+        max_steps = self.max_steps
+        if scenario.time_limit is not None:  # the env truncates once the scenario's time limit has passed
+            max_steps = min(max_steps, math.ceil(scenario.time_limit / scenario.dt * (1.0 - 1e-12)))
+        remaining = max_steps - now
+        reactive = scenario.robot_visible and scenario.goal_directed
+        # the same episode, bit for bit, from its start (for reacting obstacles: as if the robot were invisible)
+        future = World(dataclasses.replace(scenario, robot_visible=False) if reactive else scenario)
+        trajectory = future.obstacle_trajectory(max_steps)[now * future.substeps :]
         r = scenario.robot_radius
         xmin, ymin, xmax, ymax = scenario.bounds
         start = np.array(world.robot_xy)
@@ -91,6 +103,8 @@ class ClairvoyantOracle(Agent):
                 (xmin + r, ymin + r, xmax - r, ymax - r), env._reach, self.lost_cell,
             )  # fmt: skip
             verdict = "lost" if lost else "undetermined"
+        if reactive:
+            verdict = "reactive"
         self.verdict = verdict
         self.last_search = {"verdict": verdict, "steps": len(targets), "expansions": int(expansions),
                             "lost_at_step": lost_at, "seconds": time.perf_counter() - begin}  # fmt: skip

@@ -38,6 +38,15 @@ SUITES = {
         delta_d="0,0.1,0.25,0.5,1,2",
         episodes=50,
     ),
+    # CrowdNav's protocol (Chen et al. 2019): its 500 test episodes per setting, humans at their own
+    # 1 m/s (Δd = 1 m/s x 0.25 s / 0.3 m = 5/6), robot invisible and visible
+    "crowdnav": dict(
+        agents="straight,velocity-obstacle,orca,pso,abc,pso-predictive,abc-predictive,astar-spacetime,pso-spacetime,abc-spacetime,"
+        "astar-crowd,ppo",
+        scenarios="crowdnav-circle-crossing,crowdnav-square-crossing,crowdnav-circle-crossing-visible,crowdnav-square-crossing-visible",
+        delta_d="0.8333333333333334",
+        episodes=500,
+    ),
     "large": dict(
         agents="straight,velocity-obstacle,oracle-static,pso,abc,pso-vanilla,abc-vanilla,pso-predictive,abc-predictive,"
         "astar-spacetime,pso-spacetime,abc-spacetime,ppo",
@@ -65,7 +74,14 @@ class EpisodeResult:
     time_to_goal: float
     min_clearance: float
     plan_ms: list[float] = field(repr=False)
-    verdict: str = ""  # the clairvoyant oracle's: plan, lost or undetermined
+    verdict: str = ""  # the clairvoyant oracle's: plan, lost, undetermined, or reactive (no limit)
+    # CrowdNav's discomfort: steps (before the last) whose clearance fell below DISCOMFORT_DISTANCE
+    discomfort_steps: int = 0
+    discomfort_clearance_sum: float = 0.0  # of those steps' smallest clearances (m)
+
+
+#: CrowdNav's discomfort distance (m): a step closer than this to a human counts as one in danger.
+DISCOMFORT_DISTANCE = 0.2
 
 
 _WARMED: set[str] = set()  # agents whose compiled code this process has already loaded
@@ -99,7 +115,7 @@ def run_episode(agent_name: str, scenario: str, delta_d: float, episode: int, se
     agent = agents.make(agent_name, env, seed=seed, **overrides)
     scenario_of_episode = env.unwrapped.scenario
     reference = shortest_path_to_goal(scenario_of_episode)  # to the goal's disc, where an episode ends
-    plan_ms, clearance, steps = [], math.inf, 0
+    plan_ms, clearance, steps, discomfort_steps, discomfort_sum = [], math.inf, 0, 0, 0.0
     while True:
         action, _ = agent.predict(obs, deterministic=True)
         plan_ms.append(1e3 * agent.last_plan_seconds)
@@ -108,6 +124,9 @@ def run_episode(agent_name: str, scenario: str, delta_d: float, episode: int, se
         steps += 1
         if terminated or truncated:
             break
+        if info["min_clearance"] < DISCOMFORT_DISTANCE:  # CrowdNav counts danger on steps that end nothing
+            discomfort_steps += 1
+            discomfort_sum += info["min_clearance"]
     env.close()
     success = bool(info["is_success"])
     return EpisodeResult(
@@ -116,7 +135,7 @@ def run_episode(agent_name: str, scenario: str, delta_d: float, episode: int, se
         steps=steps, path_length=info["path_length"], shortest_path=reference + scenario_of_episode.goal_radius,
         path_length_ratio=info["path_length"] / reference if success and np.isfinite(reference) and reference > 0 else math.nan,
         time_to_goal=info["time"] if success else math.nan, min_clearance=clearance, plan_ms=plan_ms,
-        verdict=getattr(agent, "verdict", None) or "",
+        verdict=getattr(agent, "verdict", None) or "", discomfort_steps=discomfort_steps, discomfort_clearance_sum=discomfort_sum,
     )  # fmt: skip
 
 
@@ -132,10 +151,14 @@ LIMIT_AGENT = "oracle-clairvoyant"
 
 
 def limits(results: list[EpisodeResult]) -> dict[tuple, dict]:
-    """Per (scenario, Δd): the clairvoyant oracle's success rate (the limit) and its verdict counts."""
+    """Per (scenario, Δd): the clairvoyant oracle's success rate (the limit) and its verdict counts.
+
+    Cells where the obstacles react to the robot have none (the oracle's verdict "reactive"): their
+    future depends on the robot, so no fixed trajectory bounds what a robot can do."""
+    reactive = {(res.scenario, res.delta_d) for res in results if res.agent == LIMIT_AGENT and res.verdict == "reactive"}
     out = {}
     for res in results:
-        if res.agent == LIMIT_AGENT:
+        if res.agent == LIMIT_AGENT and (res.scenario, res.delta_d) not in reactive:
             cell = out.setdefault((res.scenario, res.delta_d), {"episodes": 0, "wins": 0, "lost": 0, "undetermined": 0})
             cell["episodes"] += 1
             cell["wins"] += res.success
@@ -205,6 +228,10 @@ def summarize(results: list[EpisodeResult]) -> list[dict]:
                 "plan_ms_median": float(np.median(plans)),
                 "plan_ms_p95": float(np.percentile(plans, 95)),
                 "min_clearance": float(np.mean([e.min_clearance for e in eps])),
+                # CrowdNav's: the share of steps in discomfort, and the mean smallest clearance in them
+                "discomfort_frequency": sum(e.discomfort_steps for e in eps) / max(sum(e.steps for e in eps), 1),
+                "discomfort_min_clearance": (sum(e.discomfort_clearance_sum for e in eps) / sum(e.discomfort_steps for e in eps)
+                                             if any(e.discomfort_steps for e in eps) else None),  # fmt: skip
             }
         )
         limit = limit_of.get((scenario, delta_d))
@@ -291,12 +318,13 @@ def run_jobs(jobs: list[tuple], workers: int, on_result) -> None:
 
 def _job_key(job) -> tuple:
     agent, scenario, delta_d, episode, seed, n_obstacles, overrides = job
-    return (agent, scenario, float(delta_d), int(episode), int(seed), int(n_obstacles), json.dumps(overrides, sort_keys=True))
+    n = None if n_obstacles is None else int(n_obstacles)
+    return (agent, scenario, float(delta_d), int(episode), int(seed), n, json.dumps(overrides, sort_keys=True))
 
 
 def evaluate(
     agent_names: list[str], scenarios: list[str], deltas: list[float], episodes: int, out: str | Path, *,
-    seed: int = 0, split: str = "test", n_obstacles: int = 8, workers: int = 1, agent_kwargs: dict | None = None,
+    seed: int = 0, split: str = "test", n_obstacles: int | None = None, workers: int = 1, agent_kwargs: dict | None = None,
     limit: bool = True, resume: bool = False, plots: bool = True, config: dict | None = None,
     backend: str = "process", address: str | None = None,
 ) -> list[dict]:  # fmt: skip

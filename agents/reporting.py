@@ -48,6 +48,21 @@ def limit_table(rows: list[dict], scenario: str) -> str:
     return "\n".join(lines)
 
 
+def crowdnav_table(rows: list[dict], scenarios: list[str]) -> str:
+    """CrowdNav's Table I columns for each agent and scenario: success, collision, timeout, navigation
+    time (mean over successes, s), discomfort frequency and the mean smallest clearance in discomfort."""
+    fmt = lambda v, spec: "-" if v is None else format(v, spec)  # noqa: E731
+    lines = ["| scenario | agent | episodes | success | collision | timeout | time (s) | discomfort freq. | clearance in discomfort (m) |",
+             "|---|---|---:|---:|---:|---:|---:|---:|---:|"]  # fmt: skip
+    for r in sorted((r for r in rows if r["scenario"] in scenarios), key=lambda r: (scenarios.index(r["scenario"]), -r["success_rate"], r["agent"])):
+        lines.append(
+            f"| {r['scenario']} | {r['agent']} | {r['episodes']} | {r['success_rate']:.2f} | {r['collision_rate']:.2f} "
+            f"| {r['timeout_rate']:.2f} | {fmt(r['time_to_goal'], '.2f')} | {fmt(r.get('discomfort_frequency'), '.3f')} "
+            f"| {fmt(r.get('discomfort_min_clearance'), '.3f')} |"
+        )
+    return "\n".join(lines)
+
+
 def plot(rows: list[dict], out: Path) -> list[Path]:
     import matplotlib
 

@@ -27,14 +27,25 @@ from .base import Agent, real_obstacles
 from .metaheuristic import MetaheuristicAgent
 from .objective import walk_along
 from .prediction import predict_obstacles, substeps_for
-from .spacetime_search import BUDGET, heading_moves, replay, search
+from .spacetime_search import BUDGET, EXHAUSTED, heading_moves, replay, search
+
+
+#: How the planners predict the obstacles: the env's bounce physics, or a cone of three such
+#: futures per obstacle (its heading, and turned ``cone_degrees`` either way), for obstacles that
+#: steer (goal-directed crowds), whose swerves no observation foretells.
+PREDICTIONS = ("physics", "cone")
 
 
 class SpacetimeModel:
     """What every space-time planner builds from an observation: the predicted obstacles over the
     horizon, the contact radii with the margin, and the env's action mapping from the static facts."""
 
-    def __init__(self, facts: EnvFacts, horizon_steps: int, margin: float):
+    def __init__(self, facts: EnvFacts, horizon_steps: int, margin: float, prediction: str = "physics", cone_degrees: float = 20.0):
+        if prediction not in PREDICTIONS:
+            raise ValueError(f"prediction must be one of {PREDICTIONS}, got {prediction!r}")
+        if not (0.0 <= cone_degrees < 90.0):
+            raise ValueError(f"cone_degrees must be in [0, 90), got {cone_degrees!r}")
+        self.prediction, self.cone = prediction, np.radians(cone_degrees)
         if int(horizon_steps) != horizon_steps or horizon_steps < 1:
             raise ValueError(f"horizon_steps must be a positive integer, got {horizon_steps!r}")
         if not (0.0 <= margin < 1.0):
@@ -50,7 +61,16 @@ class SpacetimeModel:
         """``(trajectory, substeps, contact_radii, robot, goal)`` for one observation."""
         centers, velocities, radii = real_obstacles(obs)
         n = substeps_for(velocities, radii, self.facts.dt)
-        trajectory = predict_obstacles(centers, velocities, radii, self.bounds, self.facts.dt, self.horizon_steps, n)
+        if self.prediction == "cone":  # three futures per obstacle: its heading and turned either way
+            parts = []
+            for angle in (-self.cone, 0.0, self.cone):
+                c, s_ = np.cos(angle), np.sin(angle)
+                turned = np.ascontiguousarray(velocities @ np.array([[c, s_], [-s_, c]]))
+                parts.append(predict_obstacles(centers, turned, radii, self.bounds, self.facts.dt, self.horizon_steps, n))
+            trajectory = np.ascontiguousarray(np.concatenate(parts, axis=1))
+            radii = np.concatenate([radii] * 3)
+        else:
+            trajectory = predict_obstacles(centers, velocities, radii, self.bounds, self.facts.dt, self.horizon_steps, n)
         rr = self.facts.robot_radius
         contact_radii = (radii + rr) * (1.0 + self.margin) - rr  # the margin on the contact distance
         robot = np.asarray(obs["robot_position"], np.float64)
@@ -70,17 +90,26 @@ class SpacetimeAStarAgent(Agent):
         retried once with ``retry_factor`` times the budget.
     :param keep_plan_steps: the previous plan is flown on, without a search, while the new
         prediction finds all of it free of contact and it still runs this many steps (or to the goal).
+    :param prediction, cone_degrees: :class:`SpacetimeModel`'s obstacle prediction.
+    :param escape_trapped: when every plan is predicted to end in contact before the horizon,
+        fly the :meth:`escape` move instead of the plan that survives longest (always done when no
+        move at all is free).
+    :param escape_steps: the escape's lookahead (steps).
     """
 
     def __init__(self, env, seed: int | None = None, *, horizon_steps: int = 20, margin: float = 0.005, n_headings: int = 32,
                  speed_fractions=(1.0, 0.5), cell: float = 0.03, h_weight: float = 3.0, max_expansions: int = 2000,
-                 retry_factor: int = 10, keep_plan_steps: int = 10):  # fmt: skip
+                 retry_factor: int = 10, keep_plan_steps: int = 10, prediction: str = "physics",
+                 cone_degrees: float = 20.0, escape_trapped: bool = False, escape_steps: int = 4):  # fmt: skip
         super().__init__(env, seed)
-        self.model = SpacetimeModel(self.facts, horizon_steps, margin)
+        self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees)
+        if int(escape_steps) != escape_steps or escape_steps < 1:
+            raise ValueError(f"escape_steps must be a positive integer, got {escape_steps!r}")
         self.horizon_steps = self.model.horizon_steps
         self.moves = heading_moves(int(n_headings), speed_fractions)
         self.cell, self.h_weight, self.max_expansions = float(cell), float(h_weight), int(max_expansions)
         self.retry_factor, self.keep_plan_steps = int(retry_factor), int(keep_plan_steps)
+        self.escape_trapped, self.escape_steps = bool(escape_trapped), int(escape_steps)
 
     def plan(self, obs, memory):
         trajectory, n, radii, robot, goal = self.model.predict_scene(obs)
@@ -97,11 +126,31 @@ class SpacetimeAStarAgent(Agent):
                 outcome, targets, _ = search(trajectory, *common, self.moves, self.horizon_steps, self.cell, budget, self.h_weight)
                 if outcome != BUDGET:
                     break
+        if len(targets) == 0 or (not keep and outcome == EXHAUSTED and self.escape_trapped):
+            # every move is predicted to touch (within the margin), or every plan ends in contact
+            # before the horizon: get as far clear as it can
+            targets = self.escape(trajectory, n, radii, robot, goal)[None]
         self.last_plan = np.vstack([robot, targets])
         memory["plan"] = targets[1:]
-        if len(targets) == 0:  # every move is predicted to touch: hold still and replan
-            return robot
         return targets[0]
+
+    def escape(self, trajectory, substeps, radii, robot, goal) -> np.ndarray:
+        """The waypoint of the move (or rest) that keeps the largest predicted clearance over the
+        next ``escape_steps`` steps flown straight on, nearer the goal on ties: standing still
+        when every plan touches lets an obstacle that does not give way walk into the robot."""
+        f = self.facts
+        lo = self.model.move_params[4:6]
+        hi = self.model.move_params[6:8]
+        steps = np.vstack([np.zeros((1, 2)), self.moves[:, :2] * self.moves[:, 2:3]]) * self.step_length  # (C, 2)
+        k = min(self.escape_steps * substeps, len(trajectory) - 1)
+        t = np.arange(1, k + 1) / substeps  # steps flown at each substep
+        path = np.clip(robot + t[None, :, None] * steps[:, None, :], lo, hi)  # (C, K, 2)
+        centers = trajectory[1 : k + 1, :, :2]  # (K, N, 2)
+        gaps = np.hypot(*(path[:, :, None, :] - centers[None]).transpose(3, 0, 1, 2)) - radii - f.robot_radius
+        clearance = gaps.min(axis=(1, 2)) if gaps.size else np.zeros(len(steps))
+        to_goal = np.hypot(*(robot + steps - goal).T)
+        best = np.lexsort((to_goal, -np.round(clearance, 6)))[0]
+        return np.clip(robot + steps[best], lo, hi)
 
 
 class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
@@ -121,12 +170,12 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     """
 
     def __init__(self, env, seed: int | None = None, *, optimizer: str = "pso", horizon_steps: int = 10, margin: float = 0.005,
-                 n_dodges: int = 8, dodge_steps: float = 2.0, **kwargs):  # fmt: skip
+                 n_dodges: int = 8, dodge_steps: float = 2.0, prediction: str = "physics", **kwargs):  # fmt: skip
         kwargs.setdefault("warm_start", True)
         kwargs.setdefault("iterations", 50)
         self.n_dodges, self.dodge_steps = int(n_dodges), float(dodge_steps)
         super().__init__(env, seed, optimizer=optimizer, variant="paper", predictive=True, **kwargs)
-        self.model = SpacetimeModel(self.facts, horizon_steps, margin)
+        self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction)
         speeds = self.n_waypoints + 1
         self._timed_lo = np.concatenate([self._lo, np.zeros(speeds)])
         self._timed_hi = np.concatenate([self._hi, np.ones(speeds)])

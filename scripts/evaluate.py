@@ -21,7 +21,7 @@ import time
 from pathlib import Path
 
 from agents.evaluation import LIMIT_AGENT, SUITES, evaluate
-from agents.reporting import limit_table, markdown_table
+from agents.reporting import crowdnav_table, limit_table, markdown_table
 
 
 def parse_args(argv=None) -> argparse.Namespace:
@@ -34,7 +34,7 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--seed", type=int, default=0, help="split seed")
     parser.add_argument("--split", choices=("test", "validation"), default="test",
                         help="test episodes (reports) or validation episodes (model selection, e.g. between RL checkpoints)")
-    parser.add_argument("--n-obstacles", type=int, default=8, help="obstacles of the random preset")
+    parser.add_argument("--n-obstacles", type=int, help="obstacles of the random (default 8) and CrowdNav (default 5) presets")
     parser.add_argument("--workers", type=int, default=os.cpu_count(), help="parallel processes")
     parser.add_argument("--agent-kwargs", default="{}",
                         help='JSON overrides: for every agent, e.g. \'{"n_waypoints": 3}\', or per agent, e.g. \'{"pso": {"n_waypoints": 3}}\'')
@@ -94,6 +94,9 @@ def main(argv=None) -> list[dict]:
         table = limit_table(rows, scenario)
         if table:
             print("\n" + table)
+    crowds = [s for s in scenarios if s.startswith("crowdnav")]
+    if crowds:
+        print("\n" + crowdnav_table(rows, crowds))
     out = Path(args.out)
     episodes = sum(r["episodes"] for r in rows)
     print(f"wrote {out / 'summary.json'}, {out / 'episodes.csv'} and plots ({episodes} episodes in {time.perf_counter() - start:.0f} s)")

@@ -52,15 +52,47 @@ def crowdnav_table(rows: list[dict], scenarios: list[str]) -> str:
     """CrowdNav's Table I columns for each agent and scenario: success, collision, timeout, navigation
     time (mean over successes, s), discomfort frequency and the mean smallest clearance in discomfort."""
     fmt = lambda v, spec: "-" if v is None else format(v, spec)  # noqa: E731
-    lines = ["| scenario | agent | episodes | success | collision | timeout | time (s) | discomfort freq. | clearance in discomfort (m) |",
+    lines = ["| scenario | agent | episodes | success [95% CI] | collision | timeout | time (s) | discomfort freq. | clearance in discomfort (m) |",
              "|---|---|---:|---:|---:|---:|---:|---:|---:|"]  # fmt: skip
-    for r in sorted((r for r in rows if r["scenario"] in scenarios), key=lambda r: (scenarios.index(r["scenario"]), -r["success_rate"], r["agent"])):
+    chosen = [r for r in rows if r["scenario"] in scenarios and (r["agent"] != LIMIT_AGENT or "limit" in r)]  # no limit where humans react
+    for r in sorted(chosen, key=lambda r: (scenarios.index(r["scenario"]), r["agent"] != LIMIT_AGENT, -r["success_rate"], r["agent"])):
+        name = f"**limit** ({LIMIT_AGENT})" if r["agent"] == LIMIT_AGENT else r["agent"]
+        lo, hi = r["success_ci95"]
         lines.append(
-            f"| {r['scenario']} | {r['agent']} | {r['episodes']} | {r['success_rate']:.2f} | {r['collision_rate']:.2f} "
+            f"| {r['scenario']} | {name} | {r['episodes']} | {r['success_rate']:.3f} [{lo:.2f}, {hi:.2f}] | {r['collision_rate']:.3f} "
             f"| {r['timeout_rate']:.2f} | {fmt(r['time_to_goal'], '.2f')} | {fmt(r.get('discomfort_frequency'), '.3f')} "
             f"| {fmt(r.get('discomfort_min_clearance'), '.3f')} |"
         )
     return "\n".join(lines)
+
+
+def crowdnav_plot(rows: list[dict], out: Path) -> Path | None:
+    """Success (with its 95 % interval) of every agent in each CrowdNav setting, best first."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    scenarios = sorted({r["scenario"] for r in rows if r["scenario"].startswith("crowdnav")})
+    if not scenarios:
+        return None
+    fig, axes = plt.subplots(1, len(scenarios), figsize=(4.2 * len(scenarios), 4.6), squeeze=False, sharex=True)
+    for ax, scenario in zip(axes[0], scenarios):
+        cell = sorted((r for r in rows if r["scenario"] == scenario and (r["agent"] != LIMIT_AGENT or "limit" in r)),
+                      key=lambda r: r["success_rate"])  # fmt: skip
+        y = np.arange(len(cell))
+        err = np.array([[r["success_rate"] - r["success_ci95"][0], r["success_ci95"][1] - r["success_rate"]] for r in cell]).T
+        colors = ["0.6" if r["agent"] == LIMIT_AGENT else "#3465a4" for r in cell]
+        ax.barh(y, [r["success_rate"] for r in cell], xerr=err, color=colors, capsize=2)
+        ax.set_yticks(y, ["limit" if r["agent"] == LIMIT_AGENT else r["agent"] for r in cell], fontsize=8)
+        ax.set_title(scenario.removeprefix("crowdnav-"), fontsize=10)
+        ax.set_xlim(0, 1)
+        ax.set_xlabel("success rate (95% CI)")
+        ax.grid(axis="x", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(out / "crowdnav_success.png", dpi=110)
+    plt.close(fig)
+    return out / "crowdnav_success.png"
 
 
 def plot(rows: list[dict], out: Path) -> list[Path]:
@@ -68,6 +100,8 @@ def plot(rows: list[dict], out: Path) -> list[Path]:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
+    crowd = crowdnav_plot(rows, out)
 
     scenarios = sorted({r["scenario"] for r in rows})
     agent_names = sorted({r["agent"] for r in rows})
@@ -114,4 +148,4 @@ def plot(rows: list[dict], out: Path) -> list[Path]:
     fig.savefig(out / "planning_time.png", dpi=110)
     plt.close(fig)
     paths.append(out / "planning_time.png")
-    return paths
+    return paths + ([crowd] if crowd else [])

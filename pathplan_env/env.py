@@ -37,8 +37,13 @@ class DynamicObstacleEnv(gym.Env):
     speed back, so only directions change. Resting obstacles are immovable (infinite mass). No
     overlap correction: no obstacle ever moves farther than ``speed * dt`` in a step.
 
+    Obstacles may instead be goal-directed agents (``pathplan_env.behaviours``): ORCA or social-force
+    humans that head for goals of their own and avoid one another, and the robot when
+    ``robot_visible``; the CrowdNav presets use ORCA humans (``docs/crowdnav.md``). pymunk still
+    integrates them; their behaviour sets their velocities at the start of every step.
+
     The obstacles' speed is set by **Δd** (``delta_d``), the paper's Eq. 8: the distance an obstacle
-    moves in one step divided by its radius. The robot covers half an obstacle radius per step by
+    moves in one step divided by its radius (for goal-directed obstacles, their preferred speed). The robot covers half an obstacle radius per step by
     default, so at Δd = 0.5 the obstacles move as fast as the robot.
 
     Robot-obstacle contact is detected continuously within a step (an exact swept-circle test at
@@ -88,13 +93,15 @@ class DynamicObstacleEnv(gym.Env):
     ``"paper-case-3"`` (the paper's Table 1 obstacle centres; see ``pathplan_env.presets`` and
     ``docs/paper_assumptions.md`` for the assumed start, goal, radii and arena) and ``"random"``
     (``n_obstacles`` non-overlapping obstacles, start and goal at least 6 m apart, all drawn from
-    ``np_random``). Obstacles that rest in the scenario get directions from ``np_random`` once
+    ``np_random``), ``"crowdnav-circle-crossing"`` and ``"crowdnav-square-crossing"`` (CrowdNav's
+    protocol: 5 ORCA humans, robot invisible; the ``-visible`` forms show them the robot). Obstacles that rest in the scenario get directions from ``np_random`` once
     ``delta_d`` makes them move.
 
     ## Episode End
     - Termination: the robot reaches the goal (``info["is_success"]``), or touches an obstacle
       (``info["collision"]``); whichever happens first within the step decides.
-    - Truncation: the registration's time limit, ``max_episode_steps=200`` (20 s at dt = 0.1 s).
+    - Truncation: the registration's time limit, ``max_episode_steps=200`` (20 s at dt = 0.1 s), or
+      the scenario's own ``time_limit`` if it is shorter (the CrowdNav presets: 25 s, 100 steps).
 
     ## Info
     ``is_success``, ``collision``, ``cost`` (1.0 on a step with contact, as Safety-Gymnasium reports
@@ -105,16 +112,18 @@ class DynamicObstacleEnv(gym.Env):
 
     ## Arguments
     ```python
-    gym.make("DynamicObstacle-v0", scenario="random", delta_d=0.25, n_obstacles=8,
-             max_obstacles=None, render_mode=None)
+    gym.make("DynamicObstacle-v0", scenario="random", delta_d=0.25, n_obstacles=None,
+             max_obstacles=None, robot_visible=None, render_mode=None)
     ```
     - ``scenario``: a preset name or a ``pathplan_env.Scenario``.
     - ``delta_d``: obstacle displacement per step in radii, applied to every scenario (directions
       kept; resting obstacles get random ones). ``0`` freezes the obstacles; ``None`` keeps the
       scenario's own velocities.
-    - ``n_obstacles``: obstacle count of the ``"random"`` preset (at most 100: its arena grows with the
-      count, and past 100 it outgrows what the robot can cross in the 200-step time limit).
+    - ``n_obstacles``: obstacle count of the ``"random"`` preset (default 8; at most 100: its arena
+      grows with the count, and past 100 it outgrows what the robot can cross in the 200-step time
+      limit) and of the CrowdNav presets (default 5).
     - ``max_obstacles``: padding size ``N`` of the obstacle arrays; default ``max(16, obstacles)``.
+    - ``robot_visible``: overrides the scenario's: whether goal-directed obstacles see the robot.
     - ``reward_progress``, ``reward_goal``, ``reward_collision``, ``reward_time``, ``reward_proximity``:
       reward weights; ``proximity_distance`` (m, default 0.5) is the surface gap below which the
       proximity penalty starts.
@@ -124,7 +133,8 @@ class DynamicObstacleEnv(gym.Env):
     that episode on (the arena bounds must stay the same: they define the observation space).
 
     ## Version History
-    - v0: initial release.
+    - v0: initial release; goal-directed obstacle behaviours and the CrowdNav presets added without
+      changing any episode of the existing presets (tested by a digest).
     """
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 10}

@@ -84,6 +84,15 @@ def main(argv=None) -> None:
         target = f">= {targets[n]}x" if n in targets else ""
         print(f"| {n} | {rate:.0f} | {rate / cartpole:.3f}x | {target} |")
 
+    # goal-directed crowds: ORCA (or social force) steering every human every step
+    print("\n| crowd preset | humans | steps/s | ratio to CartPole-v1 | target |")
+    print("|---|---:|---:|---:|---:|")
+    for preset, n in (("crowdnav-circle-crossing", 5), ("crowdnav-circle-crossing-visible", 5), ("crowdnav-square-crossing", 5),
+                      ("crowdnav-circle-crossing", 10)):  # fmt: skip
+        rate = best_of(lambda: gym.make("DynamicObstacle-v0", scenario=preset, n_obstacles=n, delta_d=None), args.steps, args.repeats)
+        target = ">= 0.2x" if n == 5 else ""
+        print(f"| {preset} | {n} | {rate:.0f} | {rate / cartpole:.3f}x | {target} |")
+
     cartpole_env = gym.make("CartPole-v1")
     cartpole_env.reset(seed=0)
     start = time.perf_counter()

@@ -15,11 +15,13 @@ otherwise cross the robot between two steps unseen).
 from __future__ import annotations
 
 import math
+import weakref
 
 import numba
 import numpy as np
 import pymunk
 import pymunk.batch
+from pymunk._util import _dead_ref
 
 from .geometry import NO_CONTACT, swept_contact
 from .scenarios import Scenario
@@ -34,6 +36,8 @@ SPEED_TOLERANCE = 1e-9
 _STATE_FIELDS = pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.VELOCITY
 _batch = pymunk.batch  # its ffi and lib, for the per-substep read below
 _space_step, _each_body, _set_mass = _batch.lib.cpSpaceStep, _batch.lib.cpSpaceEachBody, _batch.lib.cpBodySetMass
+_add_body, _add_shape = _batch.lib.cpSpaceAddBody, _batch.lib.cpSpaceAddShape
+_remove_body, _remove_shape = _batch.lib.cpSpaceRemoveBody, _batch.lib.cpSpaceRemoveShape
 _READ_BODY = _batch.ffi.addressof(_batch.lib, "pmSpaceBodyGetIteratorFuncBatched")
 _WRITE_BODY = _batch.ffi.addressof(_batch.lib, "pmSpaceBodySetIteratorFuncBatched")
 
@@ -97,6 +101,39 @@ def _clearance(state, radii, x, y, robot_radius):
     return gap
 
 
+def _space_add(space: pymunk.Space, objects) -> None:
+    """``space.add(*objects)`` for bodies and shapes new to it, in the same order (bodies first), with
+    pymunk's bookkeeping mirrored but without its per-object checks and property layers: adding
+    and removing were a fifth of a reset. Nothing is added while the space steps."""
+    ref, c_space = weakref.ref(space), space._space
+    for body in objects:
+        if isinstance(body, pymunk.Body):
+            object.__setattr__(body, "_space", ref)
+            space._bodies[body] = None
+            space._bodies_to_check.add(body)
+            _add_body(c_space, body._body)
+    for shape in objects:
+        if not isinstance(shape, pymunk.Body):
+            object.__setattr__(shape, "_space", ref)
+            space._shapes[shape] = None
+            _add_shape(c_space, shape._shape)
+
+
+def _space_remove(space: pymunk.Space, objects) -> None:
+    """``space.remove(*objects)`` (in order) for objects in the space, as :func:`_space_add` adds them."""
+    c_space = space._space
+    for o in objects:
+        object.__setattr__(o, "_space", _dead_ref)
+        if isinstance(o, pymunk.Body):
+            space._bodies_to_check.discard(o)
+            _remove_body(c_space, o._body)
+            del space._bodies[o]
+        else:
+            space._removed_shapes[o] = None
+            _remove_shape(c_space, o._shape)
+            del space._shapes[o]
+
+
 class _BatchBuffer(pymunk.batch.Buffer):
     """``pymunk.batch.Buffer`` that frees its C arrays when collected (pymunk 7.3's never does: a new
     one per reset leaked 0.5 KiB each)."""
@@ -143,7 +180,7 @@ class World:
         walls = recycle._release_walls(scenario.bounds) if recycle is not None else None
         self._walls = walls if walls is not None else self._make_walls(scenario.bounds, thickness=max(scenario.arena_diagonal, 1.0))
         self._walls_bounds = scenario.bounds
-        self.space.add(*self._walls)
+        _space_add(self.space, self._walls)
         spare = recycle._release_moving_obstacles() if recycle is not None else []
         objects, self._moving = [], []
         for r, speed in zip(self.radii.tolist(), top_speeds.tolist()):  # a goal-directed obstacle is dynamic even at rest
@@ -161,7 +198,7 @@ class World:
             objects += (body, shape)
             self._moving.append(speed > 0)
         self._objects = objects
-        self.space.add(*objects)
+        _space_add(self.space, objects)
         # positions and velocities in one batch write; the obstacles are the space's first bodies
         self._buffer = _BatchBuffer()
         self._attach_state_view()
@@ -212,11 +249,11 @@ class World:
           space's spatial index at the origin as new bodies do (the index's structure decides the
           order of contacts, which decides the last bits of every bounce).
         """
-        self.space.remove(*self._objects[1::2])
+        _space_remove(self.space, self._objects[1::2])
         _space_step(self.space._space, 1e-9)  # (the walls left already, or stay for the old space's end)
         self._pymunk_state[:] = 0.0
         self._write_bodies()
-        self.space.remove(*self._objects[0::2])
+        _space_remove(self.space, self._objects[0::2])
         pairs = [(self._objects[2 * i], self._objects[2 * i + 1]) for i, moving in enumerate(self._moving) if moving]
         self._objects, self._moving = [], []
         return pairs
@@ -246,7 +283,7 @@ class World:
         sixth of a reset)."""
         if self._walls_bounds != tuple(bounds):
             return None
-        self.space.remove(*self._walls)
+        _space_remove(self.space, self._walls)
         walls, self._walls = self._walls, ()
         return walls
 

@@ -131,3 +131,15 @@ def test_memory_stays_flat_over_resets():
     for seed in range(10_000):
         env.reset(seed=seed)
     assert resident_mib() - before < 1.0  # 5 MiB when each reset leaked pymunk's batch buffer
+
+
+def test_recycled_worlds_keep_pymunks_bookkeeping():
+    """World adds and removes bodies through Chipmunk directly: pymunk's own view must still agree."""
+    env = gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=6, delta_d=0.5)
+    for seed in range(5):
+        env.reset(seed=seed)
+    space = env.unwrapped._world.space
+    assert len(space.bodies) == 6 + 1 and len(space.shapes) == 6 + 4  # obstacles, the walls' body and 4 walls
+    assert all(o.space is space for o in [*space.bodies, *space.shapes])
+    restored = pickle.loads(pickle.dumps(space))
+    assert (len(restored.bodies), len(restored.shapes)) == (7, 10)

@@ -45,7 +45,7 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--agent", default="pso-predictive", help=f"one of {agents.available()}")
     parser.add_argument("--scenario", default="random")
     parser.add_argument("--delta-d", type=float, default=0.5)
-    parser.add_argument("--n-obstacles", type=int, default=8)
+    parser.add_argument("--n-obstacles", type=int, help="obstacles of the random (default 8) and CrowdNav (default 5) presets")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--fps", type=int, default=10)
     parser.add_argument("--out", default="results/episode.gif")

@@ -81,12 +81,15 @@ class Obstacle:
         return math.hypot(*self.velocity)
 
     @classmethod
-    def _from_checked(cls, center: Vec2, radius: float, velocity: Vec2) -> "Obstacle":
+    def _from_checked(cls, center: Vec2, radius: float, velocity: Vec2, goal: Vec2 | None = None, preferred_speed: float = 0.0) -> "Obstacle":
         """Build from values that are already valid float tuples (sampling, ``with_delta_d``): no re-validation."""
         ob = object.__new__(cls)
         object.__setattr__(ob, "center", center)
         object.__setattr__(ob, "radius", radius)
         object.__setattr__(ob, "velocity", velocity)
+        if goal is not None:  # (else the class defaults: no goal, no preferred speed)
+            object.__setattr__(ob, "goal", goal)
+            object.__setattr__(ob, "preferred_speed", preferred_speed)
         return ob
 
 

@@ -42,6 +42,8 @@ _READ_BODY = _batch.ffi.addressof(_batch.lib, "pmSpaceBodyGetIteratorFuncBatched
 _WRITE_BODY = _batch.ffi.addressof(_batch.lib, "pmSpaceBodySetIteratorFuncBatched")
 
 
+_NO_ROBOT = np.empty(0)  # what humans see of an invisible robot
+
 #: Most substeps a step may take. A scene past it (an obstacle much faster than the smallest one is
 #: large) is rejected with a ``ValueError`` rather than simulated for seconds a step.
 MAX_SUBSTEPS = 200
@@ -161,6 +163,7 @@ class World:
         self.n_obstacles = len(self.radii)
         self._speeds = np.hypot(data["velocities"][:, 0], data["velocities"][:, 1])
         self._drivers = self._group_drivers(scenario)
+        self._robot_row = np.array([0.0, 0.0, 0.0, 0.0, scenario.robot_radius])  # what visible humans see
         # the robot's state as Python floats: the env's per-step arithmetic on numpy scalars cost more
         self.robot_xy = (float(scenario.start[0]), float(scenario.start[1]))
         self.robot_velocity_xy = (0.0, 0.0)
@@ -228,15 +231,13 @@ class World:
         speed each chose is the one bounces keep for the step."""
         if self.scenario.robot_visible:
             (x, y), (vx, vy) = self.robot_xy, self.robot_velocity_xy
-            robot = np.array([x, y, vx, vy, self.scenario.robot_radius])
+            robot = self._robot_row
+            robot[0], robot[1], robot[2], robot[3] = x, y, vx, vy
         else:
-            robot = np.empty(0)
-        chosen = [(idx, b.velocities(idx, self.obstacle_state, self.radii, goals, speeds, robot, self.scenario.dt))
-                  for b, idx, goals, speeds in self._drivers]  # fmt: skip
-        for idx, velocities in chosen:
-            self.obstacle_state[idx, 2:] = velocities
-            self._speeds[idx] = np.hypot(velocities[:, 0], velocities[:, 1])
-        self._pymunk_state[:] = self.obstacle_state
+            robot = _NO_ROBOT
+        state, dt = self.obstacle_state, self.scenario.dt
+        for behaviour, idx, goals, preferred in self._drivers:
+            behaviour.steer(idx, state, self._pymunk_state, self._speeds, self.radii, goals, preferred, robot, dt)
         self._write_bodies()
 
     def _release_moving_obstacles(self) -> list:

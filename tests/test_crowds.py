@@ -235,3 +235,14 @@ def test_a_crowd_scenario_survives_a_json_env_spec():
 def test_bad_behaviour_input_raises_a_value_error_naming_it(make, field):
     with pytest.raises(ValueError, match=field):
         make()
+
+
+@pytest.mark.parametrize("name", ["crowdnav-circle-crossing", "crowdnav-square-crossing-visible"])
+def test_crowdnav_scenes_pass_the_validating_constructor_unchanged(name):
+    """The presets skip validation for speed: the scenes they build must be what validation accepts."""
+    for seed in range(50):
+        fast = pathplan_env.make_scenario(name, np.random.default_rng(seed), n_obstacles=12)
+        checked = Scenario(**{f.name: getattr(fast, f.name) for f in dataclasses.fields(Scenario)})
+        assert checked == fast
+        for key, array in fast.arrays().items():
+            assert np.array_equal(array, checked.arrays()[key])

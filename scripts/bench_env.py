@@ -13,6 +13,7 @@ import argparse
 import time
 
 import gymnasium as gym
+import numpy as np
 
 import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
 
@@ -33,6 +34,19 @@ def best_of(make, steps: int, repeats: int) -> float:
     env = make()
     steps_per_second(env, min(steps, 2000))  # warm-up (numba cache load, allocator)
     return max(steps_per_second(env, steps, seed=i) for i in range(repeats))
+
+
+def paired_ratio(make, reference: gym.Env, steps: int, repeats: int) -> tuple[float, float]:
+    """``(steps/s, median ratio to the reference)``: each repeat times the env and then the reference
+    back to back, so that the machine's load, which drifts over a run, cancels in each ratio."""
+    env = make()
+    steps_per_second(env, min(steps, 2000))  # warm-up (numba cache load, allocator)
+    rates, ratios = [], []
+    for i in range(repeats):
+        rate = steps_per_second(env, steps, seed=i)
+        rates.append(rate)
+        ratios.append(rate / steps_per_second(reference, steps, seed=i))
+    return float(np.median(rates)), float(np.median(ratios))
 
 
 def cost_breakdown(n_obstacles: int, delta_d: float, repeats: int = 5) -> tuple[float, float]:
@@ -62,7 +76,7 @@ def cost_breakdown(n_obstacles: int, delta_d: float, repeats: int = 5) -> tuple[
 def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--steps", type=int, default=20000)
-    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--delta-d", type=float, default=0.25)
     return parser.parse_args(argv)
 
@@ -70,28 +84,27 @@ def parse_args(argv=None) -> argparse.Namespace:
 def main(argv=None) -> None:
     args = parse_args(argv)
 
-    cartpole = best_of(lambda: gym.make("CartPole-v1"), args.steps, args.repeats)
-    print(f"CartPole-v1: {cartpole:10.0f} steps/s (reference)")
+    reference = gym.make("CartPole-v1")
+    cartpole = best_of(lambda: reference, args.steps, args.repeats)
+    print(f"CartPole-v1: {cartpole:10.0f} steps/s (reference; every ratio below is the median of {args.repeats} paired runs)")
     print("| obstacles | steps/s | ratio to CartPole-v1 | target |")
     print("|---:|---:|---:|---:|")
     targets = {5: 0.5, 50: 0.1}
     for n in (5, 20, 50):
-        rate = best_of(
-            lambda: gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=n, delta_d=args.delta_d),
-            args.steps,
-            args.repeats,
+        rate, ratio = paired_ratio(
+            lambda: gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=n, delta_d=args.delta_d), reference, args.steps, args.repeats
         )
         target = f">= {targets[n]}x" if n in targets else ""
-        print(f"| {n} | {rate:.0f} | {rate / cartpole:.3f}x | {target} |")
+        print(f"| {n} | {rate:.0f} | {ratio:.3f}x | {target} |")
 
     # goal-directed crowds: ORCA (or social force) steering every human every step
     print("\n| crowd preset | humans | steps/s | ratio to CartPole-v1 | target |")
     print("|---|---:|---:|---:|---:|")
     for preset, n in (("crowdnav-circle-crossing", 5), ("crowdnav-circle-crossing-visible", 5), ("crowdnav-square-crossing", 5),
                       ("crowdnav-circle-crossing", 10)):  # fmt: skip
-        rate = best_of(lambda: gym.make("DynamicObstacle-v0", scenario=preset, n_obstacles=n, delta_d=None), args.steps, args.repeats)
+        rate, ratio = paired_ratio(lambda: gym.make("DynamicObstacle-v0", scenario=preset, n_obstacles=n, delta_d=None), reference, args.steps, args.repeats)
         target = ">= 0.2x" if n == 5 else ""
-        print(f"| {preset} | {n} | {rate:.0f} | {rate / cartpole:.3f}x | {target} |")
+        print(f"| {preset} | {n} | {rate:.0f} | {ratio:.3f}x | {target} |")
 
     cartpole_env = gym.make("CartPole-v1")
     cartpole_env.reset(seed=0)

@@ -43,8 +43,9 @@ class DynamicObstacleEnv(gym.Env):
     integrates them; their behaviour sets their velocities at the start of every step.
 
     The obstacles' speed is set by **Δd** (``delta_d``), the paper's Eq. 8: the distance an obstacle
-    moves in one step divided by its radius (for goal-directed obstacles, their preferred speed). The robot covers half an obstacle radius per step by
-    default, so at Δd = 0.5 the obstacles move as fast as the robot.
+    moves in one step divided by its radius (for goal-directed obstacles, at their preferred speed).
+    The robot covers half an obstacle radius per step by default, so at Δd = 0.5 the obstacles move
+    as fast as the robot.
 
     Robot-obstacle contact is detected continuously within a step (an exact swept-circle test at
     every physics substep), so no obstacle, however fast, crosses the robot unseen, and a near miss
@@ -94,8 +95,9 @@ class DynamicObstacleEnv(gym.Env):
     ``docs/paper_assumptions.md`` for the assumed start, goal, radii and arena) and ``"random"``
     (``n_obstacles`` non-overlapping obstacles, start and goal at least 6 m apart, all drawn from
     ``np_random``), ``"crowdnav-circle-crossing"`` and ``"crowdnav-square-crossing"`` (CrowdNav's
-    protocol: 5 ORCA humans, robot invisible; the ``-visible`` forms show them the robot). Obstacles that rest in the scenario get directions from ``np_random`` once
-    ``delta_d`` makes them move.
+    protocol: 5 ORCA humans, robot invisible; the ``-visible`` forms show them the robot).
+    Obstacles that rest in the scenario get directions from ``np_random`` once ``delta_d`` makes
+    them move.
 
     ## Episode End
     - Termination: the robot reaches the goal (``info["is_success"]``), or touches an obstacle
@@ -388,9 +390,7 @@ class DynamicObstacleEnv(gym.Env):
     @staticmethod
     def _check_substeps(scenario: Scenario) -> None:
         """The scenario's physics within the substep bound (``World`` checks it again when built)."""
-        arrays = scenario.arrays()
-        speeds = np.array([scenario.top_speed(i) for i in range(scenario.n_obstacles)]) if scenario.goal_directed else np.hypot(*arrays["velocities"].T)
-        substeps_for(speeds, arrays["radii"], scenario.dt)
+        substeps_for(scenario.top_speeds(), scenario.arrays()["radii"], scenario.dt)
 
     @staticmethod
     def _check_n_obstacles(n) -> int | None:

@@ -252,17 +252,23 @@ class Scenario:
         """Whether any obstacle steers itself (then its moves depend on the others, and maybe the robot)."""
         return self.behaviour.goal_directed or any(ob.behaviour is not None and ob.behaviour.goal_directed for ob in self.obstacles)
 
-    def top_speed(self, i: int) -> float:
-        """The fastest obstacle ``i`` can move: its speed, or its preferred speed when goal-directed."""
-        ob = self.obstacles[i]
-        return max(ob.speed, ob.preferred_speed) if self.behaviour_of(i).goal_directed else ob.speed
+    def top_speeds(self) -> np.ndarray:
+        """The fastest each obstacle can move (m/s): its speed, or for a goal-directed one the larger
+        of that and its preferred speed (what sizes the physics substeps)."""
+        v = self._arrays["velocities"]
+        speeds = np.hypot(v[:, 0], v[:, 1])
+        if self.goal_directed:
+            for i, ob in enumerate(self.obstacles):
+                if self.behaviour_of(i).goal_directed:
+                    speeds[i] = max(speeds[i], ob.preferred_speed)
+        return speeds
 
     @property
     def delta_d(self) -> float:
         """The largest Δd among the obstacles (all equal once set by :meth:`with_delta_d`); 0 if none move.
         For goal-directed obstacles, ``preferred_speed * dt / radius``."""
         if self.goal_directed:
-            return max((self.top_speed(i) * self.dt / ob.radius for i, ob in enumerate(self.obstacles)), default=0.0)
+            return max((self.top_speeds() * self.dt / self._arrays["radii"]).tolist(), default=0.0)
         return max((ob.speed * self.dt / ob.radius for ob in self.obstacles), default=0.0)
 
     def with_delta_d(self, delta_d: float, rng: np.random.Generator) -> "Scenario":

@@ -169,7 +169,7 @@ class World:
         self.robot_velocity_xy = (0.0, 0.0)
         self.time = 0.0
 
-        top_speeds = self._speeds if not self._drivers else np.array([scenario.top_speed(i) for i in range(self.n_obstacles)])
+        top_speeds = self._speeds if not self._drivers else scenario.top_speeds()
         self.substeps = substeps_for(top_speeds, self.radii, scenario.dt)
         min_radius = min(self.radii.tolist()) if self.n_obstacles else 1.0
 

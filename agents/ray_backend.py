@@ -16,14 +16,18 @@ from tqdm import tqdm
 MAX_RETRIES = 3
 
 
-def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, num_cpus: int | None = None) -> None:
-    """Run ``jobs`` on Ray, calling ``on_result`` with each finished episode as it arrives."""
+def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, num_cpus: int | None = None, runner=None) -> None:
+    """Run ``jobs`` on Ray, calling ``on_result`` with each finished episode as it arrives.
+
+    ``runner(job) -> EpisodeResult`` runs one job (default: ``run_episode(*job)``; tests pass one
+    whose worker dies)."""
     try:
         import ray
     except ImportError:
         raise ValueError('--backend ray needs Ray: pip install -e ".[ray]"') from None
     from .evaluation import EpisodeResult, run_episode
 
+    run = runner if runner is not None else (lambda job: run_episode(*job))
     started_here = not ray.is_initialized()
     if started_here:
         ray.init(address=address, num_cpus=None if address else num_cpus, include_dashboard=False,
@@ -31,7 +35,7 @@ def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, nu
 
     @ray.remote(max_retries=MAX_RETRIES)
     def episode(job):
-        return asdict(run_episode(*job))  # a plain dict travels without our classes' pickles
+        return asdict(run(job))  # a plain dict travels without our classes' pickles
 
     try:
         pending = [episode.remote(job) for job in jobs]

@@ -1,6 +1,7 @@
 """The Ray backend runs the same jobs as the process pool: the same results, timing aside."""
 
 import importlib.util
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -36,3 +37,30 @@ def test_ray_backend_without_ray_is_one_line_before_any_work(tmp_path):
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert out.returncode != 0 and "--backend ray needs Ray" in out.stderr.strip().splitlines()[-1]
     assert not (tmp_path / "episodes.jsonl").exists() and "Traceback" not in out.stderr
+
+
+@pytest.mark.skipif(importlib.util.find_spec("ray") is None, reason='Ray not installed (pip install -e ".[ray]")')
+def test_an_episode_whose_ray_worker_dies_is_retried(tmp_path):
+    from agents.evaluation import run_episode
+    from agents.ray_backend import run_jobs_on_ray
+
+    jobs = [("straight", "paper-case-1", 0.5, i, 100 + i, None, {}) for i in range(3)]
+    markers = str(tmp_path)
+
+    def dies_once(job):  # the worker process exits mid-job the first time it meets each job
+        import os
+        from pathlib import Path
+
+        from agents.evaluation import run_episode
+
+        marker = Path(markers) / f"died-{job[3]}"
+        if not marker.exists():
+            marker.touch()
+            os._exit(1)
+        return run_episode(*job)
+
+    results = []
+    run_jobs_on_ray(jobs, results.append, num_cpus=2, runner=dies_once)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["died-0", "died-1", "died-2"]
+    strip_ms = lambda r: json.dumps({k: v for k, v in vars(r).items() if k != "plan_ms"}, sort_keys=True)  # noqa: E731 (NaNs compare equal)
+    assert sorted(map(strip_ms, results)) == sorted(strip_ms(run_episode(*job)) for job in jobs)

@@ -30,6 +30,8 @@ import numpy as np
 from scipy.stats import binomtest
 from tqdm import tqdm
 
+from pathplan_env.crowdnav import DISCOMFORT_DISTANCE  # CrowdNav's: a step closer than this is one in danger
+
 #: Preset runs (``scripts/evaluate.py --suite``); the clairvoyant limit is added to every one.
 SUITES = {
     "default": dict(  # oracle-static (blind to motion, slow) is in "large" only: make demo stays within 3 minutes
@@ -79,9 +81,6 @@ class EpisodeResult:
     discomfort_steps: int = 0
     discomfort_clearance_sum: float = 0.0  # of those steps' smallest clearances (m)
 
-
-#: CrowdNav's discomfort distance (m): a step closer than this to a human counts as one in danger.
-DISCOMFORT_DISTANCE = 0.2
 
 
 _WARMED: set[str] = set()  # agents whose compiled code this process has already loaded

@@ -166,6 +166,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     :param horizon_steps: steps of predicted obstacle motion checked step by step.
     :param margin: relative margin on the contact distance.
     :param n_dodges, dodge_steps: warm-start candidates besides the straight line (:meth:`seed_paths`).
+    :param prediction: :class:`SpacetimeModel`'s obstacle prediction.
     Every other parameter is :class:`~agents.metaheuristic.MetaheuristicAgent`'s.
     """
 

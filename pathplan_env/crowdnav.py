@@ -34,6 +34,7 @@ TIME_LIMIT = 25.0
 CIRCLE_RADIUS = 4.0
 CIRCLE_NOISE = 0.5  # CrowdNav's (rand - 0.5) * v_pref with v_pref = 1 m/s
 SQUARE_WIDTH = 10.0
+#: CrowdNav's discomfort distance (m): its spawn spacing, and the harness's discomfort metric.
 DISCOMFORT_DISTANCE = 0.2
 HUMANS = 5
 ROBOT_START, ROBOT_GOAL = (0.0, -CIRCLE_RADIUS), (0.0, CIRCLE_RADIUS)

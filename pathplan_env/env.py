@@ -101,14 +101,17 @@ class DynamicObstacleEnv(gym.Env):
 
     ## Episode End
     - Termination: the robot reaches the goal (``info["is_success"]``), or touches an obstacle
-      (``info["collision"]``); whichever happens first within the step decides.
+      (``info["collision"]``); whichever happens first within the step decides. The robot stops
+      there, and the final step is read at its end like every other: the robot rests at the goal
+      (or where it touched), ``path_length`` counts the distance to that point, ``time`` whole steps.
     - Truncation: the registration's time limit, ``max_episode_steps=200`` (20 s at dt = 0.1 s), or
       the scenario's own ``time_limit`` if it is shorter (the CrowdNav presets: 25 s, 100 steps).
 
     ## Info
     ``is_success``, ``collision``, ``cost`` (1.0 on a step with contact, as Safety-Gymnasium reports
-    constraint costs), ``min_clearance`` (smallest surface gap to any obstacle during the step, m; the
-    arena diagonal with no obstacles, so that every field is finite),
+    constraint costs), ``min_clearance`` (smallest surface gap to any obstacle during the step up to
+    where the robot stopped, m: 0 on contact; the arena diagonal with no obstacles, so that every
+    field is finite),
     ``path_length`` (m flown so far), ``time`` (s), ``distance_to_goal``, ``waypoint`` (the ``(x, y)`` the
     robot headed for) and ``rewards``.
 
@@ -292,14 +295,15 @@ class DynamicObstacleEnv(gym.Env):
         if not finite:
             raise ValueError(f"action must be finite, got {action!r} (NaN or infinite)")
         self.waypoint = (wx, wy)
-        min_gap, contact_fraction = world.step(dx, dy)
-        self._moves.append((dx, dy))
-        collision = contact_fraction <= 1.0 and contact_fraction <= goal_fraction
+        # the robot stops where the episode ends (the goal, or the first contact); the step's
+        # quantities are read at its end: the robot resting there, path_length up to there
+        min_gap, contact_fraction = world.step(dx, dy, goal_fraction)
+        self._moves.append((dx, dy, goal_fraction))
+        collision = contact_fraction <= 1.0
         success = goal_fraction <= 1.0 and not collision
-
-        # on success, the episode ends where the robot reached the goal, part-way through the step
-        self._path_length += math.hypot(dx, dy) * (goal_fraction if success else 1.0)
-        distance = 0.0 if success else math.hypot(px + dx - self._goal_xy[0], py + dy - self._goal_xy[1])
+        self._path_length += math.hypot(dx, dy) * (goal_fraction if success else contact_fraction if collision else 1.0)
+        rx, ry = world.robot_xy
+        distance = 0.0 if success else math.hypot(rx - gx, ry - gy)
         w = self.reward_weights
         rewards = {
             "progress": w["progress"] * (self._distance - distance) / self._start_distance,
@@ -464,8 +468,8 @@ class DynamicObstacleEnv(gym.Env):
         self.__dict__.update(state)
         if self._moves is not None:
             world = World(self.scenario)
-            for dx, dy in self._moves:
-                world.step(dx, dy)
+            for dx, dy, goal_fraction in self._moves:
+                world.step(dx, dy, goal_fraction)
             self._world = world
 
 

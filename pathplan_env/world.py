@@ -23,7 +23,7 @@ import pymunk
 import pymunk.batch
 from pymunk._util import _dead_ref
 
-from .geometry import NO_CONTACT, swept_contact
+from .geometry import NO_CONTACT, swept_contact, swept_pair
 from .scenarios import Scenario
 
 #: Largest obstacle displacement per substep, in units of the smallest obstacle radius. Keeps
@@ -91,6 +91,20 @@ def _finish_substep(state, new_state, ax, ay, bx, by, robot_radius, radii, speed
         for j in range(4):
             state[i, j] = new_state[i, j]
     return min_gap, t_contact, restored
+
+
+@numba.njit(cache=True)
+def _gap_until(ax, ay, bx, by, until, robot_radius, state, new_state, radii):
+    """Smallest surface gap over the first ``until`` (in [0, 1]) of a substep's linear motion."""
+    gap = np.inf
+    for i in range(radii.shape[0]):
+        oax, oay = state[i, 0], state[i, 1]
+        pair_gap, _ = swept_pair(
+            ax, ay, ax + until * (bx - ax), ay + until * (by - ay), robot_radius,
+            oax, oay, oax + until * (new_state[i, 0] - oax), oay + until * (new_state[i, 1] - oay), radii[i],
+        )  # fmt: skip
+        gap = min(gap, pair_gap)
+    return gap
 
 
 @numba.njit(cache=True)
@@ -328,12 +342,16 @@ class World:
     def robot_velocity(self) -> np.ndarray:
         return np.array(self.robot_velocity_xy)
 
-    def step(self, dx: float, dy: float) -> tuple[float, float]:
+    def step(self, dx: float, dy: float, goal_fraction: float = NO_CONTACT) -> tuple[float, float]:
         """Advance by one ``dt``: move the robot by ``(dx, dy)``, obstacles by physics.
 
+        The robot stops where its episode ends: at ``goal_fraction`` of the move (where it reaches the
+        goal; ``NO_CONTACT`` if it does not) or where it first touches an obstacle, whichever comes
+        first. The obstacles finish the step; the robot rests at that point with zero velocity.
+
         :return: ``(min_gap, contact_fraction)``: the smallest surface gap to any obstacle during the
-            step (m; negative on contact, inf with no obstacles), and the fraction of the step at which
-            the first contact began (``NO_CONTACT``, > 1, if none).
+            step up to that point (m; 0 on contact, inf with no obstacles), and the fraction of the
+            step at which the first contact began (``NO_CONTACT``, > 1, if none before the goal).
         """
         dt, n = self.scenario.dt, self.substeps
         if self._drivers:
@@ -341,6 +359,7 @@ class World:
         x0, y0 = self.robot_xy
         min_gap, first_contact = self.scenario.arena_diagonal, NO_CONTACT  # no gap is wider: finite with no obstacles
         ax, ay = x0, y0
+        moving = True
         space, array, request = self.space._space, self._buffer._float_arr, self._request
         for k in range(1, n + 1):
             # Chipmunk's step itself: Space.step's extra work (deferred adds and removals, post-step
@@ -349,19 +368,36 @@ class World:
             _space_step(space, dt / n)
             array.num = 0  # _read_bodies, inlined on the hot path
             _each_body(space, _READ_BODY, request)
-            bx, by = (x0 + dx, y0 + dy) if k == n else (x0 + (k / n) * dx, y0 + (k / n) * dy)
-            gap, t, restored = _finish_substep(
+            if moving:
+                bx, by = (x0 + dx, y0 + dy) if k == n else (x0 + (k / n) * dx, y0 + (k / n) * dy)
+                goal_here = goal_fraction * n - (k - 1)  # where the goal lies within this substep
+                if k == n and goal_fraction <= 1.0:
+                    goal_here = min(goal_here, 1.0)  # rounding never carries a goal past the step's end
+                if goal_here <= 1.0:  # the gap counts up to the goal only (before the states move on)
+                    gap = _gap_until(ax, ay, bx, by, goal_here, self.scenario.robot_radius, self.obstacle_state, self._pymunk_state, self.radii)
+            else:
+                bx, by = ax, ay
+            sweep_gap, t, restored = _finish_substep(
                 self.obstacle_state, self._pymunk_state, ax, ay, bx, by, self.scenario.robot_radius, self.radii, self._speeds
             )
             if restored:
                 self._write_bodies()
-            if gap < min_gap:
-                min_gap = gap
-            if t <= 1.0 and first_contact > 1.0:
+            if not moving:
+                continue
+            if t <= 1.0 and (k - 1 + t) / n <= goal_fraction:  # contact first: the robot stops touching
                 first_contact = (k - 1 + t) / n
+                min_gap = min(min_gap, 0.0)  # every gap is positive before the first contact
+                bx, by = ax + t * (bx - ax), ay + t * (by - ay)
+                moving = False
+            elif goal_here <= 1.0:  # at the goal: the robot stops there
+                min_gap = min(min_gap, gap)
+                bx, by = x0 + goal_fraction * dx, y0 + goal_fraction * dy
+                moving = False
+            elif sweep_gap < min_gap:
+                min_gap = sweep_gap
             ax, ay = bx, by
         self.robot_xy = (ax, ay)
-        self.robot_velocity_xy = (dx / dt, dy / dt)
+        self.robot_velocity_xy = (dx / dt, dy / dt) if moving else (0.0, 0.0)
         self.time += dt
         return float(min_gap), float(first_contact)
 

@@ -199,8 +199,40 @@ def test_fast_obstacle_crossing_standing_robot_is_a_collision():
     env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=4.0)
     env.reset(seed=0)
     _, reward, terminated, _, info = env.step(stand_still(env))
-    assert terminated and info["collision"] and info["cost"] == 1.0 and info["min_clearance"] < 0
+    assert terminated and info["collision"] and info["cost"] == 1.0 and info["min_clearance"] == 0.0
     assert info["rewards"]["collision"] == -1.0
+
+
+def test_the_robot_stops_where_the_episode_ends():
+    # one convention for the final step: the robot rests where it reached the goal or touched
+    # the obstacle, path_length is the track the observations show, time counts whole steps
+    heading = np.array([7.0, 4.0]) / math.hypot(7.0, 4.0)
+    beyond = Obstacle(center=tuple(np.array([8.0, 5.0]) + 0.9 * heading), radius=0.3, velocity=(0.0, 0.0))
+    goal_run = Scenario(bounds=(0, 0, 10, 10), start=(1, 1), goal=(8, 5), obstacles=(beyond,), robot_speed=2.0)
+    wall = Obstacle(center=(6.0, 5.0), radius=0.5, velocity=(0.0, 0.0))
+    crash = Scenario(bounds=(0, 0, 10, 10), start=(1, 5), goal=(9, 5), obstacles=(wall,), robot_speed=2.0)
+    for scenario, outcome in ((goal_run, "is_success"), (crash, "collision")):
+        env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=None)
+        obs, _ = env.reset(seed=0)
+        track, steps, terminated = 0.0, 0, False
+        while not terminated:
+            previous = obs["robot_position"].astype(np.float64)
+            obs, _, terminated, truncated, info = env.step(env.unwrapped.waypoint_to_action(scenario.goal))
+            track += float(np.linalg.norm(obs["robot_position"] - previous))
+            steps += 1
+            assert not truncated
+        assert info[outcome]
+        assert info["path_length"] == pytest.approx(track, abs=1e-5)  # float32 observations
+        assert info["time"] == pytest.approx(steps * scenario.dt)
+        assert np.array_equal(obs["robot_velocity"], np.zeros(2, np.float32))
+        if outcome == "is_success":
+            assert math.dist(obs["robot_position"], scenario.goal) == pytest.approx(scenario.goal_radius, abs=1e-5)
+            # the obstacle beyond the goal: the gap counts up to the goal, not along the whole move
+            gap = math.dist(obs["robot_position"], beyond.center) - beyond.radius - scenario.robot_radius
+            assert info["min_clearance"] == pytest.approx(gap, abs=1e-5)
+        else:  # touching, not inside: centre distance = the two radii
+            gap = math.dist(obs["robot_position"], wall.center) - wall.radius - scenario.robot_radius
+            assert gap == pytest.approx(0.0, abs=1e-5) and info["min_clearance"] == 0.0
 
 
 def test_near_miss_by_one_percent_is_not_a_collision():
@@ -296,7 +328,7 @@ def test_a_crossing_between_two_substeps_is_a_collision():
     gaps = [abs((5.74 - 2.0 * j / 8) - (2.0 + 10.0 * j / 8)) - 0.7 for j in range(9)]
     assert min(gaps) > 0.03  # no endpoint test could see this contact
     _, _, terminated, _, info = env.step(env.unwrapped.waypoint_to_action((19.0, 5.0)))
-    assert terminated and info["collision"] and info["min_clearance"] < 0
+    assert terminated and info["collision"] and info["min_clearance"] == 0.0
 
 
 # -- rendering ----------------------------------------------------------------------------------

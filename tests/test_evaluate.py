@@ -10,6 +10,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
 import evaluate  # noqa: E402
 
+from agents.run_diff import diff_runs  # noqa: E402
 from pathplan_env.splits import TEST_SEED_BASE, is_training_seed, heldout_seeds  # noqa: E402
 
 TINY = ["--agents", "straight,pso-predictive", "--scenarios", "paper-case-1", "--delta-d", "0,0.5", "--episodes", "4", "--no-plots"]
@@ -50,10 +51,31 @@ def test_summary_schema_and_rates(tiny_run):
 
 
 def test_same_seed_same_results_with_any_worker_count(tiny_run, tmp_path):
-    again = evaluate.main(TINY + ["--workers", "1", "--out", str(tmp_path)])
-    first = json.loads((tiny_run / "summary.json").read_text())["results"]
-    strip = lambda cells: [{k: v for k, v in c.items() if not k.startswith("plan_ms")} for c in cells]  # noqa: E731
-    assert strip(first) == strip(json.loads(json.dumps(again)))
+    evaluate.main(TINY + ["--workers", "1", "--out", str(tmp_path)])
+    diff = diff_runs(tiny_run, tmp_path)
+    assert diff.equal and (diff.cells, diff.episodes) == (6, 24), diff.differences
+
+
+def test_compare_runs_finds_a_changed_episode_and_a_missing_cell(tiny_run, tmp_path):
+    import compare_runs
+
+    for name in ("summary.json", "episodes.csv"):
+        (tmp_path / name).write_text((tiny_run / name).read_text())
+    rows = list(csv.DictReader(open(tmp_path / "episodes.csv")))
+    rows[5]["min_clearance"] = "0.123"
+    with open(tmp_path / "episodes.csv", "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    assert diff_runs(tiny_run, tmp_path, ignore=["min_clearance"]).equal
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    dropped = summary["results"].pop()
+    (tmp_path / "summary.json").write_text(json.dumps(summary))
+    diff = diff_runs(tiny_run, tmp_path)
+    assert diff.differing == 2
+    assert any("only in the first run" in line and dropped["agent"] in line for line in diff.differences)
+    assert any("min_clearance" in line and "0.123" in line for line in diff.differences)
+    assert compare_runs.main([str(tiny_run), str(tmp_path)]) == 1 and compare_runs.main([str(tiny_run), str(tiny_run)]) == 0
 
 
 def test_test_split_is_disjoint_from_training_seeds():

@@ -12,18 +12,17 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "scripts"))
 import evaluate  # noqa: E402
 
+from agents.run_diff import diff_runs  # noqa: E402
+
 TINY = ["--agents", "straight,pso-predictive", "--scenarios", "paper-case-1", "--delta-d", "0,0.5", "--episodes", "3", "--no-plots"]
-
-
-def strip(cells):
-    return [{k: v for k, v in c.items() if not k.startswith("plan_ms")} for c in cells]
 
 
 @pytest.mark.skipif(importlib.util.find_spec("ray") is None, reason='Ray not installed (pip install -e ".[ray]")')
 def test_ray_backend_gives_the_process_pools_results(tmp_path):
-    on_ray = evaluate.main(TINY + ["--backend", "ray", "--workers", "2", "--out", str(tmp_path / "ray")])
-    local = evaluate.main(TINY + ["--workers", "1", "--out", str(tmp_path / "local")])
-    assert strip(on_ray) == strip(local)
+    evaluate.main(TINY + ["--backend", "ray", "--workers", "2", "--out", str(tmp_path / "ray")])
+    evaluate.main(TINY + ["--workers", "1", "--out", str(tmp_path / "local")])
+    diff = diff_runs(tmp_path / "ray", tmp_path / "local")  # summary.json and episodes.csv, timing aside
+    assert diff.equal and (diff.cells, diff.episodes) == (6, 18), diff.differences
     assert len((tmp_path / "ray" / "episodes.jsonl").read_text().splitlines()) == 18  # 3 agents x 2 Δd x 3
 
 

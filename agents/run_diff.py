@@ -42,15 +42,17 @@ def _cell_key(row: dict) -> tuple:
     return row["agent"], row["scenario"], row["delta_d"]
 
 
-def _read_cells(run: Path, ignore) -> dict[tuple, dict]:
-    rows = json.loads((run / "summary.json").read_text())["results"]
-    return {_cell_key(r): {k: v for k, v in r.items() if k not in ignore} for r in rows}
+def _read_cells(run: Path) -> dict[tuple, dict]:
+    return {_cell_key(r): r for r in json.loads((run / "summary.json").read_text())["results"]}
 
 
-def _read_episodes(run: Path, ignore) -> dict[tuple, dict]:
+def _read_episodes(run: Path) -> dict[tuple, dict]:
     with open(run / "episodes.csv", newline="") as f:
-        rows = list(csv.DictReader(f))
-    return {(*_cell_key(r), r["seed"]): {k: v for k, v in r.items() if k not in ignore} for r in rows}
+        return {(*_cell_key(r), r["seed"]): r for r in csv.DictReader(f)}
+
+
+def _without(rows: dict[tuple, dict], ignore: set) -> dict[tuple, dict]:
+    return {key: {k: v for k, v in row.items() if k not in ignore} for key, row in rows.items()}
 
 
 def _compare(kind: str, a: dict, b: dict) -> list[str]:
@@ -68,12 +70,15 @@ def diff_runs(first, second, ignore=(), limit: int = 20) -> RunDiff:
     """Compare the ``summary.json`` cells and ``episodes.csv`` rows of two output directories on
     every field but the timings and ``ignore``; the first ``limit`` differences are kept as text."""
     first, second = Path(first), Path(second)
-    ignore = set(TIMING_FIELDS) | set(ignore)
     for run in (first, second):
         for name in ("summary.json", "episodes.csv"):
             if not (run / name).is_file():
                 raise ValueError(f"{run}: no {name} (an evaluate() output directory holds both)")
-    cells_a, episodes_a = _read_cells(first, ignore), _read_episodes(first, ignore)
-    differences = _compare("cell", cells_a, _read_cells(second, ignore))
-    differences += _compare("episode", episodes_a, _read_episodes(second, ignore))
+    cells_a, episodes_a = _read_cells(first), _read_episodes(first)
+    unknown = sorted(set(ignore) - {k for rows in (cells_a, episodes_a) for row in rows.values() for k in row})
+    if unknown:  # a typo would otherwise leave the field compared
+        raise ValueError(f"ignore: no field named {', '.join(unknown)} in {first}")
+    ignore = set(TIMING_FIELDS) | set(ignore)
+    differences = _compare("cell", _without(cells_a, ignore), _without(_read_cells(second), ignore))
+    differences += _compare("episode", _without(episodes_a, ignore), _without(_read_episodes(second), ignore))
     return RunDiff(cells=len(cells_a), episodes=len(episodes_a), differing=len(differences), differences=differences[:limit])

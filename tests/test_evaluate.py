@@ -76,6 +76,8 @@ def test_compare_runs_finds_a_changed_episode_and_a_missing_cell(tiny_run, tmp_p
     assert any("only in the first run" in line and dropped["agent"] in line for line in diff.differences)
     assert any("min_clearance" in line and "0.123" in line for line in diff.differences)
     assert compare_runs.main([str(tiny_run), str(tmp_path)]) == 1 and compare_runs.main([str(tiny_run), str(tiny_run)]) == 0
+    with pytest.raises(ValueError, match="ignore: no field named min_clearence"):  # a typo would compare the field
+        diff_runs(tiny_run, tmp_path, ignore=["min_clearence"])
 
 
 def test_test_split_is_disjoint_from_training_seeds():

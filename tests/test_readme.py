@@ -4,6 +4,7 @@ and presets exist, its make targets exist."""
 import importlib
 import re
 import shlex
+import subprocess
 import sys
 from pathlib import Path
 
@@ -45,3 +46,13 @@ def test_readme_command_parses(script, arguments):
             assert not agent or agent in agents.available(), (script, agent)
     for scenario in str(getattr(parsed, "scenarios", getattr(parsed, "scenario", "")) or "").split(","):
         assert not scenario or scenario in pathplan_env.PRESETS, (script, scenario)
+
+
+def test_the_quick_start_runs_as_written(tmp_path):
+    # a stranger pastes it into a fresh directory: it must run there without a traceback
+    block = README.split("## Quick start", 1)[1].split("```python", 1)[1].split("```", 1)[0]
+    out = subprocess.run([sys.executable, "-c", block], cwd=tmp_path, capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr[-2000:]
+    first, rows = out.stdout.strip().splitlines()[-2:]
+    assert first.split()[0] in ("True", "False") and "pso-spacetime" in rows
+    assert (tmp_path / "results" / "mine" / "summary.json").exists()

@@ -87,8 +87,8 @@ def main(argv=None) -> list[dict]:
             resume=args.resume, plots=not args.no_plots, config={"suite": args.suite}, backend=args.backend,
             address=args.address,
         )  # fmt: skip
-    except ValueError as error:  # bad agent kwargs or a missing Ray: named before any episode ran
-        raise SystemExit(f"--backend: {error}" if "Ray" in str(error) else f"--agent-kwargs: {error}") from None
+    except ValueError as error:  # named by the harness before any episode ran or anything was written
+        raise SystemExit(f"evaluate.py: {error}") from None
     print(markdown_table(rows))
     for scenario in scenarios:
         table = limit_table(rows, scenario)

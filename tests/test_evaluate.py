@@ -114,3 +114,18 @@ def test_agent_kwargs_per_agent_and_errors_before_any_work(tmp_path):
                           "--agent-kwargs", '{"pso": {"n_waypoints": 3}}', "--no-plots", "--workers", "1",
                           "--out", str(tmp_path / "c")])  # fmt: skip
     assert {r["agent"] for r in rows} == {"straight", "pso", "oracle-clairvoyant"}
+
+
+@pytest.mark.parametrize("bad, named", [
+    ({"agent_names": ["psoo"]}, "agent_names"), ({"scenarios": ["rand"]}, "scenarios"), ({"episodes": 0}, "episodes"),
+    ({"deltas": [-1.0]}, "deltas"), ({"deltas": "0.5"}, "deltas"), ({"split": "valid"}, "split"), ({"workers": 0}, "workers"),
+    ({"n_obstacles": 500}, "n_obstacles"), ({"deltas": [50.0]}, "delta_d 50.0"), ({"agent_kwargs": {"nope": 1}}, "does not take"),
+])  # fmt: skip
+def test_the_library_refuses_a_bad_run_before_touching_a_recorded_one(tmp_path, bad, named):
+    from agents.evaluation import evaluate as evaluate_library
+
+    (tmp_path / "episodes.jsonl").write_text("a finished run\n")
+    run = {"agent_names": ["straight"], "scenarios": ["random"], "deltas": [0.5], "episodes": 2, "out": tmp_path} | bad
+    with pytest.raises(ValueError, match=named):
+        evaluate_library(**run)
+    assert (tmp_path / "episodes.jsonl").read_text() == "a finished run\n"

@@ -9,6 +9,7 @@ without "Could not deserialize object" warnings (the shipped one was pickled und
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from agents.numpy_policy import export_policy
@@ -18,7 +19,10 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("model", help="an SB3 PPO .zip written by scripts/train_rl.py")
     parser.add_argument("--resave", action="store_true", help="save the .zip again with the installed versions")
-    return parser.parse_args(argv)
+    args = parser.parse_args(argv)
+    if not Path(args.model).is_file():
+        parser.error(f"model: no file {args.model}")
+    return args
 
 
 def main(argv=None) -> None:
@@ -38,4 +42,7 @@ def main(argv=None) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except ValueError as error:  # bad input, named by the library: one line, not a traceback
+        sys.exit(f"export_policy.py: {error}")

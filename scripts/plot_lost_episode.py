@@ -9,6 +9,7 @@ Takes the first test episode (random scenes, 8 obstacles) that ``oracle-clairvoy
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 import gymnasium as gym
@@ -87,4 +88,7 @@ def main(argv=None) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except ValueError as error:  # bad input, named by the library: one line, not a traceback
+        sys.exit(f"plot_lost_episode.py: {error}")

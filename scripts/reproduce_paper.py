@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 import time
 from pathlib import Path
 
@@ -136,7 +137,13 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--resume", action="store_true", help="continue Table 2's runs recorded under --out")
     parser.add_argument("--backend", choices=("process", "ray"), default="process", help="Table 2's executor (see scripts/evaluate.py)")
     parser.add_argument("--address", help="with --backend ray: a running cluster's address")
-    return parser.parse_args(argv)
+    args = parser.parse_args(argv)
+    for flag in ("runs", "episodes", "margin_episodes", "workers"):
+        if getattr(args, flag) < 1:
+            parser.error(f"--{flag.replace('_', '-')} must be >= 1, got {getattr(args, flag)}")
+    if any(not 0 <= m < 10 for m in args.margins):
+        parser.error(f"--margins must be in [0, 10) m, got {args.margins}")
+    return args
 
 
 def main(argv=None) -> None:
@@ -178,4 +185,7 @@ def min_wins(n: int) -> int | None:
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except ValueError as error:  # bad input, named by the library: one line, not a traceback
+        sys.exit(f"reproduce_paper.py: {error}")

@@ -143,3 +143,24 @@ def test_recycled_worlds_keep_pymunks_bookkeeping():
     assert all(o.space is space for o in [*space.bodies, *space.shapes])
     restored = pickle.loads(pickle.dumps(space))
     assert (len(restored.bodies), len(restored.shapes)) == (7, 10)
+
+
+@pytest.mark.parametrize("command, named", [
+    ("evaluate.py --agents straight --n-obstacles 500", "n_obstacles"),
+    ("render_episode.py --agent nope", "unknown agent 'nope'"),
+    ("plot_lost_episode.py --delta-d -2", "delta_d"),
+    ("reproduce_paper.py --runs 0", "--runs"),
+    ("export_policy.py no-such-model.zip", "no file"),
+    ("compare_runs.py . .", "no summary.json"),
+])  # fmt: skip
+def test_a_script_given_bad_input_says_so_in_one_line(tmp_path, command, named):
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    script, *args = command.split()
+    path = Path(__file__).resolve().parents[1] / "scripts" / script
+    out = subprocess.run([sys.executable, str(path), *args, *(["--out", str(tmp_path)] if script == "evaluate.py" else [])],
+                         cwd=tmp_path, capture_output=True, text=True, timeout=300)  # fmt: skip
+    assert out.returncode != 0 and "Traceback" not in out.stderr, out.stderr[-1500:]
+    assert named in out.stderr.strip().splitlines()[-1]

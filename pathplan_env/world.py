@@ -360,6 +360,7 @@ class World:
         min_gap, first_contact = self.scenario.arena_diagonal, NO_CONTACT  # no gap is wider: finite with no obstacles
         ax, ay = x0, y0
         moving = True
+        goal_substep = min(n, max(1, math.ceil(goal_fraction * n))) if goal_fraction <= 1.0 else 0
         space, array, request = self.space._space, self._buffer._float_arr, self._request
         for k in range(1, n + 1):
             # Chipmunk's step itself: Space.step's extra work (deferred adds and removals, post-step
@@ -370,10 +371,8 @@ class World:
             _each_body(space, _READ_BODY, request)
             if moving:
                 bx, by = (x0 + dx, y0 + dy) if k == n else (x0 + (k / n) * dx, y0 + (k / n) * dy)
-                goal_here = goal_fraction * n - (k - 1)  # where the goal lies within this substep
-                if k == n and goal_fraction <= 1.0:
-                    goal_here = min(goal_here, 1.0)  # rounding never carries a goal past the step's end
-                if goal_here <= 1.0:  # the gap counts up to the goal only (before the states move on)
+                if k == goal_substep:  # the gap counts up to the goal only (before the states move on)
+                    goal_here = min(goal_fraction * n - (k - 1), 1.0)  # where in this substep
                     gap = _gap_until(ax, ay, bx, by, goal_here, self.scenario.robot_radius, self.obstacle_state, self._pymunk_state, self.radii)
             else:
                 bx, by = ax, ay
@@ -389,7 +388,7 @@ class World:
                 min_gap = min(min_gap, 0.0)  # every gap is positive before the first contact
                 bx, by = ax + t * (bx - ax), ay + t * (by - ay)
                 moving = False
-            elif goal_here <= 1.0:  # at the goal: the robot stops there
+            elif k == goal_substep:  # at the goal: the robot stops there
                 min_gap = min(min_gap, gap)
                 bx, by = x0 + goal_fraction * dx, y0 + goal_fraction * dy
                 moving = False

@@ -31,7 +31,7 @@ from tqdm import tqdm
 
 from pathplan_env.crowdnav import DISCOMFORT_DISTANCE  # CrowdNav's: a step closer than this is one in danger
 
-from .statistics import LIMIT_AGENT, summarize, wilson_interval  # noqa: F401  (wilson_interval: part of this module's API)
+from .statistics import LIMIT_AGENT, summarize
 
 #: Preset runs (``scripts/evaluate.py --suite``); the clairvoyant limit is added to every one.
 SUITES = {

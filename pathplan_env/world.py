@@ -23,7 +23,7 @@ import pymunk
 import pymunk.batch
 from pymunk._util import _dead_ref
 
-from .geometry import NO_CONTACT, swept_contact, swept_pair
+from .geometry import NO_CONTACT, swept_contact
 from .scenarios import Scenario
 
 #: Largest obstacle displacement per substep, in units of the smallest obstacle radius. Keeps
@@ -96,15 +96,8 @@ def _finish_substep(state, new_state, ax, ay, bx, by, robot_radius, radii, speed
 @numba.njit(cache=True)
 def _gap_until(ax, ay, bx, by, until, robot_radius, state, new_state, radii):
     """Smallest surface gap over the first ``until`` (in [0, 1]) of a substep's linear motion."""
-    gap = np.inf
-    for i in range(radii.shape[0]):
-        oax, oay = state[i, 0], state[i, 1]
-        pair_gap, _ = swept_pair(
-            ax, ay, ax + until * (bx - ax), ay + until * (by - ay), robot_radius,
-            oax, oay, oax + until * (new_state[i, 0] - oax), oay + until * (new_state[i, 1] - oay), radii[i],
-        )  # fmt: skip
-        gap = min(gap, pair_gap)
-    return gap
+    part_way = state + until * (new_state - state)  # once an episode: on the step that reaches the goal
+    return swept_contact(ax, ay, ax + until * (bx - ax), ay + until * (by - ay), robot_radius, state, part_way, radii)[0]
 
 
 @numba.njit(cache=True)

@@ -6,13 +6,10 @@
 from functools import partial
 
 from .base import Agent, available, make, register, rollout
-from .clairvoyant import ClairvoyantOracle
-from .classical import StraightAgent, VelocityObstacleAgent
-from .metaheuristic import MetaheuristicAgent
-from .oracle import StaticOracleAgent
-from .reciprocal import ORCAAgent
+from .oracles import ClairvoyantOracle, StaticOracleAgent
+from .planners import MetaheuristicAgent, SpacetimeAStarAgent, SpacetimeMetaheuristicAgent
+from .reactive import ORCAAgent, StraightAgent, VelocityObstacleAgent
 from .rl import RLAgent
-from .spacetime import SpacetimeAStarAgent, SpacetimeMetaheuristicAgent
 
 register("straight", StraightAgent)
 register("velocity-obstacle", VelocityObstacleAgent)

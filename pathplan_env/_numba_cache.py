@@ -1,7 +1,7 @@
 """numba's on-disk cache, keyed by the source of every compiled module.
 
 numba invalidates a cached function when its own file changes, but not when a function it inlines
-from another file does (the optimisers in ``agents/pso.py`` inline ``agents/objective.py``): after
+from another file does (the optimisers in ``agents/planners/pso.py`` inline ``agents/planners/objective.py``): after
 an update, a stale cache would silently run the old objective. So the cache lives in a directory
 named by a digest of all our sources, under ``$XDG_CACHE_HOME`` (``~/.cache``), unless
 ``NUMBA_CACHE_DIR`` is set. Must run before any of our compiled functions is defined.
@@ -20,7 +20,7 @@ def configure() -> None:
     import numba
 
     here = Path(__file__).resolve().parent
-    sources = sorted(here.glob("*.py")) + sorted((here.parent / "agents").glob("*.py"))
+    sources = sorted(here.rglob("*.py")) + sorted((here.parent / "agents").rglob("*.py"))  # every subpackage
     digest = hashlib.sha256(b"".join(path.read_bytes() for path in sources)).hexdigest()[:16]
     base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
     directory = base / "pathplan_env" / "numba" / digest

@@ -30,7 +30,7 @@ class DynamicObstacleEnv(gym.Env):
     Optimization path planning for Dynamic Environment" (modified ABC, adaptive constraint PSO),
     made a Gymnasium environment: a policy picks a waypoint every step, and the robot heads for it.
 
-    The physics, for planners that predict it (``agents.prediction`` does, from observations
+    The physics, for planners that predict it (``agents.planners.prediction`` does, from observations
     alone): obstacles are frictionless discs of mass ``r²`` (equal density) that move at constant
     speed and bounce with restitution 1 off the arena's walls and off each other, Chipmunk solving
     simultaneous contacts by sequential impulses; after every substep each obstacle gets its own

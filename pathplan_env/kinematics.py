@@ -1,7 +1,7 @@
 """The robot's kinematics, compiled: action -> waypoint -> one step's move, and the goal test.
 
 One module because two callers must agree to the last bit: the env, every step, and the
-privileged clairvoyant oracle (``agents.clairvoyant``), whose searched plans replay exactly only
+privileged clairvoyant oracle (``agents.oracles.clairvoyant``), whose searched plans replay exactly only
 if it moves the robot with the env's own arithmetic.
 """
 

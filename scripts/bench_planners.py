@@ -25,7 +25,7 @@ from tqdm import tqdm
 import agents
 import pathplan_env  # noqa: F401  (registers the env)
 from pathplan_env.geometry import shortest_path_to_goal
-from agents.objective import evaluate
+from agents.planners.objective import evaluate
 
 BUDGET_PARTICLES, BUDGET_ITERATIONS = 30, 100
 

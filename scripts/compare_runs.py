@@ -3,7 +3,7 @@
     python scripts/compare_runs.py results/large-pool results/large-ray
 
 Compares every ``summary.json`` cell and every ``episodes.csv`` row of two ``evaluate.py`` outputs
-on every field but the planning times (``agents.run_diff``).
+on every field but the planning times (``agents.evaluation.run_diff``).
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from agents.run_diff import diff_runs
+from agents.evaluation.run_diff import diff_runs
 
 
 def parse_args(argv=None) -> argparse.Namespace:

@@ -21,7 +21,7 @@ import time
 from pathlib import Path
 
 from agents.evaluation import LIMIT_AGENT, SUITES, evaluate
-from agents.reporting import crowdnav_table, limit_table, markdown_table
+from agents.evaluation.reporting import crowdnav_table, limit_table, markdown_table
 
 
 def parse_args(argv=None) -> argparse.Namespace:

@@ -12,7 +12,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from agents.numpy_policy import export_policy
+from agents.rl.numpy_policy import export_policy
 
 
 def parse_args(argv=None) -> argparse.Namespace:

@@ -20,7 +20,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import agents  # noqa: E402
-from agents.spacetime_search import provably_lost  # noqa: E402
+from agents.planners.spacetime_search import provably_lost  # noqa: E402
 from pathplan_env.splits import heldout_seeds  # noqa: E402
 from pathplan_env.world import World  # noqa: E402
 

@@ -75,7 +75,7 @@ def table_2(episodes: int, names: list[str], out: Path, workers: int, margin: fl
     """Verdicts per Δd over the three cases, run by the evaluation harness (same test episodes for
     every planner). ``margin`` (m) overrides the safety margin of the paper's planners (abc, pso)."""
     from agents.evaluation import LIMIT_AGENT, evaluate
-    from agents.statistics import wilson_interval
+    from agents.evaluation.statistics import wilson_interval
 
     planners = [n for n in names if n != LIMIT_AGENT]
     kwargs = {n: {"margin": margin} for n in planners if n in PLANNERS} if margin is not None else {}
@@ -180,7 +180,7 @@ def main(argv=None) -> None:
 def min_wins(n: int) -> int | None:
     """The fewest successes out of ``n`` whose Wilson 95 % lower bound reaches 0.9 (the verdict rule);
     None when even ``n`` of ``n`` do not (too few episodes for a "success")."""
-    from agents.statistics import wilson_interval
+    from agents.evaluation.statistics import wilson_interval
 
     return next((k for k in range(n + 1) if wilson_interval(k, n)[0] >= 0.9), None)
 

@@ -340,10 +340,10 @@ def train(args: Args) -> dict:
         MODELS_DIR.mkdir(exist_ok=True)
         shutil.copyfile(out / f"{args.ship}_model.zip", MODELS_DIR / f"{args.algo}.zip")
         shutil.copyfile(out / f"{args.ship}_model.json", MODELS_DIR / f"{args.algo}.json")
-        if args.algo == "ppo":  # the torch-free actor the evaluation runs (agents.numpy_policy)
+        if args.algo == "ppo":  # the torch-free actor the evaluation runs (agents.rl.numpy_policy)
             from stable_baselines3 import PPO
 
-            from agents.numpy_policy import export_policy
+            from agents.rl.numpy_policy import export_policy
 
             export_policy(PPO.load(MODELS_DIR / "ppo.zip", device="cpu"), MODELS_DIR / "ppo.npz")
         shutil.copyfile(out / "learning_curve.png", ROOT / "docs" / "results" / f"{args.algo}_learning_curve.png")

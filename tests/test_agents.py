@@ -9,9 +9,9 @@ from stable_baselines3.common.evaluation import evaluate_policy
 
 import agents
 import pathplan_env
-from agents.bee_colony import abc_run
-from agents.objective import Scene, evaluate
-from agents.pso import inertia_schedule
+from agents.planners.bee_colony import abc_run
+from agents.planners.objective import Scene, evaluate
+from agents.planners.pso import inertia_schedule
 from pathplan_env import Obstacle, Scenario
 
 PLANNERS = [name for name in agents.available() if name not in ("straight", "ppo")]

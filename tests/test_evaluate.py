@@ -10,7 +10,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
 import evaluate  # noqa: E402
 
-from agents.run_diff import diff_runs  # noqa: E402
+from agents.evaluation.run_diff import diff_runs  # noqa: E402
 from pathplan_env.splits import TEST_SEED_BASE, is_training_seed, heldout_seeds  # noqa: E402
 
 TINY = ["--agents", "straight,pso-predictive", "--scenarios", "paper-case-1", "--delta-d", "0,0.5", "--episodes", "4", "--no-plots"]

@@ -12,7 +12,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "scripts"))
 import evaluate  # noqa: E402
 
-from agents.run_diff import diff_runs  # noqa: E402
+from agents.evaluation.run_diff import diff_runs  # noqa: E402
 
 TINY = ["--agents", "straight,pso-predictive", "--scenarios", "paper-case-1", "--delta-d", "0,0.5", "--episodes", "3", "--no-plots"]
 
@@ -41,7 +41,7 @@ def test_ray_backend_without_ray_is_one_line_before_any_work(tmp_path):
 @pytest.mark.skipif(importlib.util.find_spec("ray") is None, reason='Ray not installed (pip install -e ".[ray]")')
 def test_an_episode_whose_ray_worker_dies_is_retried(tmp_path):
     from agents.evaluation import run_episode
-    from agents.ray_backend import run_jobs_on_ray
+    from agents.evaluation.ray_backend import run_jobs_on_ray
 
     jobs = [("straight", "paper-case-1", 0.5, i, 100 + i, None, {}) for i in range(3)]
     markers = str(tmp_path)

@@ -42,7 +42,7 @@ def test_shipped_ppo_loads_and_acts_on_raw_observations():
 def test_numpy_actor_matches_sb3s_deterministic_action():
     from stable_baselines3 import PPO
 
-    from agents.numpy_policy import NumpyPolicy
+    from agents.rl.numpy_policy import NumpyPolicy
     from pathplan_env.wrappers import EnvFacts, egocentric_features
 
     model = PPO.load(MODELS_DIR / "ppo.zip", device="cpu")

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import agents
-from agents.prediction import predict_obstacles, substeps_for
+from agents.planners.prediction import predict_obstacles, substeps_for
 from agents.base import real_obstacles
 from pathplan_env import Obstacle, Scenario
 from pathplan_env.splits import heldout_seeds

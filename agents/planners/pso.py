@@ -29,7 +29,7 @@ def inertia_schedule(iterations: int, w_max: float, w_min: float) -> np.ndarray:
 @numba.njit(cache=True, error_model="numpy")
 def pso_run(x0, lo, hi, inertia, c1, c2, v_max_fraction, seed, problem):
     """Run PSO from the swarm ``x0`` (P, D), one iteration per entry of ``inertia`` (Eq. 7's w(it)),
-    minimising :func:`agents.objective.objective` for ``problem``.
+    minimising :func:`agents.planners.objective.objective` for ``problem``.
 
     :return: ``(best_x, best_cost, best_penalty, history)``; ``history[it]`` is the best cost after
         iteration ``it``.

@@ -4,23 +4,16 @@ limit, SPL, and the length ratio on the episodes every agent solved (``summarize
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
-
 import numpy as np
 from scipy.stats import binomtest
 
-if TYPE_CHECKING:
-    from .evaluation import EpisodeResult
+from .records import LIMIT_AGENT, EpisodeResult
 
 def wilson_interval(successes: int, n: int) -> tuple[float, float]:
     if n == 0:
         return (0.0, 1.0)
     ci = binomtest(successes, n).proportion_ci(confidence_level=0.95, method="wilson")
     return (float(ci.low), float(ci.high))
-
-
-#: The privileged agent whose success rate on a cell's episodes is that cell's physical limit.
-LIMIT_AGENT = "oracle-clairvoyant"
 
 
 def limits(results: list[EpisodeResult]) -> dict[tuple, dict]:

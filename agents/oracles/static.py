@@ -6,7 +6,7 @@ import numpy as np
 
 from pathplan_env.geometry import shortest_path
 
-from .base import Agent, point_along, real_obstacles
+from ..base import Agent, point_along, real_obstacles
 
 
 class StaticOracleAgent(Agent):

@@ -1,16 +1,16 @@
 """Model-based planners that plan in space-time: where the robot is *when*, against predicted obstacles.
 
 Every step each planner predicts the obstacles from the observation with the env's documented
-physics (:mod:`agents.prediction`: constant speeds, elastic bounces off walls and each other),
+physics (:mod:`agents.planners.prediction`: constant speeds, elastic bounces off walls and each other),
 then plans a time-parameterised path over a horizon (the robot may slow down or wait) and flies
 its first step:
 
-* ``astar-spacetime``: the A* of :mod:`agents.spacetime_search` on the predicted trajectories
+* ``astar-spacetime``: the A* of :mod:`agents.planners.spacetime_search` on the predicted trajectories
   (the same search the clairvoyant oracle runs on the true ones), bounded in expansions.
 * ``pso-spacetime`` / ``abc-spacetime``: the paper's adaptive constraint PSO and modified ABC, the
   same compiled update rules as ``pso`` / ``abc``, optimising a sequence of moves (a relative
   displacement per ``hold`` steps, up to one robot step each) against the same predictions, with
-  the paper's penalty (Eq. 4) on predicted contact (:func:`agents.objective.plan_cost`).
+  the paper's penalty (Eq. 4) on predicted contact (:func:`agents.planners.objective.plan_cost`).
 
 They see only the observation and :class:`~pathplan_env.wrappers.EnvFacts`. Contacts are
 predicted against obstacles inflated by ``margin`` (relative, on the contact distance), which
@@ -23,7 +23,7 @@ import numpy as np
 
 from pathplan_env.wrappers import EnvFacts
 
-from .base import Agent, real_obstacles
+from ..base import Agent, real_obstacles
 from .metaheuristic import MetaheuristicAgent
 from .objective import walk_along
 from .prediction import predict_obstacles, substeps_for
@@ -85,7 +85,7 @@ class SpacetimeAStarAgent(Agent):
         steps to go at top speed.
     :param margin: relative margin on the contact distance.
     :param n_headings, speed_fractions, cell, h_weight: the search's moves, merge grid and
-        heuristic weight (:func:`agents.spacetime_search.search`).
+        heuristic weight (:func:`agents.planners.spacetime_search.search`).
     :param max_expansions: the search's node budget per replan; a search that runs out of it is
         retried once with ``retry_factor`` times the budget.
     :param keep_plan_steps: the previous plan is flown on, without a search, while the new
@@ -160,14 +160,14 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     segments (a fraction of the top speed: the robot may slow down or wait). Its cost is the
     predicted arrival time (as metres at top speed) plus the paper's penalty on every predicted
     contact within ``horizon_steps`` and on the rest of the path against the obstacles where the
-    prediction leaves them (:func:`agents.objective.timed_path_cost`). Each replan warm-starts from
+    prediction leaves them (:func:`agents.planners.objective.timed_path_cost`). Each replan warm-starts from
     the previous best and the straight line at top speed; the robot flies the first step of the best.
 
     :param horizon_steps: steps of predicted obstacle motion checked step by step.
     :param margin: relative margin on the contact distance.
     :param n_dodges, dodge_steps: warm-start candidates besides the straight line (:meth:`seed_paths`).
     :param prediction: :class:`SpacetimeModel`'s obstacle prediction.
-    Every other parameter is :class:`~agents.metaheuristic.MetaheuristicAgent`'s.
+    Every other parameter is :class:`~agents.planners.metaheuristic.MetaheuristicAgent`'s.
     """
 
     def __init__(self, env, seed: int | None = None, *, optimizer: str = "pso", horizon_steps: int = 10, margin: float = 0.005,

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from .base import Agent, point_along, real_obstacles
+from ..base import Agent, point_along, real_obstacles
 from .bee_colony import abc_run
 from .objective import Scene
 from .pso import inertia_schedule, pso_run
@@ -111,7 +111,7 @@ class MetaheuristicAgent(Agent):
         return self.run_optimizer(scene.args(), self._lo, self._hi, memory, self.straight_line(scene.robot, scene.goal))
 
     def run_optimizer(self, problem: tuple, lo: np.ndarray, hi: np.ndarray, memory: dict[str, Any], seeds: np.ndarray) -> np.ndarray:
-        """The optimiser on any objective (``agents.objective.objective``) in the box ``[lo, hi]``.
+        """The optimiser on any objective (``agents.planners.objective.objective``) in the box ``[lo, hi]``.
 
         With ``warm_start``, the population holds the previous best (``memory["best"]``) and the
         rows of ``seeds`` (the straight line to the goal first; as many as fit); the rest is

@@ -4,7 +4,7 @@ Not a policy anyone could deploy, and the only agent allowed to look past the ob
 reads the episode's :class:`~pathplan_env.Scenario` from the env and steps a fresh copy of the
 world ahead, which gives every obstacle's position at every substep of the episode (the robot
 never moves an obstacle, so that future does not depend on what the robot does). It then searches
-(step, position) for the earliest collision-free arrival (:mod:`agents.spacetime_search`) and flies
+(step, position) for the earliest collision-free arrival (:mod:`agents.planners.spacetime_search`) and flies
 the plan, which replays exactly because every move was made with the env's own kinematics and
 contact test. The evaluation harness runs it on every cell's episodes to report the ``limit``.
 
@@ -25,8 +25,8 @@ import pathplan_env
 from pathplan_env.env import DynamicObstacleEnv
 from pathplan_env.world import World
 
-from .base import Agent
-from .spacetime_search import BUDGET, FOUND, heading_moves, provably_lost, search
+from ..base import Agent
+from ..planners.spacetime_search import BUDGET, FOUND, heading_moves, provably_lost, search
 
 #: What the oracle concludes about an episode: a plan, provably no plan, a failed search, or no
 #: limit because the obstacles react to the robot.

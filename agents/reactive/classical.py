@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .base import Agent, real_obstacles
+from ..base import Agent, real_obstacles
 
 
 class StraightAgent(Agent):

@@ -7,7 +7,7 @@ import numpy as np
 from pathplan_env.behaviours import SLOW_DOWN_TIME
 from pathplan_env.orca import orca_velocity, preferred_velocity
 
-from .base import Agent, real_obstacles
+from ..base import Agent, real_obstacles
 
 
 class ORCAAgent(Agent):

@@ -44,7 +44,7 @@ def _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, problem):
 
 @numba.njit(cache=True, error_model="numpy")
 def abc_run(x0, lo, hi, max_evaluations, limit, scouts_replace_infeasible, seed, problem):
-    """Run ABC from the food sources ``x0`` (SN, D), minimising :func:`agents.objective.objective` for ``problem``.
+    """Run ABC from the food sources ``x0`` (SN, D), minimising :func:`agents.planners.objective.objective` for ``problem``.
 
     :return: ``(best_x, best_cost, best_penalty, history, history_evaluations, evaluations, scouted)``:
         ``history[c]`` is the best cost after cycle ``c`` (trailing entries unused are NaN),

@@ -25,7 +25,8 @@ def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, nu
         import ray
     except ImportError:
         raise ValueError('--backend ray needs Ray: pip install -e ".[ray]"') from None
-    from .evaluation import EpisodeResult, run_episode
+    from .episodes import run_episode
+    from .records import EpisodeResult
 
     run = runner if runner is not None else (lambda job: run_episode(*job))
     started_here = not ray.is_initialized()

@@ -1,4 +1,4 @@
-"""Tables and plots of evaluation results (the rows of ``agents.evaluation.summarize``)."""
+"""Tables and plots of evaluation results (the rows of ``agents.evaluation.statistics.summarize``)."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .evaluation import LIMIT_AGENT
+from .records import LIMIT_AGENT
 
 
 def markdown_table(rows: list[dict]) -> str:

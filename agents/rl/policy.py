@@ -14,10 +14,10 @@ from pathlib import Path
 
 from pathplan_env.wrappers import egocentric_features, feature_size, relative_action_to_waypoint
 
-from .base import Agent
+from ..base import Agent
 from .numpy_policy import NumpyPolicy
 
-MODELS_DIR = Path(__file__).parent / "models"
+MODELS_DIR = Path(__file__).parent.parent / "models"
 
 
 def model_metadata(path: str | Path) -> dict:
@@ -51,7 +51,7 @@ class RLAgent(Agent):
     are the policy's mean unless ``predict(..., deterministic=False)`` asks for samples.
 
     :param backend: ``"numpy"`` runs the actor exported beside the ``.zip`` (``.npz``,
-        :mod:`agents.numpy_policy`; no torch needed), ``"sb3"`` loads the ``.zip`` with
+        :mod:`agents.rl.numpy_policy`; no torch needed), ``"sb3"`` loads the ``.zip`` with
         stable-baselines3, ``"auto"`` (default) takes numpy when the ``.npz`` exists.
     """
 

@@ -1,0 +1,14 @@
+"""The evaluation harness: every agent on the same test episodes, each cell beside its physical limit.
+
+``evaluate`` runs a set of cells and writes the results (``harness``); one episode is
+``episodes.run_episode``, run by the local pool (``executors``) or Ray (``ray_backend``);
+``statistics`` summarises, ``reporting`` prints and plots, ``run_diff`` compares two runs.
+``records`` holds the types all of them share and imports none of them.
+"""
+
+from .episodes import run_episode
+from .harness import evaluate
+from .records import LIMIT_AGENT, EpisodeResult
+from .suites import SUITES
+
+__all__ = ["LIMIT_AGENT", "SUITES", "EpisodeResult", "evaluate", "run_episode"]

@@ -11,6 +11,7 @@ import numba
 import numpy as np
 from gymnasium import spaces
 
+from .arena import Arena
 from .kinematics import move_and_goal
 from .presets import make_scenario
 from .scenarios import MIN_LENGTH, Scenario, check_delta_d
@@ -210,11 +211,10 @@ class DynamicObstacleEnv(gym.Env):
             }
         )
         self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
-        self._arena_low = np.array([xmin, ymin], np.float64)
-        self._arena_size = np.array([xmax - xmin, ymax - ymin], np.float64)
+        #: The arena's bounds, the box where the robot's disc fits, and the waypoint <-> action mapping.
+        self.arena = Arena.of(self.scenario)
         self._world: World | None = None
         self._moves: list[tuple[float, float]] | None = None
-        self._waypoint_key: tuple | None = None
         self._renderer = None
         self.trail: list[tuple[float, float]] = []
         self.waypoint: tuple[float, float] | None = None
@@ -242,13 +242,11 @@ class DynamicObstacleEnv(gym.Env):
     # -- action mapping ------------------------------------------------------------------------
     def action_to_waypoint(self, action) -> np.ndarray:
         """Map an action in [-1, 1]^2 (clipped) to a waypoint in the arena (float64 metres)."""
-        a = np.clip(np.asarray(action, dtype=np.float64), -1.0, 1.0)
-        return self._arena_low + (a + 1.0) * 0.5 * self._arena_size
+        return self.arena.action_to_waypoint(action)
 
     def waypoint_to_action(self, waypoint) -> np.ndarray:
         """Map waypoints (..., 2) in the arena to actions in [-1, 1]^2 (float32, clipped)."""
-        xy = np.asarray(waypoint, dtype=np.float64)
-        return np.clip(2.0 * (xy - self._arena_low) / self._arena_size - 1.0, -1.0, 1.0).astype(np.float32)
+        return self.arena.waypoint_to_action(waypoint)
 
     # -- Gymnasium API -------------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
@@ -264,12 +262,8 @@ class DynamicObstacleEnv(gym.Env):
         self.scenario = scenario
         self._world = world
         self._goal_xy = scenario.goal
-        r = scenario.robot_radius
-        xmin, ymin, xmax, ymax = scenario.bounds
-        # what robot_move needs, in one array: arena corner, half size, the box where the robot's disc fits
-        params = (xmin, ymin, 0.5 * (xmax - xmin), 0.5 * (ymax - ymin), xmin + r, ymin + r, xmax - r, ymax - r)
-        if params != self._waypoint_key:  # the same for every episode of a preset: built once
-            self._waypoint_key, self._waypoint_params = params, np.array(params)
+        if self.arena.robot_radius != scenario.robot_radius:  # the bounds are checked equal above
+            self.arena = Arena.of(scenario)
         self._reach = scenario.robot_speed * scenario.dt
         self._goal_radius = scenario.goal_radius
         self._start_distance = max(float(np.hypot(self._goal_xy[0] - scenario.start[0], self._goal_xy[1] - scenario.start[1])), 1e-9)
@@ -291,7 +285,7 @@ class DynamicObstacleEnv(gym.Env):
             action = self._parse_action(action)
         px, py = world.robot_xy
         gx, gy = self._goal_xy
-        finite, wx, wy, dx, dy, goal_fraction = move_and_goal(action, self._waypoint_params, px, py, self._reach, gx, gy, self._goal_radius)
+        finite, wx, wy, dx, dy, goal_fraction = move_and_goal(action, self.arena.box, px, py, self._reach, gx, gy, self._goal_radius)
         if not finite:
             raise ValueError(f"action must be finite, got {action!r} (NaN or infinite)")
         self.waypoint = (wx, wy)
@@ -424,7 +418,7 @@ class DynamicObstacleEnv(gym.Env):
         obstacle velocities (N, 2), radii (N), mask (N); padding rows sit at the arena's lower corner.
         """
         template = np.empty(6 + 6 * self.max_obstacles, np.float32)
-        _fill_template(template, self._goal_xy[0], self._goal_xy[1], self._arena_low, self._world.radii, self.max_obstacles)
+        _fill_template(template, self._goal_xy[0], self._goal_xy[1], self.arena.low, self._world.radii, self.max_obstacles)
         self._observation_template = template
 
     def _observation(self) -> dict[str, np.ndarray]:

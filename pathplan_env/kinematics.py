@@ -13,16 +13,16 @@ import numba
 
 
 @numba.njit(cache=True)
-def robot_move(action, params, px, py, reach):
+def robot_move(action, box, px, py, reach):
     """``(finite, wx, wy, dx, dy)``: the action clipped to [-1, 1] and mapped linearly onto the arena,
-    kept where the robot's disc fits (``params``: arena corner, half size, the box where the disc
-    fits), then the move from ``(px, py)`` toward that waypoint, at most ``reach`` long."""
+    kept where the robot's disc fits (``box``: a ``pathplan_env.arena.ArenaBox``), then the move
+    from ``(px, py)`` toward that waypoint, at most ``reach`` long."""
     ax, ay = float(action[0]), float(action[1])
     if not (math.isfinite(ax) and math.isfinite(ay)):
         return False, 0.0, 0.0, 0.0, 0.0
     ax, ay = min(max(ax, -1.0), 1.0), min(max(ay, -1.0), 1.0)
-    wx = min(max(params[0] + (ax + 1.0) * params[2], params[4]), params[6])
-    wy = min(max(params[1] + (ay + 1.0) * params[3], params[5]), params[7])
+    wx = min(max(box.xmin + (ax + 1.0) * box.half_width, box.fit_xmin), box.fit_xmax)
+    wy = min(max(box.ymin + (ay + 1.0) * box.half_height, box.fit_ymin), box.fit_ymax)
     dx, dy = wx - px, wy - py
     dist = math.hypot(dx, dy)
     if dist > reach:
@@ -47,10 +47,10 @@ def reach_fraction(px: float, py: float, dx: float, dy: float, gx: float, gy: fl
 
 
 @numba.njit(cache=True)
-def move_and_goal(action, params, px, py, reach, gx, gy, goal_radius):
+def move_and_goal(action, box, px, py, reach, gx, gy, goal_radius):
     """``robot_move`` and the move's ``reach_fraction`` in one call (the env's step: one dispatch
     instead of two): ``(finite, wx, wy, dx, dy, goal_fraction)``."""
-    finite, wx, wy, dx, dy = robot_move(action, params, px, py, reach)
+    finite, wx, wy, dx, dy = robot_move(action, box, px, py, reach)
     return finite, wx, wy, dx, dy, reach_fraction(px, py, dx, dy, gx, gy, goal_radius)
 
 

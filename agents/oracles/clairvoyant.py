@@ -89,7 +89,7 @@ class ClairvoyantOracle(Agent):
         expansions = 0
         for weight, cell in self.searches:
             outcome, targets, spent = search(
-                trajectory, future.substeps, r, world.radii, start, goal, scenario.goal_radius, env._waypoint_params,
+                trajectory, future.substeps, r, world.radii, start, goal, scenario.goal_radius, env.arena.box,
                 self._arena_low, self._arena_size, env._reach, self.moves, remaining, cell, self.max_expansions, weight,
             )  # fmt: skip
             expansions += spent

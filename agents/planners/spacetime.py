@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from pathplan_env.arena import Arena
 from pathplan_env.wrappers import EnvFacts
 
 from ..base import Agent, real_obstacles
@@ -51,10 +52,8 @@ class SpacetimeModel:
         if not (0.0 <= margin < 1.0):
             raise ValueError(f"margin must be in [0, 1), got {margin!r}")
         self.facts, self.horizon_steps, self.margin = facts, int(horizon_steps), float(margin)
-        xmin, ymin, xmax, ymax = facts.bounds
-        r = facts.robot_radius
-        # the env's action mapping (``robot_move``'s params), from the static facts
-        self.move_params = np.array([xmin, ymin, 0.5 * (xmax - xmin), 0.5 * (ymax - ymin), xmin + r, ymin + r, xmax - r, ymax - r])
+        # the env's action mapping (``robot_move``'s box), from the static facts
+        self.arena = Arena(facts.bounds, facts.robot_radius)
         self.bounds = np.array(facts.bounds, np.float64)
 
     def predict_scene(self, obs):
@@ -114,7 +113,7 @@ class SpacetimeAStarAgent(Agent):
     def plan(self, obs, memory):
         trajectory, n, radii, robot, goal = self.model.predict_scene(obs)
         f = self.facts
-        common = (n, f.robot_radius, radii, robot, goal, f.goal_radius, self.model.move_params, self._arena_low, self._arena_size, self.step_length)
+        common = (n, f.robot_radius, radii, robot, goal, f.goal_radius, self.model.arena.box, self._arena_low, self._arena_size, self.step_length)
         targets = memory.get("plan")
         if targets is not None and len(targets) > 0:  # keep the previous plan while it still holds
             free, reached = replay(trajectory, *common, targets)
@@ -139,8 +138,8 @@ class SpacetimeAStarAgent(Agent):
         next ``escape_steps`` steps flown straight on, nearer the goal on ties: standing still
         when every plan touches lets an obstacle that does not give way walk into the robot."""
         f = self.facts
-        lo = self.model.move_params[4:6]
-        hi = self.model.move_params[6:8]
+        lo = np.array(self.model.arena.robot_box[:2])
+        hi = np.array(self.model.arena.robot_box[2:])
         steps = np.vstack([np.zeros((1, 2)), self.moves[:, :2] * self.moves[:, 2:3]]) * self.step_length  # (C, 2)
         k = min(self.escape_steps * substeps, len(trajectory) - 1)
         t = np.arange(1, k + 1) / substeps  # steps flown at each substep

@@ -2,6 +2,7 @@
 
 import csv
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -78,6 +79,93 @@ def test_compare_runs_finds_a_changed_episode_and_a_missing_cell(tiny_run, tmp_p
     assert compare_runs.main([str(tiny_run), str(tmp_path)]) == 1 and compare_runs.main([str(tiny_run), str(tiny_run)]) == 0
     with pytest.raises(ValueError, match="ignore: no field named min_clearence"):  # a typo would compare the field
         diff_runs(tiny_run, tmp_path, ignore=["min_clearence"])
+
+
+def _copy_run(run, to, episode=None, cell=None):
+    """A copy of ``run`` in ``to`` with ``episode(rows)`` and ``cell(summary rows)`` applied (in place)."""
+    to.mkdir()
+    with open(run / "episodes.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    summary = json.loads((run / "summary.json").read_text())
+    (episode or (lambda rows: None))(rows)
+    (cell or (lambda cells: None))(summary["results"])
+    with open(to / "episodes.csv", "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    (to / "summary.json").write_text(json.dumps(summary))
+    return to
+
+
+def _scale_derived(factor):
+    """Scale every shortest path by ``factor`` (and the ratios and SPL by its inverse), as another CPU's last bits would."""
+
+    def episode(rows):
+        for r in rows:
+            r["shortest_path"] = repr(float(r["shortest_path"]) * factor)
+            r["path_length_ratio"] = repr(float(r["path_length_ratio"]) / factor)
+
+    def cell(cells):
+        for c in cells:
+            for k in ("path_length_ratio", "spl", "common_length_ratio"):
+                c[k] = c[k] / factor if isinstance(c[k], float) else c[k]
+
+    return {"episode": episode, "cell": cell}
+
+
+def test_compare_runs_allows_a_cpus_last_bits_in_the_shortest_path_floats_only(tiny_run, tmp_path, capsys):
+    import compare_runs
+
+    bits = _copy_run(tiny_run, tmp_path / "bits", **_scale_derived(1 + 4e-16))
+    assert (bits / "episodes.csv").read_text() != (tiny_run / "episodes.csv").read_text()  # the last bits did change
+    diff = diff_runs(tiny_run, bits)
+    assert diff.equal and (diff.cells, diff.episodes) == (6, 24), diff.differences
+    assert 0 < diff.largest_rel < 1e-15 and diff.unclassified == ()
+    assert compare_runs.main([str(tiny_run), str(bits)]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("equal: 6 cell(s) and 24 episodes agree: outcomes and figures exactly") and "within rtol 1e-09" in out
+    assert "shortest_path/path_length_ratio/spl/common_length_ratio" in out and "timings ignored" in out
+    assert compare_runs.main([str(tiny_run), str(bits), "--rtol", "0"]) == 1  # exactly, they do differ
+    assert "> rtol 0" in capsys.readouterr().out
+    with pytest.raises(ValueError, match="rtol"):
+        diff_runs(tiny_run, bits, rtol=-1e-9)
+
+    moved = _copy_run(tiny_run, tmp_path / "moved", **_scale_derived(1 + 1e-6))  # another route, not another CPU
+    diff = diff_runs(tiny_run, moved)
+    assert not diff.equal
+    assert any("shortest_path" in line and "relative 1.0e-06 > rtol 1e-09" in line for line in diff.differences)
+    assert compare_runs.main([str(tiny_run), str(moved)]) == 1
+    assert "differ:" in (out := capsys.readouterr().out) and "within rtol 1e-09" in out
+
+
+@pytest.mark.parametrize("name, change", [
+    ("success", lambda v: "False" if v == "True" else "True"),
+    ("steps", lambda v: str(int(v) + 1)),
+    ("path_length", lambda v: repr(math.nextafter(float(v), math.inf))),  # one ulp
+    ("min_clearance", lambda v: repr(math.nextafter(float(v), -math.inf))),
+])  # fmt: skip
+def test_compare_runs_compares_outcomes_and_figures_exactly(tiny_run, tmp_path, name, change):
+    def episode(rows):
+        row = next(r for r in rows if r["success"] == "True")
+        row[name] = change(row[name])
+
+    changed = _copy_run(tiny_run, tmp_path / "changed", episode=episode)
+    diff = diff_runs(tiny_run, changed, rtol=1e-3)  # no tolerance on these, however wide the derived one
+    assert diff.differing == 1 and f": {name} " in diff.differences[0], diff.differences
+    assert "relative" not in diff.differences[0]
+
+
+def test_compare_runs_compares_an_unclassified_field_exactly_and_says_so(tiny_run, tmp_path):
+    def add(value):
+        return {"episode": lambda rows: [r.update(new_figure=value if i == 3 else "1.0") for i, r in enumerate(rows)]}
+
+    same = _copy_run(tiny_run, tmp_path / "a", **add("1.0"))
+    diff = diff_runs(same, _copy_run(tiny_run, tmp_path / "b", **add("1.0")))
+    assert diff.equal and diff.unclassified == ("new_figure",) and "new_figure compared exactly (unclassified)" in diff.how
+    diff = diff_runs(same, _copy_run(tiny_run, tmp_path / "c", **add(repr(1.0 + 2**-52))))
+    assert diff.differing == 1 and "new_figure" in diff.differences[0]
+    assert diff_runs(same, tmp_path / "c", ignore=["new_figure"]).equal
+    assert diff_runs(same, tiny_run).differing == 24  # a field only one run has differs in every row that has it
 
 
 def test_test_split_is_disjoint_from_training_seeds():

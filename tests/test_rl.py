@@ -1,6 +1,10 @@
-"""RL: the shipped PPO policy, a tiny end-to-end training run, the training episode schedule and seed splits."""
+"""RL: the shipped PPO policy, the training library (a tiny end-to-end run, its parts), the training
+episode schedule and seed splits."""
 
+import dataclasses
 import json
+import shlex
+import subprocess
 import sys
 from pathlib import Path
 
@@ -13,13 +17,15 @@ from stable_baselines3.common.evaluation import evaluate_policy
 import agents
 import pathplan_env  # noqa: F401
 from agents.rl import MODELS_DIR
+from agents.rl.training import Args, build_model, demonstration_env, make_env, ship, train
 from pathplan_env.splits import (
     TRAINING_SEEDS_PER_RUN, VALIDATION_SEED_BASE, heldout_seeds, is_training_seed, is_validation_seed, training_seed_base, validation_seeds,
 )  # fmt: skip
 from pathplan_env.wrappers import EpisodeSchedule, make_learning_env
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
-import train_rl  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "scripts"))
+import train_rl  # noqa: E402  (the command line over agents.rl.training)
 
 
 def test_shipped_ppo_loads_and_acts_on_raw_observations():
@@ -64,8 +70,6 @@ def test_numpy_actor_matches_sb3s_deterministic_action():
 
 
 def test_shipped_ppo_runs_without_torch():
-    import subprocess
-
     code = (
         "import sys; sys.modules['torch'] = None; sys.modules['stable_baselines3'] = None\n"
         "import gymnasium as gym, agents\n"
@@ -87,31 +91,87 @@ def test_shipped_ppo_meets_the_readmes_claim_on_held_out_episodes():
 
 
 def test_tiny_training_run_end_to_end(tmp_path):
-    args = train_rl.Args(
+    args = Args(
         total_timesteps=512, n_envs=2, n_steps=128, eval_freq=256, eval_episodes=2, checkpoint_freq=256,
         out=str(tmp_path / "run"), progress=False, teacher_steps=300, teacher_epochs=1,
     )  # fmt: skip
-    meta = train_rl.train(args)
+    meta = train(args)
     run = tmp_path / "run"
-    for name in ("final_model.zip", "final_model.json", "best_model.zip", "evaluations.npz", "learning_curve.png"):
+    for name in ("cloned_model", "final_model", "best_model"):  # every model with the sidecar the agent reads
+        assert (run / f"{name}.zip").exists() and json.loads((run / f"{name}.json").read_text())["model"] == name
+    for name in ("evaluations.npz", "learning_curve.png", "learning_curve.csv"):
         assert (run / name).exists(), name
     assert list((run / "checkpoints").glob("ppo_*_steps.zip")) and list((run / "tb").iterdir())
     assert meta["total_timesteps"] >= 512 and meta["env_steps_per_second"] > 0
+    assert meta["validation"]["cloned_success_rate"] is not None and 0 <= meta["validation"]["best_success_rate"] <= 1
+    assert {"numba", "pathplan_env", "stable_baselines3", "torch"} <= set(meta["versions"]) and meta["git_commit"]
+    # the recorded command reruns the same arguments through the command line
+    assert meta["command"].startswith("python scripts/train_rl.py ")
+    assert train_rl.parse_args(shlex.split(meta["command"])[2:]) == args
     env = gym.make("DynamicObstacle-v0")
-    agent = agents.make("ppo", env, path=run / "final_model.zip")
-    info = agents.rollout(agent, env, seed=heldout_seeds(0, 1)[0])
-    assert "is_success" in info
+    for name in ("final_model", "best_model"):
+        agent = agents.make("ppo", env, path=run / f"{name}.zip")
+        info = agents.rollout(agent, env, seed=heldout_seeds(0, 1)[0])
+        assert "is_success" in info
+    # shipping (here to a scratch directory): the model, its sidecar, the numpy export and the curve
+    shipped = ship(run, "ppo", "best", models_dir=tmp_path / "models", results_dir=tmp_path)
+    assert json.loads(shipped.with_suffix(".json").read_text())["model"] == "best_model" and (tmp_path / "ppo_learning_curve.png").exists()
+    assert agents.make("ppo", env, path=shipped).backend == "numpy"
+
+
+def test_demonstrations_are_cloned_into_the_policy(tmp_path):
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    from agents.rl.training import collect_demonstrations, discounted_returns
+    from agents.rl.training.cloning import behaviour_cloning
+    from pathplan_env.wrappers import feature_size
+
+    assert discounted_returns([1.0, 1.0, 1.0], 0.5) == [1.75, 1.5, 1.0]
+    args = Args(seed=1, n_envs=1, total_timesteps=1000, eval_freq=500, out=str(tmp_path), progress=False)
+    demos = collect_demonstrations(demonstration_env(args), "velocity-obstacle", 400, gamma=0.99, seed=1, progress=False)
+    assert 0 < demos.kept <= demos.episodes and len(demos) == len(demos.features) == len(demos.returns) > 0
+    assert demos.features.shape[1] == feature_size(8) and demos.actions.shape[1] == 2 and demos.returns.dtype == np.float32
+    model = build_model(args, DummyVecEnv([make_env(args, training_seed_base(1), 1, 0.25, 8)]), tmp_path)
+    losses = behaviour_cloning(model.policy, demos, epochs=5, seed=0, verbose=False)
+    assert len(losses) == 5 and losses[-1] < losses[0]
+
+
+def test_importing_agents_and_the_training_library_needs_no_torch():
+    code = (
+        "import sys\n"
+        "import agents, agents.rl, agents.rl.training\n"
+        "from agents.rl.training import Args, train\n"
+        "print(sorted(m for m in ('torch', 'stable_baselines3') if m in sys.modules))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT)
+    assert out.stdout.split() == ["[]"], out.stderr
+
+
+def test_help_documents_every_training_option(capsys):
+    from agents.rl.training import field_docs
+
+    with pytest.raises(SystemExit):
+        train_rl.parse_args(["--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    docs = field_docs(Args)
+    for field in dataclasses.fields(Args):
+        assert f"--{field.name.replace('_', '-')}" in text and docs[field.name] in text, field.name
 
 
 def test_training_arguments_are_checked():
     with pytest.raises(ValueError, match="algo"):
-        train_rl.Args(algo="dqn")
+        Args(algo="dqn")
     with pytest.raises(ValueError, match="delta_d"):
-        train_rl.Args(delta_d_start=1.0, delta_d_max=0.5)
+        Args(delta_d_start=1.0, delta_d_max=0.5)
     with pytest.raises(ValueError, match="seed"):
-        train_rl.Args(seed=10_000)
+        Args(seed=10_000)
     with pytest.raises(ValueError, match="eval_freq"):  # no validation would run: refused before any work
-        train_rl.Args(total_timesteps=1000, eval_freq=5000)
+        Args(total_timesteps=1000, eval_freq=5000)
+    with pytest.raises(ValueError, match="teacher"):  # behaviour cloning is PPO's
+        Args(algo="sac")
+    with pytest.raises(ValueError, match="net_arch"):
+        Args(net_arch="128,x")
+    assert Args(algo="sac", teacher="").command_line() == "python scripts/train_rl.py --algo sac --teacher ''"
     assert train_rl.parse_args(["--total-timesteps", "1000", "--no-progress", "--net-arch", "64,64", "--eval-freq", "500"]).total_timesteps == 1000
 
 
@@ -151,10 +211,10 @@ def test_training_plays_the_schedules_seeds_never_a_validation_or_test_seed(tmp_
     """The seeds train_rl.py really uses: SB3's first reset and later ones, and the demonstrations."""
     from stable_baselines3.common.vec_env import DummyVecEnv
 
-    args = train_rl.Args(seed=3, n_envs=4, total_timesteps=1000, eval_freq=500, out=str(tmp_path), progress=False)
+    args = Args(seed=3, n_envs=4, total_timesteps=1000, eval_freq=500, out=str(tmp_path), progress=False)
     base = training_seed_base(args.seed)
-    envs = DummyVecEnv([train_rl.make_env(args, base + i, args.n_envs, (0.0, 0.25), (4, 12)) for i in range(args.n_envs)])
-    model = train_rl.build_model(args, envs, tmp_path)  # what SB3 does to the env's seeding happens here
+    envs = DummyVecEnv([make_env(args, base + i, args.n_envs, (0.0, 0.25), (4, 12)) for i in range(args.n_envs)])
+    model = build_model(args, envs, tmp_path)  # what SB3 does to the env's seeding happens here
     model.env.reset()
     played = [set(model.env.get_attr("last_seed"))]
     for _ in range(400):  # random actions: episodes end often
@@ -163,7 +223,8 @@ def test_training_plays_the_schedules_seeds_never_a_validation_or_test_seed(tmp_
     seeds = set().union(*played)
     assert min(seeds) == base and len(seeds) > 2 * args.n_envs  # the schedules' own seeds from the first reset on
     assert all(base <= s < base + TRAINING_SEEDS_PER_RUN // 2 for s in seeds)
-    demonstrations = base + TRAINING_SEEDS_PER_RUN // 2  # where train_rl.py's teacher episodes start
+    demonstrations = demonstration_env(args).next_seed()  # where the teacher's episodes start
+    assert demonstrations == base + TRAINING_SEEDS_PER_RUN // 2
     assert all(s < demonstrations for s in seeds) and all(is_training_seed(s) for s in seeds)
 
 

@@ -1,0 +1,142 @@
+"""A training run's arguments: one dataclass, a docstring under each field (CleanRL's style).
+
+``scripts/train_rl.py`` builds its flags from these fields and their docstrings; the PPO defaults
+come from ``pathplan_env.zoo.PPO_SETTINGS``, the one source rl-zoo3's hyperparameters share.
+"""
+
+from __future__ import annotations
+
+import ast
+import dataclasses
+import inspect
+import shlex
+from dataclasses import dataclass
+
+from pathplan_env.splits import training_seed_base
+from pathplan_env.zoo import PPO_SETTINGS
+
+#: How a run is started from a shell (``Args.command_line``).
+SCRIPT = "scripts/train_rl.py"
+
+
+@dataclass
+class Args:
+    """A training run on DynamicObstacle-v0 (``agents.rl.training.train``); checked on construction."""
+
+    algo: str = "ppo"
+    """ppo or sac"""
+    total_timesteps: int = PPO_SETTINGS.n_timesteps
+    """PPO (or SAC) env steps after the warm start"""
+    seed: int = 0
+    """run seed: torch, and the training episode seeds (pathplan_env.splits.training_seed_base)"""
+    n_envs: int = PPO_SETTINGS.n_envs
+    """parallel training envs"""
+    vec_env: str = "dummy"
+    """dummy (one process; best on 2 cores) or subproc"""
+    n_obstacles_min: int = 4
+    """fewest obstacles of a training episode (drawn uniformly per episode)"""
+    n_obstacles_max: int = 12
+    """most obstacles of a training episode"""
+    delta_d_start: float = 0.25
+    """Δd of training episodes is drawn from [0, this] at first"""
+    delta_d_max: float = 1.0
+    """... widening to [0, this]"""
+    curriculum_fraction: float = 0.3
+    """share of training over which the Δd range widens"""
+    static_fraction: float = 0.0
+    """share of training episodes with Δd = 0 (static obstacles)"""
+    k_nearest: int = 8
+    """obstacles in the observation features (nearest by surface gap)"""
+    learning_rate: float = PPO_SETTINGS.learning_rate
+    """gentle by default: PPO fine-tunes the behaviour-cloned policy"""
+    log_std_init: float = PPO_SETTINGS.log_std_init
+    """initial exploration noise (std e^-1 = 0.37 of a step's reach) around the cloned mean action"""
+    ent_coef: float = PPO_SETTINGS.ent_coef
+    """PPO entropy bonus"""
+    n_steps: int = PPO_SETTINGS.n_steps
+    """PPO rollout length per env"""
+    reward_collision: float = -1.0
+    """the env's collision penalty during training (evaluation always uses the env's default)"""
+    reward_proximity: float = PPO_SETTINGS.reward_proximity
+    """CrowdNav-style discomfort penalty within 0.5 m of an obstacle, for training only (0 = off)"""
+    teacher: str = "velocity-obstacle"
+    """warm start: behaviour-clone this planner's successful episodes before RL (CrowdNav's IL + RL); '' = none"""
+    teacher_steps: int = 200_000
+    """env steps of teacher demonstrations"""
+    teacher_epochs: int = 20
+    """behaviour-cloning epochs over the demonstrations"""
+    net_arch: str = ",".join(str(size) for size in PPO_SETTINGS.net_arch)
+    """hidden layer sizes of the policy and value MLPs"""
+    eval_freq: int = 100_000
+    """env steps between validation evaluations"""
+    eval_episodes: int = 100
+    """validation episodes per evaluation (the same ones every time)"""
+    eval_delta_d: float = 0.25
+    """Δd of the validation episodes"""
+    checkpoint_freq: int = 500_000
+    """env steps between checkpoints"""
+    torch_threads: int = 1
+    """torch CPU threads"""
+    out: str = "runs/ppo"
+    """output directory"""
+    ship: str = ""
+    """'best' or 'final': copy that model to agents/models/<algo>.zip with its metadata (curve to docs/results/)"""
+    progress: bool = True
+    """show a progress bar"""
+
+    def __post_init__(self):
+        if self.algo not in ("ppo", "sac"):
+            raise ValueError(f"algo must be 'ppo' or 'sac', got {self.algo!r}")
+        if self.teacher and self.algo != "ppo":
+            raise ValueError(f"teacher: the behaviour-cloning warm start is implemented for ppo; pass --teacher '' with algo {self.algo!r}")
+        if self.vec_env not in ("dummy", "subproc"):
+            raise ValueError(f"vec_env must be 'dummy' or 'subproc', got {self.vec_env!r}")
+        if self.ship not in ("", "best", "final"):
+            raise ValueError(f"ship must be 'best' or 'final', got {self.ship!r}")
+        for name in ("total_timesteps", "n_envs", "eval_freq", "eval_episodes", "checkpoint_freq", "k_nearest"):
+            if getattr(self, name) < 1:
+                raise ValueError(f"{name} must be >= 1, got {getattr(self, name)!r}")
+        if self.eval_freq > self.total_timesteps:
+            raise ValueError(
+                f"eval_freq ({self.eval_freq}) must be <= total_timesteps ({self.total_timesteps}): "
+                "otherwise no validation runs and there is no best model or learning curve"
+            )
+        if not 0 <= self.n_obstacles_min <= self.n_obstacles_max:
+            raise ValueError(f"n_obstacles_min/max must satisfy 0 <= min <= max, got {self.n_obstacles_min}, {self.n_obstacles_max}")
+        if not 0 <= self.delta_d_start <= self.delta_d_max:
+            raise ValueError(f"delta_d_start/max must satisfy 0 <= start <= max, got {self.delta_d_start}, {self.delta_d_max}")
+        if not 0 <= self.curriculum_fraction <= 1:
+            raise ValueError(f"curriculum_fraction must be in [0, 1], got {self.curriculum_fraction}")
+        self.hidden_sizes()  # "128,128": checked here, used by build_model
+        training_seed_base(self.seed)  # range check
+
+    def hidden_sizes(self) -> list[int]:
+        """``net_arch`` as layer sizes."""
+        try:
+            sizes = [int(n) for n in self.net_arch.split(",")]
+        except ValueError:
+            sizes = []
+        if not sizes or min(sizes) < 1:
+            raise ValueError(f"net_arch must be comma-separated positive layer sizes such as '128,128', got {self.net_arch!r}")
+        return sizes
+
+    def command_line(self) -> str:
+        """The shell command that starts this run: ``python scripts/train_rl.py`` and the flags that differ from the defaults."""
+        words = ["python", SCRIPT]
+        for field in dataclasses.fields(self):
+            value = getattr(self, field.name)
+            if value == field.default:
+                continue
+            flag = field.name.replace("_", "-")
+            words += [f"--{flag}" if value else f"--no-{flag}"] if isinstance(value, bool) else [f"--{flag}", str(value)]
+        return shlex.join(words)
+
+
+def field_docs(cls) -> dict[str, str]:
+    """The docstring under each dataclass field (CleanRL's style), read from the source."""
+    body = ast.parse(inspect.getsource(cls)).body[0].body
+    docs = {}
+    for node, after in zip(body, body[1:], strict=False):
+        if isinstance(node, ast.AnnAssign) and isinstance(after, ast.Expr) and isinstance(after.value, ast.Constant):
+            docs[node.target.id] = " ".join(str(after.value.value).split())
+    return docs

@@ -22,8 +22,8 @@ from agents.evaluation.run_diff import diff_runs  # noqa: E402
 from pathplan_env import Scenario  # noqa: E402
 
 #: A small scene, quick to fly: one obstacle crossing the diagonal from start to goal.
-TINY = dict(bounds=(-2.0, -2.0, 2.0, 2.0), start=(-1.5, -1.5), goal=(1.5, 1.5),
-            obstacles=[dict(center=(0.6, -0.9), radius=0.3, velocity=(0.0, 0.9))], name="tiny")  # fmt: skip
+TINY = {"bounds": (-2.0, -2.0, 2.0, 2.0), "start": (-1.5, -1.5), "goal": (1.5, 1.5), "name": "tiny",
+        "obstacles": [{"center": (0.6, -0.9), "radius": 0.3, "velocity": (0.0, 0.9)}]}  # fmt: skip
 TINY_YAML = """\
 bounds: [-2, -2, 2, 2]
 start: [-1.5, -1.5]
@@ -74,7 +74,7 @@ def _summary(out: Path) -> dict:
 
 def test_a_class_with_only_predict_gives_the_same_results_with_one_or_two_workers(tmp_path):
     entrants = [PredictOnly, ("instance", PredictOnly()), beeline_factory]
-    run = dict(scenarios=[Scenario.from_dict(TINY)], deltas=[0.5], episodes=3, limit=False, plots=False)
+    run = {"scenarios": [Scenario.from_dict(TINY)], "deltas": [0.5], "episodes": 3, "limit": False, "plots": False}
     rows = evaluate_library(entrants, out=tmp_path / "one", workers=1, **run)
     evaluate_library(entrants, out=tmp_path / "two", workers=2, **run)
     diff = diff_runs(tmp_path / "one", tmp_path / "two")
@@ -124,7 +124,7 @@ def test_an_agent_registered_in_a_scripts_main_reaches_the_worker_processes(tmp_
             print(sorted({{r["agent"] for r in rows}}))
         """))
     env = os.environ | {"PYTHONPATH": str(ROOT)}
-    out = subprocess.run([sys.executable, str(script), str(tmp_path / "run")], capture_output=True, text=True, env=env, cwd=tmp_path, timeout=300)
+    out = subprocess.run([sys.executable, str(script), str(tmp_path / "run")], capture_output=True, text=True, env=env, cwd=tmp_path, timeout=300, check=False)
     assert out.returncode == 0, out.stderr[-2000:]
     assert out.stdout.strip().splitlines()[-1] == "['keen', 'straight']"
     assert len((tmp_path / "run" / "episodes.jsonl").read_text().splitlines()) == 4
@@ -147,7 +147,7 @@ def test_scenarios_as_an_object_a_dict_and_a_file_are_named_and_get_their_limit(
 def test_a_custom_scene_resumes_and_an_edited_one_runs_again(tmp_path):
     scene = tmp_path / "corridor.yaml"
     scene.write_text(TINY_YAML)
-    run = dict(agent_names=["straight"], scenarios=[scene], deltas=[0.5], out=tmp_path / "run", limit=False, plots=False)
+    run = {"agent_names": ["straight"], "scenarios": [scene], "deltas": [0.5], "out": tmp_path / "run", "limit": False, "plots": False}
     evaluate_library(episodes=1, **run)
     evaluate_library(episodes=2, resume=True, **run)
     assert len((tmp_path / "run" / "episodes.jsonl").read_text().splitlines()) == 2  # one kept, one run

@@ -157,7 +157,7 @@ def test_a_custom_scene_resumes_and_an_edited_one_runs_again(tmp_path):
     assert len(records) == 4 and len({tuple(r["job"]) for r in records}) == 4  # none of the old scene's episodes reused
 
 
-def test_duplicate_labels_are_an_error_not_a_merge(tmp_path):
+def test_duplicate_labels_are_an_error_not_a_merge(tmp_path, monkeypatch):
     (tmp_path / "episodes.jsonl").write_text("a finished run\n")
     with pytest.raises(ValueError, match="agent_names: label 'straight' given more than once"):
         evaluate_library(["straight", ("straight", PredictOnly)], ["paper-case-1"], [0.5], 1, tmp_path)
@@ -169,6 +169,7 @@ def test_duplicate_labels_are_an_error_not_a_merge(tmp_path):
         evaluate_library(["straight"], ["paper-case-1"], [0.5, 0.5], 1, tmp_path)
     assert (tmp_path / "episodes.jsonl").read_text() == "a finished run\n"
     # two checkpoints of one learned agent: two rows, each labelled by its entry (or a label of one's own)
+    monkeypatch.chdir(ROOT)
     a, b = resolve_agents(["ppo@agents/models/ppo.zip", "b=ppo@./agents/models/ppo.zip"], argument="--agents")
     assert (a.label, b.label) == ("ppo@agents/models/ppo.zip", "b") and a.kwargs == b.kwargs == {"path": str(ROOT / "agents/models/ppo.zip")}
 

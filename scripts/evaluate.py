@@ -3,33 +3,42 @@
     python scripts/evaluate.py --agents pso,abc,pso-spacetime --scenarios paper-case-1,random \
         --delta-d 0,0.125,0.25,0.5,1 --episodes 100 --seed 0 --out results/NAME
     python scripts/evaluate.py --suite default        # the README's main job (~3 minutes on 2 cores)
+    python scripts/evaluate.py --agents pf_agent:PotentialField,pso --scenarios scenes/corridor.yaml --episodes 50
 
 Every (agent, scenario, Δd) cell runs the same episodes, and the privileged oracle-clairvoyant runs
 on them too: each cell reports its physical limit and every agent its success ÷ limit. Writes
 ``episodes.jsonl`` as episodes finish (``--resume`` continues a run), then ``summary.json``,
 ``episodes.csv`` and plots to ``--out``, and prints the tables. The work is done by
 ``agents.evaluation``, which a Python user can call directly.
+
+Your own agent: ``module:attribute`` (a module on the path or in the current directory) or
+``path/to/file.py:attribute``, naming a class, a factory or an object with SB3's ``predict``; a learned
+agent's checkpoint as ``ppo@runs/a/best_model.zip``. Your own scene: a JSON or YAML file of a
+``pathplan_env.Scenario``. Any entry takes a label as ``label=entry``; a label given twice is an error.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-import math
 import os
 import time
 from pathlib import Path
 
 from agents.evaluation import LIMIT_AGENT, SUITES, evaluate
+from agents.evaluation.records import OWN_SPEEDS
 from agents.evaluation.reporting import crowdnav_table, limit_table, markdown_table
 
 
 def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--suite", choices=sorted(SUITES), help="a preset configuration (explicit flags override it)")
-    parser.add_argument("--agents", help="comma-separated agent names (see agents.available())")
-    parser.add_argument("--scenarios", help="comma-separated presets")
-    parser.add_argument("--delta-d", help="comma-separated Δd values")
+    parser.add_argument("--agents", help="comma-separated: registered names (agents.available()), name@model_path, "
+                        "module:attribute, path/to/file.py:attribute, each optionally label=entry (no commas in paths)")
+    parser.add_argument("--scenarios", help="comma-separated: presets or .json/.yaml/.yml scenario files, each optionally "
+                        "label=entry (no commas in paths)")
+    parser.add_argument("--delta-d", help="comma-separated Δd values; 'own' runs a scenario at its own obstacle speeds "
+                        "(the default when every scenario is a file)")
     parser.add_argument("--episodes", type=int, help="episodes per cell")
     parser.add_argument("--seed", type=int, default=0, help="split seed")
     parser.add_argument("--split", choices=("test", "validation"), default="test",
@@ -48,31 +57,40 @@ def parse_args(argv=None) -> argparse.Namespace:
                         help=f"skip the physical limit (by default {LIMIT_AGENT} runs on every cell's episodes too)")
     args = parser.parse_args(argv)
     defaults = SUITES[args.suite] if args.suite else SUITES["default"]
-    for key in ("agents", "scenarios", "delta_d", "episodes"):
+    for key in ("agents", "scenarios", "episodes"):
         if getattr(args, key) is None:
             setattr(args, key, defaults[key])
+    if args.delta_d is None and args.suite:
+        args.delta_d = defaults["delta_d"]  # else chosen in main, once the scenarios are known
     return args
+
+
+def _entries(text: str) -> list[str]:
+    return [entry.strip() for entry in text.split(",") if entry.strip()]
+
+
+def _delta(text: str) -> float | None:
+    if text.strip().lower() == OWN_SPEEDS:
+        return None
+    try:
+        return float(text)
+    except ValueError:
+        raise ValueError(f"--delta-d: expected comma-separated numbers or {OWN_SPEEDS!r}, got {text.strip()!r}") from None
 
 
 def main(argv=None) -> list[dict]:
     args = parse_args(argv)
-    import agents
-    import pathplan_env
+    from agents.evaluation import resolve_agents, resolve_scenarios
+    from agents.evaluation.checks import resolve_deltas
 
-    agent_names = [a.strip() for a in args.agents.split(",") if a.strip()]
-    unknown = [a for a in agent_names if a not in agents.available()]
-    if unknown:
-        raise SystemExit(f"--agents: unknown {unknown}; available: {agents.available()}")
-    scenarios = [s.strip() for s in args.scenarios.split(",") if s.strip()]
-    bad = [s for s in scenarios if s not in pathplan_env.PRESETS]
-    if bad:
-        raise SystemExit(f"--scenarios: unknown {bad}; presets: {sorted(pathplan_env.PRESETS)}")
-    try:
-        deltas = [float(d) for d in args.delta_d.split(",")]
-    except ValueError:
-        raise SystemExit(f"--delta-d: expected comma-separated numbers, got {args.delta_d!r}") from None
-    if any(not math.isfinite(d) or d < 0 for d in deltas):
-        raise SystemExit(f"--delta-d: values must be finite and >= 0, got {deltas}")
+    try:  # each message names its flag, in one line
+        agent_specs = resolve_agents(_entries(args.agents), argument="--agents")
+        scenarios = resolve_scenarios(_entries(args.scenarios), argument="--scenarios")
+        if args.delta_d is None:  # a scene of one's own runs at its own speeds; presets sweep the default suite's Δd
+            args.delta_d = OWN_SPEEDS if all(not isinstance(s.scenario, str) for s in scenarios) else SUITES["default"]["delta_d"]
+        deltas = resolve_deltas([_delta(d) for d in args.delta_d.split(",")], "--delta-d")
+    except ValueError as error:
+        raise SystemExit(str(error)) from None
     if args.episodes < 1:
         raise SystemExit("--episodes must be >= 1")
     try:
@@ -82,7 +100,7 @@ def main(argv=None) -> list[dict]:
     start = time.perf_counter()
     try:
         rows = evaluate(
-            agent_names, scenarios, deltas, args.episodes, args.out, seed=args.seed, split=args.split,
+            agent_specs, scenarios, deltas, args.episodes, args.out, seed=args.seed, split=args.split,
             n_obstacles=args.n_obstacles, workers=args.workers, agent_kwargs=agent_kwargs, limit=not args.no_limit,
             resume=args.resume, plots=not args.no_plots, config={"suite": args.suite}, backend=args.backend,
             address=args.address,
@@ -90,11 +108,12 @@ def main(argv=None) -> list[dict]:
     except ValueError as error:  # named by the harness before any episode ran or anything was written
         raise SystemExit(f"evaluate.py: {error}") from None
     print(markdown_table(rows))
-    for scenario in scenarios:
+    labels = [s.label for s in scenarios]
+    for scenario in labels:
         table = limit_table(rows, scenario)
         if table:
             print("\n" + table)
-    crowds = [s for s in scenarios if s.startswith("crowdnav")]
+    crowds = [s for s in labels if s.startswith("crowdnav")]
     if crowds:
         print("\n" + crowdnav_table(rows, crowds))
     out = Path(args.out)

@@ -1,6 +1,9 @@
 """Render one episode of an agent to a GIF (or MP4 with the imageio-ffmpeg plugin installed).
 
     python scripts/render_episode.py --agent pso-predictive --scenario random --delta-d 0.5 --seed 3 --out docs/img/pso-predictive.gif
+    python scripts/render_episode.py --agent pf_agent:PotentialField --scenario scenes/corridor.yaml --delta-d own
+
+``--agent`` and ``--scenario`` take what ``scripts/evaluate.py`` does (``agents.evaluation.entrants``).
 """
 
 from __future__ import annotations
@@ -19,6 +22,8 @@ from PIL import Image
 
 import agents
 import pathplan_env  # noqa: F401
+from agents.evaluation import resolve_agents, resolve_scenarios
+from agents.evaluation.records import OWN_SPEEDS, delta_text
 
 
 def save_gif(frames: list[np.ndarray], out: Path, fps: int) -> None:
@@ -41,11 +46,16 @@ def save_gif(frames: list[np.ndarray], out: Path, fps: int) -> None:
     images[0].save(out, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)
 
 
+def _delta(text: str) -> float | None:
+    return None if text.strip().lower() == OWN_SPEEDS else float(text)
+
+
 def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--agent", default="pso-predictive", help=f"one of {agents.available()}")
-    parser.add_argument("--scenario", default="random")
-    parser.add_argument("--delta-d", type=float, default=0.5)
+    parser.add_argument("--agent", default="pso-predictive",
+                        help=f"one of {agents.available()}, name@model_path, module:attribute or path/to/file.py:attribute")
+    parser.add_argument("--scenario", default="random", help="a preset or a .json/.yaml/.yml scenario file")
+    parser.add_argument("--delta-d", type=_delta, default=0.5, help="Δd, or 'own' for the scenario's own obstacle speeds")
     parser.add_argument("--n-obstacles", type=int, help="obstacles of the random (default 8) and CrowdNav (default 5) presets")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--fps", type=int, default=10)
@@ -55,21 +65,24 @@ def parse_args(argv=None) -> argparse.Namespace:
 
 def main(argv=None) -> None:
     args = parse_args(argv)
+    spec = resolve_agents([args.agent], argument="--agent")[0]
+    scenario = resolve_scenarios([args.scenario], argument="--scenario")[0]
+    args.agent, args.scenario, delta = spec.label, scenario.label, delta_text(args.delta_d)  # labels in captions
 
-    env = gym.make("DynamicObstacle-v0", scenario=args.scenario, delta_d=args.delta_d, n_obstacles=args.n_obstacles, render_mode="rgb_array")
-    agent = agents.make(args.agent, env, seed=args.seed)
+    env = gym.make("DynamicObstacle-v0", scenario=scenario.scenario, delta_d=args.delta_d, n_obstacles=args.n_obstacles, render_mode="rgb_array")
+    agent = spec.build(env, args.seed)
     obs, info = env.reset(seed=args.seed)
     view = env.unwrapped  # the renderer draws the agent's planned path and a caption when they are set
-    view.caption = f"{args.agent}, {args.scenario}, Δd = {args.delta_d:g}, seed {args.seed}: step 0"
+    view.caption = f"{args.agent}, {args.scenario}, Δd = {delta}, seed {args.seed}: step 0"
     frames = [env.render()]
     step = 0
     while True:
         action, _ = agent.predict(obs, deterministic=True)
-        view.planned_path = agent.last_plan
+        view.planned_path = getattr(agent, "last_plan", None)  # an agent of one's own need not have one
         obs, _, terminated, truncated, info = env.step(action)
         step += 1
         outcome = " (goal)" if info["is_success"] else " (collision)" if info["collision"] else ""
-        view.caption = f"{args.agent}, {args.scenario}, Δd = {args.delta_d:g}, seed {args.seed}: step {step}{outcome}"
+        view.caption = f"{args.agent}, {args.scenario}, Δd = {delta}, seed {args.seed}: step {step}{outcome}"
         frames.append(env.render())
         if terminated or truncated:
             break
@@ -82,7 +95,7 @@ def main(argv=None) -> None:
     else:
         iio.imwrite(out, frames, fps=args.fps)
     outcome = "success" if info["is_success"] else "collision" if info["collision"] else "timeout"
-    print(f"{args.agent} on {args.scenario} (Δd={args.delta_d}, seed {args.seed}): {outcome}, "
+    print(f"{args.agent} on {args.scenario} (Δd={delta}, seed {args.seed}): {outcome}, "
           f"{info['path_length']:.2f} m in {info['time']:.1f} s -> {out}")  # fmt: skip
 
 

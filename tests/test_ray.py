@@ -63,3 +63,53 @@ def test_an_episode_whose_ray_worker_dies_is_retried(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["died-0", "died-1", "died-2"]
     strip_ms = lambda r: json.dumps({k: v for k, v in vars(r).items() if k != "plan_ms"}, sort_keys=True)  # noqa: E731 (NaNs compare equal)
     assert sorted(map(strip_ms, results)) == sorted(strip_ms(run_episode(*job)) for job in jobs)
+
+
+SCRIPT = '''\
+import sys
+
+import numpy as np
+
+import agents
+from agents.evaluation import evaluate
+
+TINY = dict(bounds=(-2, -2, 2, 2), start=(-1.5, -1.5), goal=(1.5, 1.5), name="tiny",
+            obstacles=[dict(center=(0.6, -0.9), radius=0.3, velocity=(0.0, 0.9))])
+
+
+class Keen:  # an action is a waypoint scaled to the arena: near the goal, drawn from the agent's own generator
+    def __init__(self, env, seed=None):
+        self.rng = np.random.default_rng(seed)
+
+    def predict(self, observation, state=None, episode_start=None, deterministic=False):
+        return np.clip(observation["goal"] / 2 + self.rng.normal(0, 0.2, 2), -1, 1).astype(np.float32), state
+
+
+if __name__ == "__main__":
+    agents.register("keen", Keen)  # in this process only: Ray's workers never run this block
+    for backend, workers in (("ray", 2), ("process", 1)):  # Ray's workers against this process
+        evaluate(["keen", "pf_agent_ray:Beeline"], [TINY], [0.5], 2, f"{sys.argv[1]}/{backend}", workers=workers,
+                 limit=False, plots=False, backend=backend)
+'''
+MODULE = '''\
+import numpy as np
+
+
+class Beeline:  # SB3's predict only, drawing from numpy's global generator
+    def predict(self, observation, state=None, episode_start=None, deterministic=False):
+        return np.clip(observation["goal"] / 2 + np.random.normal(0.0, 0.2, 2), -1, 1).astype(np.float32), state
+'''
+
+
+@pytest.mark.skipif(importlib.util.find_spec("ray") is None, reason='Ray not installed (pip install -e ".[ray]")')
+def test_ray_workers_get_an_agent_registered_in_main_and_one_from_a_module(tmp_path):
+    import os
+
+    (tmp_path / "my_benchmark.py").write_text(SCRIPT)
+    (tmp_path / "pf_agent_ray.py").write_text(MODULE)  # found in the script's current directory
+    out = subprocess.run([sys.executable, "my_benchmark.py", str(tmp_path)], cwd=tmp_path, capture_output=True, text=True,
+                         env=os.environ | {"PYTHONPATH": str(ROOT)}, timeout=600, check=False)  # fmt: skip
+    assert out.returncode == 0, out.stderr[-3000:]
+    diff = diff_runs(tmp_path / "ray", tmp_path / "process")
+    assert diff.equal and (diff.cells, diff.episodes) == (2, 4), diff.differences
+    assert {r["agent"] for r in json.loads((tmp_path / "ray" / "summary.json").read_text())["results"]} == {"keen", "pf_agent_ray:Beeline"}

@@ -1,14 +1,17 @@
 """The evaluation harness: every agent on the same test episodes, each cell beside its physical limit.
 
-``evaluate`` runs a set of cells and writes the results (``harness``); one episode is
+``evaluate`` runs a set of cells and writes the results (``harness``); ``entrants`` turns the agents
+and scenarios a user gives (names, classes, objects with ``predict``, ``module:attribute``, scenario
+objects and files) into labelled specs the workers can receive; one episode is
 ``episodes.run_episode``, run by the local pool (``executors``) or Ray (``ray_backend``);
 ``statistics`` summarises, ``reporting`` prints and plots, ``run_diff`` compares two runs.
 ``records`` holds the types all of them share and imports none of them.
 """
 
+from .entrants import AgentSpec, ScenarioSpec, resolve_agents, resolve_scenarios
 from .episodes import run_episode
 from .harness import evaluate
 from .records import LIMIT_AGENT, EpisodeResult
 from .suites import SUITES
 
-__all__ = ["LIMIT_AGENT", "SUITES", "EpisodeResult", "evaluate", "run_episode"]
+__all__ = ["LIMIT_AGENT", "SUITES", "AgentSpec", "EpisodeResult", "ScenarioSpec", "evaluate", "resolve_agents", "resolve_scenarios", "run_episode"]

@@ -3,73 +3,108 @@
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
-def check_run(agent_names, scenarios, deltas, episodes, *, seed=0, split="test", n_obstacles=None, workers=1) -> None:
-    """Refuse a run that could not finish, naming the argument, before anything is written: an
-    unknown agent or preset, a bad count, and any scene the env would reject (every scenario and Δd
-    is built once, at the run's first episode seed)."""
+from .entrants import AgentSpec, ScenarioSpec, resolve_agents, resolve_scenarios
+from .records import OWN_SPEEDS, delta_text
+
+
+@dataclass
+class CheckedRun:
+    """What ``check_run`` found valid: the specs, the Δd values (``None``: the scenario's own speeds)
+    and each agent's keyword arguments, by label."""
+
+    agents: list[AgentSpec]
+    scenarios: list[ScenarioSpec]
+    deltas: list[float | None]
+    overrides: dict[str, dict]
+
+
+def resolve_deltas(deltas, argument: str = "deltas") -> list[float | None]:
+    """Numbers >= 0, or ``None``/``"own"`` for the scenario's own speeds; no value twice (its episodes would merge)."""
+    if isinstance(deltas, str) or not hasattr(deltas, "__len__") or not len(deltas):
+        raise ValueError(f"{argument} must be a non-empty list, got {deltas!r}")
+    out = []
+    for d in deltas:
+        if d is None or (isinstance(d, str) and d.strip().lower() == OWN_SPEEDS):
+            out.append(None)
+        elif isinstance(d, bool) or not isinstance(d, (int, float, np.number)) or not math.isfinite(d) or d < 0:
+            raise ValueError(f"{argument}: values must be finite numbers >= 0 or {OWN_SPEEDS!r} (the scenario's own speeds), got {list(deltas)}")
+        else:
+            out.append(float(d))
+    if len(set(out)) < len(out):
+        raise ValueError(f"{argument}: a value given more than once, {list(deltas)} (its episodes would merge into one cell)")
+    return out
+
+
+def check_run(agent_names, scenarios, deltas, episodes, *, seed=0, split="test", n_obstacles=None, workers=1,
+              agent_kwargs=None, transport: str | None = None) -> CheckedRun:  # fmt: skip
+    """Refuse a run that could not finish, naming the argument, before anything is written: an agent
+    or scenario that cannot be resolved or built, a label given twice, a bad count, and any scene the
+    env would reject (every scenario and Δd is built once, at the run's first episode seed).
+
+    ``transport`` is how jobs reach the workers (:func:`entrants.resolve_agents`)."""
     import gymnasium as gym
 
-    import agents
-    import pathplan_env
     from pathplan_env.splits import heldout_seeds, validation_seeds
 
     def whole(value, name, minimum):
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
             raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
 
-    for name, values in (("agent_names", agent_names), ("scenarios", scenarios), ("deltas", deltas)):
-        if isinstance(values, str) or not len(values):
-            raise ValueError(f"{name} must be a non-empty list, got {values!r}")
-    unknown = [a for a in agent_names if a not in agents.available()]
-    if unknown:
-        raise ValueError(f"agent_names: unknown {unknown}; available: {agents.available()}")
-    unknown = [s for s in scenarios if s not in pathplan_env.PRESETS]
-    if unknown:
-        raise ValueError(f"scenarios: unknown {unknown}; presets: {sorted(pathplan_env.PRESETS)}")
-    if any(isinstance(d, bool) or not isinstance(d, (int, float, np.number)) or not math.isfinite(d) or d < 0 for d in deltas):
-        raise ValueError(f"deltas: values must be finite numbers >= 0, got {list(deltas)}")
+    agents = resolve_agents(agent_names, argument="agent_names", transport=transport)
+    scenario_specs = resolve_scenarios(scenarios, argument="scenarios")
+    deltas = resolve_deltas(deltas)
     whole(episodes, "episodes", 1)
     whole(seed, "seed", 0)
     whole(workers, "workers", 1)
     if split not in ("test", "validation"):
         raise ValueError(f"split must be 'test' or 'validation', got {split!r}")
     first_seed = (heldout_seeds if split == "test" else validation_seeds)(seed, 1)[0]
-    for scenario in scenarios:
+    first_env = None
+    for spec in scenario_specs:
         for delta_d in deltas:
             try:
-                gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=float(delta_d), n_obstacles=n_obstacles).reset(seed=first_seed)
+                env = gym.make("DynamicObstacle-v0", scenario=spec.scenario, delta_d=delta_d, n_obstacles=n_obstacles)
+                env.reset(seed=first_seed)
             except ValueError as error:
-                raise ValueError(f"scenario {scenario!r} at delta_d {delta_d}: {error}") from None
+                raise ValueError(f"scenario {spec.label!r} at delta_d {delta_text(delta_d)}: {error}") from None
+            if first_env is None:
+                first_env = env
+    overrides = resolve_agent_kwargs(agents, agent_kwargs or {}, first_env)
+    return CheckedRun(agents, scenario_specs, deltas, overrides)
 
 
-def resolve_agent_kwargs(agent_names: list[str], agent_kwargs: dict) -> dict[str, dict]:
-    """Per-agent overrides from either form, checked by building each agent once (before any work).
+def resolve_agent_kwargs(agents: list[AgentSpec], agent_kwargs: dict, env) -> dict[str, dict]:
+    """Per-agent overrides from either form, checked by building each agent once on ``env`` (before any work).
 
-    ``{"n_waypoints": 3}`` goes to every agent; ``{"pso": {"n_waypoints": 3}}`` to ``pso`` only.
-    :raises ValueError: naming the agent and the argument it does not take.
+    ``{"n_waypoints": 3}`` goes to every agent; ``{"pso": {"n_waypoints": 3}}`` to the one labelled ``pso`` only.
+    :raises ValueError: naming the agent and the argument it does not take, or what building it raised.
     """
-    import gymnasium as gym
-
-    import agents
-
     if not isinstance(agent_kwargs, dict):
         raise ValueError(f"agent kwargs must be a JSON object, got {agent_kwargs!r}")
+    labels = [spec.label for spec in agents]
     per_agent = bool(agent_kwargs) and all(isinstance(v, dict) for v in agent_kwargs.values())
     if per_agent:
-        unknown = sorted(set(agent_kwargs) - set(agent_names))
+        unknown = sorted(set(agent_kwargs) - set(labels))
         if unknown:
-            raise ValueError(f"agent kwargs for agents not in the run: {unknown}")
-        own = {name: dict(agent_kwargs.get(name, {})) for name in agent_names}
+            raise ValueError(f"agent kwargs for agents not in the run: {unknown}; the run's: {labels}")
+        own = {label: dict(agent_kwargs.get(label, {})) for label in labels}
     else:
-        own = {name: dict(agent_kwargs) for name in agent_names}
-    env = gym.make("DynamicObstacle-v0")
-    for name, kwargs in own.items():
-        if kwargs:
-            try:
-                agents.make(name, env, seed=0, **kwargs)
-            except TypeError as error:
-                raise ValueError(f"agent {name!r} does not take {sorted(kwargs)}: {error}") from None
+        own = {label: dict(agent_kwargs) for label in labels}
+    for spec in agents:
+        kwargs = own[spec.label]
+        try:
+            agent = spec.build(env, 0, kwargs)
+        except TypeError as error:
+            if kwargs:
+                raise ValueError(f"agent {spec.label!r} does not take {sorted(kwargs)}: {error}") from None
+            raise ValueError(f"agent {spec.label!r}: building it raised TypeError: {error}") from None
+        except Exception as error:  # noqa: BLE001 (the user's code: named in one line, before any work)
+            raise ValueError(f"agent {spec.label!r}: building it raised {type(error).__name__}: {error}") from None
+        if not callable(getattr(agent, "predict", None)):
+            raise ValueError(f"agent {spec.label!r}: built a {type(agent).__name__}, which has no "
+                             f"predict(observation, state=None, episode_start=None, deterministic=False)")  # fmt: skip
     return own

@@ -2,49 +2,91 @@
 
 from __future__ import annotations
 
+import inspect
 import math
+import random
+import sys
+import time
 
 import numpy as np
 
 from pathplan_env.crowdnav import DISCOMFORT_DISTANCE  # CrowdNav's: a step closer than this is one in danger
 
+from .entrants import AgentSpec, ScenarioSpec, resolve_agents, resolve_scenarios
 from .records import EpisodeResult
 
-_WARMED: set[str] = set()  # agents whose compiled code this process has already loaded
+_WARMED: set[str] = set()  # agents (by label) whose compiled code this process has already loaded
 
 
-def warm_up(agent_name: str, overrides: dict) -> None:
+def warm_up(agent: AgentSpec, scenario: ScenarioSpec, delta_d: float | None, n_obstacles: int | None, overrides: dict) -> None:
     """One plan on a throwaway episode, so that numba's compilation or cache load (seconds) and
     torch's first call never land in an episode's planning times."""
-    if agent_name in _WARMED:
+    if agent.label in _WARMED:
         return
     import gymnasium as gym
 
-    import agents
-
-    env = gym.make("DynamicObstacle-v0", delta_d=0.5)
+    env = gym.make("DynamicObstacle-v0", scenario=scenario.scenario, delta_d=delta_d, n_obstacles=n_obstacles)
     obs, _ = env.reset(seed=0)
-    agents.make(agent_name, env, seed=0, **overrides).predict(obs, deterministic=True)
-    _WARMED.add(agent_name)
+    _policy(agent.build(env, 0, overrides))(obs, None, np.ones(1, dtype=bool))
+    _WARMED.add(agent.label)
 
 
-def run_episode(agent_name: str, scenario: str, delta_d: float, episode: int, seed: int, n_obstacles: int, overrides: dict) -> EpisodeResult:
-    """One episode of one agent (the unit of work every executor runs)."""
+def _policy(agent):
+    """``agent.predict`` called as SB3's ``evaluate_policy`` calls it (``state``, ``episode_start``,
+    ``deterministic=True``), leaving out the keywords a plain ``predict(observation)`` does not take."""
+    try:
+        parameters = inspect.signature(agent.predict).parameters
+    except (TypeError, ValueError):
+        parameters = {}
+    wanted = ("state", "episode_start", "deterministic")
+    takes = wanted if not parameters or any(p.kind is p.VAR_KEYWORD for p in parameters.values()) else [w for w in wanted if w in parameters]
+
+    def act(obs, state, episode_start):
+        given = {"state": state, "episode_start": episode_start, "deterministic": True}
+        out = agent.predict(obs, **{k: given[k] for k in takes})
+        if not (isinstance(out, tuple) and len(out) == 2):
+            raise TypeError(f"{type(agent).__name__}.predict must return (action, state) as SB3's does, got {type(out).__name__}")
+        return out
+
+    return act
+
+
+def _seed_global_generators(seed: int) -> None:
+    """An agent that draws from the global generators gets the same draws in any worker."""
+    random.seed(seed)
+    np.random.seed(seed % 2**32)
+    if "torch" in sys.modules:
+        sys.modules["torch"].manual_seed(seed)
+
+
+def run_episode(agent: AgentSpec | str, scenario: ScenarioSpec | str, delta_d: float | None, episode: int, seed: int,
+                n_obstacles: int | None, overrides: dict) -> EpisodeResult:  # fmt: skip
+    """One episode of one agent (the unit of work every executor runs). ``agent`` and ``scenario``
+    are specs (:mod:`.entrants`) or anything they resolve, e.g. a registered name and a preset."""
     import gymnasium as gym
 
-    import agents
     from pathplan_env.geometry import shortest_path_to_goal
 
-    warm_up(agent_name, overrides)
-    env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=delta_d, n_obstacles=n_obstacles)
+    agent = agent if isinstance(agent, AgentSpec) else resolve_agents([agent])[0]
+    scenario = scenario if isinstance(scenario, ScenarioSpec) else resolve_scenarios([scenario])[0]
+    warm_up(agent, scenario, delta_d, n_obstacles, overrides)
+    env = gym.make("DynamicObstacle-v0", scenario=scenario.scenario, delta_d=delta_d, n_obstacles=n_obstacles)
     obs, info = env.reset(seed=seed)
-    agent = agents.make(agent_name, env, seed=seed, **overrides)
+    _seed_global_generators(seed)
+    policy = agent.build(env, seed, overrides)
+    if callable(getattr(policy, "reset", None)):
+        policy.reset()  # the agent's memory of any earlier episode
+    act = _policy(policy)
     scenario_of_episode = env.unwrapped.scenario
     reference = shortest_path_to_goal(scenario_of_episode)  # to the goal's disc, where an episode ends
     plan_ms, clearance, steps, discomfort_steps, discomfort_sum = [], math.inf, 0, 0, 0.0
+    state, episode_start = None, np.ones(1, dtype=bool)  # as SB3's evaluate_policy: True on the first step only
     while True:
-        action, _ = agent.predict(obs, deterministic=True)
-        plan_ms.append(1e3 * agent.last_plan_seconds)
+        begin = time.perf_counter()
+        action, state = act(obs, state, episode_start)
+        own = getattr(policy, "last_plan_seconds", None)  # an agent's own timing leaves out its bookkeeping
+        plan_ms.append(1e3 * (own if isinstance(own, (int, float)) else time.perf_counter() - begin))
+        episode_start = np.zeros(1, dtype=bool)
         obs, _, terminated, truncated, info = env.step(action)
         clearance = min(clearance, info["min_clearance"])
         steps += 1
@@ -56,10 +98,10 @@ def run_episode(agent_name: str, scenario: str, delta_d: float, episode: int, se
     env.close()
     success = bool(info["is_success"])
     return EpisodeResult(
-        agent=agent_name, scenario=scenario, delta_d=delta_d, episode=episode, seed=seed,
+        agent=agent.label, scenario=scenario.label, delta_d=delta_d, episode=episode, seed=seed,
         success=success, collision=bool(info["collision"]), timeout=not terminated,
         steps=steps, path_length=info["path_length"], shortest_path=reference + scenario_of_episode.goal_radius,
         path_length_ratio=info["path_length"] / reference if success and np.isfinite(reference) and reference > 0 else math.nan,
         time_to_goal=info["time"] if success else math.nan, min_clearance=clearance, plan_ms=plan_ms,
-        verdict=getattr(agent, "verdict", None) or "", discomfort_steps=discomfort_steps, discomfort_clearance_sum=discomfort_sum,
+        verdict=str(getattr(policy, "verdict", None) or ""), discomfort_steps=discomfort_steps, discomfort_clearance_sum=discomfort_sum,
     )  # fmt: skip

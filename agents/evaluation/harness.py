@@ -2,11 +2,12 @@
 
     from agents.evaluation import evaluate
     rows = evaluate(["pso-spacetime", "velocity-obstacle"], ["random"], [0.5, 1.0], episodes=100, out="results/mine")
+    rows = evaluate([MyPlanner, ("mine-tuned", MyPlanner(gain=2))], ["scenes/corridor.yaml"], [None], 20, "results/own")
 
-Every (agent, scenario, Δd) cell runs the same episodes: episode ``i`` uses seed
+Agents and scenarios come in many forms (:mod:`agents.evaluation.entrants`), each named by a label. Every (agent, scenario, Δd) cell runs the same episodes: episode ``i`` uses seed
 ``pathplan_env.splits.heldout_seeds(seed, episodes)[i]`` for the env (scene, directions) and the
 agent, so results do not depend on the number of workers. The privileged ``oracle-clairvoyant``
-runs on the same episodes to give each cell its physical limit. Episodes are appended to
+runs on the same episodes to give each cell its physical limit, custom scenarios included. Episodes are appended to
 ``episodes.jsonl`` as they finish, so a crash loses nothing and ``resume=True`` continues a run;
 ``summary.json``, ``episodes.csv`` and plots are written at the end. ``scripts/evaluate.py`` is the
 command line over this module.
@@ -24,26 +25,47 @@ from pathlib import Path
 import numpy as np
 
 from ..provenance import versions
-from .checks import check_run, resolve_agent_kwargs
+from .checks import check_run
+from .entrants import resolve_agents
 from .executors import run_jobs
-from .records import LIMIT_AGENT, EpisodeResult
+from .records import LIMIT_AGENT, EpisodeResult, delta_order
 from .statistics import summarize
 
 
 def _job_key(job) -> tuple:
+    """A job as ``episodes.jsonl`` records it: labels (a preset's or a registered agent's name, as
+    before labels existed, so older runs resume), a custom scene's digest, and the agent's kwargs."""
     agent, scenario, delta_d, episode, seed, n_obstacles, overrides = job
+    return _key(agent.label, scenario.key, delta_d, episode, seed, n_obstacles, overrides)
+
+
+def _key(agent: str, scenario: str, delta_d, episode, seed, n_obstacles, overrides) -> tuple:
     n = None if n_obstacles is None else int(n_obstacles)
-    return (agent, scenario, float(delta_d), int(episode), int(seed), n, json.dumps(overrides, sort_keys=True))
+    delta_d = None if delta_d is None else float(delta_d)
+    return (agent, scenario, delta_d, int(episode), int(seed), n, json.dumps(overrides, sort_keys=True))
+
+
+def _summarize(results: list[EpisodeResult]) -> list[dict]:
+    # a scenario's own speeds (Δd None) are cells of their own, summarised apart: None and numbers do not sort together
+    own = [r for r in results if r.delta_d is None]
+    rows = summarize([r for r in results if r.delta_d is not None]) + (summarize(own) if own else [])
+    return sorted(rows, key=lambda r: (r["scenario"], r["agent"], delta_order(r["delta_d"])))
 
 
 def evaluate(
-    agent_names: list[str], scenarios: list[str], deltas: list[float], episodes: int, out: str | Path, *,
+    agent_names: list, scenarios: list, deltas: list[float | None], episodes: int, out: str | Path, *,
     seed: int = 0, split: str = "test", n_obstacles: int | None = None, workers: int = 1, agent_kwargs: dict | None = None,
     limit: bool = True, resume: bool = False, plots: bool = True, config: dict | None = None,
     backend: str = "process", address: str | None = None,
 ) -> list[dict]:  # fmt: skip
     """Run the cells, write the results to ``out`` and return the summary rows (see the module doc).
 
+    ``agent_names``: registered names, ``"name@model_path"``, ``"module:attribute"``,
+    ``"path/to/file.py:attribute"``, classes or factories, or objects with SB3's ``predict``;
+    ``scenarios``: preset names, ``Scenario`` objects, their dicts, or JSON/YAML files of them. Each
+    may be labelled (``(label, entry)``); results name them by label (:mod:`agents.evaluation.entrants`).
+    ``deltas``: Δd values; ``None`` (or ``"own"``) runs a scenario at its own obstacle speeds.
+    ``agent_kwargs``: for every agent, or ``{label: {...}}`` per agent.
     ``backend``: ``"process"`` (a local pool of ``workers`` processes) or ``"ray"`` (a local Ray, or
     the cluster at ``address``; :mod:`agents.evaluation.ray_backend`). Both run the same jobs: same results."""
     from pathplan_env.splits import heldout_seeds, validation_seeds
@@ -56,14 +78,20 @@ def evaluate(
         except ImportError:
             raise ValueError('--backend ray needs Ray: pip install -e ".[ray]"') from None
 
-    check_run(agent_names, scenarios, deltas, episodes, seed=seed, split=split, n_obstacles=n_obstacles, workers=workers)
-    agent_names = list(agent_names)
-    own = resolve_agent_kwargs(agent_names, agent_kwargs or {})
-    if limit and LIMIT_AGENT not in agent_names:
-        agent_names.append(LIMIT_AGENT)
+    transport = "ray" if backend == "ray" else "process" if workers > 1 else None
+    run = check_run(agent_names, scenarios, deltas, episodes, seed=seed, split=split, n_obstacles=n_obstacles,
+                    workers=workers, agent_kwargs=agent_kwargs, transport=transport)  # fmt: skip
+    entrants, own = list(run.agents), run.overrides
+    limit_spec = resolve_agents([LIMIT_AGENT])[0]
+    for spec in entrants:
+        if spec.label == LIMIT_AGENT and (spec.target is not limit_spec.target or spec.kwargs):
+            raise ValueError(f"agent_names: the label {LIMIT_AGENT!r} is the physical limit's; give this agent another")
+    if limit and LIMIT_AGENT not in own:
+        entrants.append(limit_spec)
         own[LIMIT_AGENT] = {}  # the kwargs are meant for the agents asked for
     seeds = (heldout_seeds if split == "test" else validation_seeds)(seed, episodes)
-    jobs = [(a, s, d, i, e, n_obstacles, own[a]) for a in agent_names for s in scenarios for d in deltas for i, e in enumerate(seeds)]
+    jobs = [(a, s, d, i, e, n_obstacles, own[a.label]) for a in entrants for s in run.scenarios for d in run.deltas for i, e in enumerate(seeds)]
+    scenario_key = {s.label: s.key for s in run.scenarios}
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     log = out / "episodes.jsonl"
@@ -86,8 +114,8 @@ def evaluate(
 
         def record(res: EpisodeResult) -> None:
             results.append(res)
-            job = (res.agent, res.scenario, res.delta_d, res.episode, res.seed, n_obstacles, own[res.agent])
-            sink.write(json.dumps({"job": list(_job_key(job)), "result": asdict(res)}) + "\n")
+            key = _key(res.agent, scenario_key[res.scenario], res.delta_d, res.episode, res.seed, n_obstacles, own[res.agent])
+            sink.write(json.dumps({"job": list(key), "result": asdict(res)}) + "\n")
             sink.flush()
 
         if backend == "ray":
@@ -97,9 +125,12 @@ def evaluate(
         else:
             run_jobs(jobs, workers, record)
     elapsed = time.perf_counter() - start
-    results.sort(key=lambda r: (r.agent, r.scenario, r.delta_d, r.episode))
-    rows = summarize(results)
-    config = (config or {}) | {"agents": agent_names, "scenarios": scenarios, "delta_d": deltas, "episodes": episodes,
+    results.sort(key=lambda r: (r.agent, r.scenario, delta_order(r.delta_d), r.episode))
+    rows = _summarize(results)
+    config = (config or {}) | {"agents": [a.label for a in entrants], "scenarios": [s.label for s in run.scenarios],
+                               "agent_sources": {a.label: a.source for a in entrants},
+                               "custom_scenarios": {s.label: s.definition for s in run.scenarios if s.definition},
+                               "delta_d": run.deltas, "episodes": episodes,
                                "seed": seed, "split": split, "n_obstacles": n_obstacles, "workers": workers,
                                "agent_kwargs": agent_kwargs or {}, "episode_seeds": [seeds[0], seeds[-1]],
                                "wall_seconds": round(elapsed, 1)}  # fmt: skip

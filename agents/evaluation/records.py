@@ -1,5 +1,6 @@
-"""The harness's record types: one evaluated episode, and the name of the agent that gives each
-cell its limit. Imports nothing else of the harness, so every part of it can import this."""
+"""The harness's record types: one evaluated episode, the name of the agent that gives each cell its
+limit, and how a scenario's own speeds are named. Imports nothing else of the harness, so every part
+of it can import this."""
 
 from __future__ import annotations
 
@@ -7,13 +8,24 @@ from dataclasses import dataclass, field
 
 #: The privileged agent whose success rate on a cell's episodes is that cell's physical limit.
 LIMIT_AGENT = "oracle-clairvoyant"
+#: A cell's Δd of ``None``: the scenario's obstacles at their own speeds, written so on the command line and in tables.
+OWN_SPEEDS = "own"
+
+
+def delta_text(delta_d: float | None) -> str:
+    return OWN_SPEEDS if delta_d is None else f"{delta_d:g}"
+
+
+def delta_order(delta_d: float | None) -> tuple:
+    """A sort key for Δd values: a scenario's own speeds first, then the numbers."""
+    return (0, 0.0) if delta_d is None else (1, delta_d)
 
 
 @dataclass
 class EpisodeResult:
-    agent: str
-    scenario: str
-    delta_d: float
+    agent: str  # the agent's label (agents.evaluation.entrants)
+    scenario: str  # the scenario's label: a preset's name, a Scenario's name, a file's stem
+    delta_d: float | None  # None: the scenario's own speeds
     episode: int
     seed: int
     success: bool

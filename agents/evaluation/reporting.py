@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .records import LIMIT_AGENT
+from .records import LIMIT_AGENT, delta_order, delta_text
 
 
 def markdown_table(rows: list[dict]) -> str:
@@ -22,7 +22,7 @@ def markdown_table(rows: list[dict]) -> str:
         lo, hi = r["success_ci95"]
         common = f"{fmt(r.get('common_length_ratio'), '.3f')} ({r.get('common_episodes', 0)})" if "common_episodes" in r else "-"
         lines.append(
-            f"| {r['scenario']} | {r['agent']} | {r['delta_d']:g} | {r['episodes']} | {r['success_rate']:.2f} [{lo:.2f}, {hi:.2f}] "
+            f"| {r['scenario']} | {r['agent']} | {delta_text(r['delta_d'])} | {r['episodes']} | {r['success_rate']:.2f} [{lo:.2f}, {hi:.2f}] "
             f"| {fmt(r.get('limit'), '.2f')} | {fmt(r.get('success_over_limit'), '.2f')} "
             f"| {r['collision_rate']:.2f} | {r['timeout_rate']:.2f} | {fmt(r.get('spl'), '.3f')} "
             f"| {fmt(r['path_length_ratio'], '.3f')} / {common} "
@@ -34,12 +34,12 @@ def markdown_table(rows: list[dict]) -> str:
 def limit_table(rows: list[dict], scenario: str) -> str:
     """Success ÷ limit against Δd for every agent of ``scenario``, under the limit itself."""
     cells = [r for r in rows if r["scenario"] == scenario and "limit" in r]
-    deltas = sorted({r["delta_d"] for r in cells})
+    deltas = sorted({r["delta_d"] for r in cells}, key=delta_order)
     if not cells:
         return ""
     by = {(r["agent"], r["delta_d"]): r for r in cells}
     fmt = lambda v: "-" if v is None else f"{v:.2f}"  # noqa: E731
-    lines = [f"| {scenario}: success ÷ limit | " + " | ".join(f"Δd = {d:g}" for d in deltas) + " |",
+    lines = [f"| {scenario}: success ÷ limit | " + " | ".join(f"Δd = {delta_text(d)}" for d in deltas) + " |",
              "|---|" + "---:|" * len(deltas)]  # fmt: skip
     limit_row = [next(r for r in cells if r["delta_d"] == d) for d in deltas]  # every row of a cell carries its limit
     lines.append("| **limit** (oracle-clairvoyant's success) | " + " | ".join(f"**{r['limit']:.2f}**" for r in limit_row) + " |")
@@ -102,17 +102,19 @@ def plot(rows: list[dict], out: Path) -> list[Path]:
     import matplotlib.pyplot as plt
 
     crowd = crowdnav_plot(rows, out)
-
-    scenarios = sorted({r["scenario"] for r in rows})
+    by_delta = [r for r in rows if r["delta_d"] is not None]  # a scenario at its own speeds has no place on a Δd axis
+    scenarios = sorted({r["scenario"] for r in by_delta})
     agent_names = sorted({r["agent"] for r in rows})
     paths = []
     for metric, ylabel, filename in (
         ("success_rate", "success rate (95% Wilson CI)", "success_vs_delta_d.png"),
         ("path_length_ratio", "flown / shortest static path (successes)", "path_length_ratio.png"),
     ):
+        if not scenarios:
+            break
         fig, axes = plt.subplots(1, len(scenarios), figsize=(5.5 * len(scenarios), 4.2), squeeze=False, sharey=True)
         for ax, scenario in zip(axes[0], scenarios):
-            band = sorted((r for r in rows if r["scenario"] == scenario and r["agent"] == LIMIT_AGENT), key=lambda r: r["delta_d"])
+            band = sorted((r for r in by_delta if r["scenario"] == scenario and r["agent"] == LIMIT_AGENT), key=lambda r: r["delta_d"])
             if metric == "success_rate" and band:
                 x = [r["delta_d"] for r in band]
                 ax.fill_between(x, [r["success_ci95"][0] for r in band], [r["success_ci95"][1] for r in band],
@@ -120,7 +122,7 @@ def plot(rows: list[dict], out: Path) -> list[Path]:
             for name in agent_names:
                 if name == LIMIT_AGENT and metric == "success_rate":
                     continue
-                cell = sorted((r for r in rows if r["scenario"] == scenario and r["agent"] == name), key=lambda r: r["delta_d"])
+                cell = sorted((r for r in by_delta if r["scenario"] == scenario and r["agent"] == name), key=lambda r: r["delta_d"])
                 x = [r["delta_d"] for r in cell]
                 y = [np.nan if r[metric] is None else r[metric] for r in cell]
                 if metric == "success_rate":

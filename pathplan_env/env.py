@@ -214,6 +214,9 @@ class DynamicObstacleEnv(gym.Env):
         """The farthest the robot moves in one step (m): ``robot_speed * dt``."""
         return self.scenario.robot_speed * self.scenario.dt
 
+    #: ``robot_step_length`` under its old private name, which ``agents/oracles/clairvoyant.py`` still reads.
+    _reach = robot_step_length
+
     @property
     def world(self) -> World | None:
         """The episode's simulator state (``None`` before the first reset). Policies must not read it:

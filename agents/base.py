@@ -47,9 +47,9 @@ class Agent:
         self.facts = EnvFacts.of(env)
         self.seed = seed
         self.rng = np.random.default_rng(seed)
-        xmin, ymin, xmax, ymax = self.facts.bounds
-        self._arena_low = np.array([xmin, ymin])
-        self._arena_size = np.array([xmax - xmin, ymax - ymin])
+        #: The env's arena (``pathplan_env.arena.Arena``): the box where the robot's disc fits
+        #: (``arena.robot_box``) and the env's own waypoint <-> action mapping.
+        self.arena = self.facts.arena
         self._memory: list[dict[str, Any]] = []
         self.last_plan_seconds = 0.0
         #: The path the last plan intends to fly, as points from the robot (None for agents without one).
@@ -84,7 +84,18 @@ class Agent:
         self._memory = []
 
     def waypoint_to_action(self, waypoints: np.ndarray) -> np.ndarray:
-        return np.clip(2.0 * (waypoints - self._arena_low) / self._arena_size - 1.0, -1.0, 1.0).astype(np.float32)
+        """Waypoints (..., 2) as the env's actions (``Arena.waypoint_to_action``)."""
+        return self.arena.waypoint_to_action(waypoints)
+
+    @property
+    def _arena_low(self) -> np.ndarray:
+        """``arena.low`` under its old name, for the planners that still pass it to their kernels."""
+        return self.arena.low
+
+    @property
+    def _arena_size(self) -> np.ndarray:
+        """``arena.size`` under its old name (see ``_arena_low``)."""
+        return self.arena.size
 
     @property
     def step_length(self) -> float:

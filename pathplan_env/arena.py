@@ -6,6 +6,7 @@ oracles and the scripts all read the arena from ``env.unwrapped.arena``, so they
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import cached_property
 from typing import NamedTuple
@@ -52,8 +53,9 @@ class Arena:
 
     @property
     def diagonal(self) -> float:
+        """The arena's diagonal (m): no gap is wider, and no obstacle crosses it in one step."""
         xmin, ymin, xmax, ymax = self.bounds
-        return float(np.hypot(xmax - xmin, ymax - ymin))
+        return math.hypot(xmax - xmin, ymax - ymin)  # as Scenario.arena_diagonal, to the last bit
 
     @property
     def robot_box(self) -> tuple[float, float, float, float]:

@@ -7,19 +7,15 @@ import math
 from typing import Any
 
 import gymnasium as gym
-import numba
 import numpy as np
-from gymnasium import spaces
 
+from .actions import make_action_type
 from .arena import Arena
-from .kinematics import move_and_goal
+from .observations import make_observation_type
 from .presets import make_scenario
-from .scenarios import MIN_LENGTH, Scenario, check_delta_d
-from .world import World, substeps_for
-
-
-#: Largest reward weight accepted: beyond it sums of rewards lose their meaning (and 1e308 overflows).
-MAX_REWARD_WEIGHT = 1e6
+from .rewards import MAX_REWARD_WEIGHT, RewardWeights, reward_terms, total  # noqa: F401 (MAX_REWARD_WEIGHT: its old home)
+from .scenarios import Scenario, check_delta_d, check_n_obstacles
+from .world import World, scenario_substeps
 
 
 class DynamicObstacleEnv(gym.Env):
@@ -53,17 +49,17 @@ class DynamicObstacleEnv(gym.Env):
     is not a hit.
 
     ## Action Space
-    ``Box(-1, 1, (2,), float32)``: a waypoint, mapped linearly onto the arena: ``-1`` is the arena's
-    lower edge and ``+1`` its upper edge on each axis. Each step the robot moves straight toward the
-    waypoint at its maximum speed, stopping on it if it is closer than one step. The waypoint is
-    clipped so that the robot's disc stays inside the arena. Out-of-range actions are clipped to
-    [-1, 1]; a NaN or infinite action raises ``ValueError``. Convert with
-    ``env.unwrapped.waypoint_to_action(xy)`` and ``env.unwrapped.action_to_waypoint(a)``.
+    ``action="waypoint"`` (``pathplan_env.actions``): ``Box(-1, 1, (2,), float32)``, a waypoint mapped
+    linearly onto the arena: ``-1`` is the arena's lower edge and ``+1`` its upper edge on each axis.
+    Each step the robot moves straight toward the waypoint at its maximum speed, stopping on it if it
+    is closer than one step. The waypoint is clipped so that the robot's disc stays inside the arena.
+    Out-of-range actions are clipped to [-1, 1]; a NaN or infinite action raises ``ValueError``.
+    Convert with ``env.unwrapped.waypoint_to_action(xy)`` and ``env.unwrapped.action_to_waypoint(a)``.
 
     ## Observation Space
-    A ``Dict`` in the world frame (metres, m/s), every entry float32 with finite bounds. ``N`` is
-    ``max_obstacles``; rows past the scenario's obstacles are padding (zeros at the arena's lower
-    corner, mask 0).
+    ``observation="state"`` (``pathplan_env.observations``): a ``Dict`` in the world frame (metres,
+    m/s), every entry float32 with finite bounds. ``N`` is ``max_obstacles``; rows past the scenario's
+    obstacles are padding (zeros at the arena's lower corner, mask 0).
 
     | Key                   | Shape  | Observation                            | Min                | Max               |
     |-----------------------|--------|----------------------------------------|--------------------|-------------------|
@@ -77,10 +73,12 @@ class DynamicObstacleEnv(gym.Env):
 
     ``V`` is the arena diagonal divided by ``dt`` (crossing the arena in one step): no speed is higher.
     Static public facts for planners: ``env.unwrapped.bounds``, ``dt``, ``robot_radius``, ``robot_speed``,
-    ``goal_radius`` (``pathplan_env.wrappers.EnvFacts``).
+    ``goal_radius`` (``pathplan_env.wrappers.EnvFacts``), ``robot_step_length`` and ``arena``
+    (``pathplan_env.arena.Arena``: the box where the robot's disc fits). ``env.unwrapped.world`` is the
+    simulator's state, read by privileged oracles only.
 
     ## Rewards
-    The sum of four components, each also reported in ``info["rewards"]``:
+    The sum of the components reported in ``info["rewards"]`` (``pathplan_env.rewards``):
     - ``progress``: ``reward_progress * (d_before - d_after) / d_start``, with ``d`` the distance to the
       goal; over a successful episode the progress rewards sum to ``reward_progress``.
     - ``goal``: ``reward_goal`` (default 1.0) on reaching the goal.
@@ -97,8 +95,8 @@ class DynamicObstacleEnv(gym.Env):
     (``n_obstacles`` non-overlapping obstacles, start and goal at least 6 m apart, all drawn from
     ``np_random``), ``"crowdnav-circle-crossing"`` and ``"crowdnav-square-crossing"`` (CrowdNav's
     protocol: 5 ORCA humans, robot invisible; the ``-visible`` forms show them the robot).
-    Obstacles that rest in the scenario get directions from ``np_random`` once ``delta_d`` makes
-    them move.
+    Obstacles that rest in the scenario get directions from ``np_random`` once ``delta_d`` (or a
+    preset's own Δd) makes them move.
 
     ## Episode End
     - Termination: the robot reaches the goal (``info["is_success"]``), or touches an obstacle
@@ -109,22 +107,23 @@ class DynamicObstacleEnv(gym.Env):
       the scenario's own ``time_limit`` if it is shorter (the CrowdNav presets: 25 s, 100 steps).
 
     ## Info
-    ``is_success``, ``collision``, ``cost`` (1.0 on a step with contact, as Safety-Gymnasium reports
-    constraint costs), ``min_clearance`` (smallest surface gap to any obstacle during the step up to
-    where the robot stopped, m: 0 on contact; the arena diagonal with no obstacles, so that every
-    field is finite),
-    ``path_length`` (m flown so far), ``time`` (s), ``distance_to_goal``, ``waypoint`` (the ``(x, y)`` the
-    robot headed for) and ``rewards``.
+    The same keys after ``reset`` and every ``step``: ``is_success``, ``collision``, ``cost`` (1.0 on a
+    step with contact, as Safety-Gymnasium reports constraint costs), ``min_clearance`` (smallest
+    surface gap to any obstacle during the step up to where the robot stopped, m: 0 on contact; the
+    arena diagonal with no obstacles, so that every field is finite), ``path_length`` (m flown so
+    far), ``time`` (s), ``distance_to_goal``, ``waypoint`` (the ``(x, y)`` the robot headed for; ``None``
+    after a reset) and ``rewards`` (all 0.0 after a reset).
 
     ## Arguments
     ```python
-    gym.make("DynamicObstacle-v0", scenario="random", delta_d=0.25, n_obstacles=None,
-             max_obstacles=None, robot_visible=None, render_mode=None)
+    gym.make("DynamicObstacle-v0", scenario="random", delta_d=None, n_obstacles=None, max_obstacles=None,
+             robot_visible=None, observation="state", action="waypoint", render_mode=None)
     ```
     - ``scenario``: a preset name or a ``pathplan_env.Scenario``.
-    - ``delta_d``: obstacle displacement per step in radii, applied to every scenario (directions
-      kept; resting obstacles get random ones). ``0`` freezes the obstacles; ``None`` keeps the
-      scenario's own velocities.
+    - ``delta_d``: obstacle displacement per step in radii, applied to every obstacle (directions
+      kept; resting obstacles get random ones); ``0`` freezes the obstacles. ``None`` (the default)
+      keeps the scenario's own speeds: Δd 0.25 for ``"random"`` and the paper's cases, 1 m/s for
+      CrowdNav's humans, a hand-built ``Scenario``'s own velocities.
     - ``n_obstacles``: obstacle count of the ``"random"`` preset (default 8; at most 100: its arena
       grows with the count, and past 100 it outgrows what the robot can cross in the 200-step time
       limit) and of the CrowdNav presets (default 5).
@@ -133,6 +132,8 @@ class DynamicObstacleEnv(gym.Env):
     - ``reward_progress``, ``reward_goal``, ``reward_collision``, ``reward_time``, ``reward_proximity``:
       reward weights; ``proximity_distance`` (m, default 0.5) is the surface gap below which the
       proximity penalty starts.
+    - ``observation``, ``action``: the observation and action types by name
+      (``pathplan_env.observations.OBSERVATION_TYPES``, ``pathplan_env.actions.ACTION_TYPES``).
     - ``render_mode``: ``"human"`` (a pygame window) or ``"rgb_array"`` (works with no display).
 
     ``reset(options={"scenario": ..., "delta_d": ..., "n_obstacles": ...})`` reconfigures the env from
@@ -140,7 +141,10 @@ class DynamicObstacleEnv(gym.Env):
 
     ## Version History
     - v0: initial release; goal-directed obstacle behaviours and the CrowdNav presets added without
-      changing any episode of the existing presets (tested by a digest).
+      changing any episode of the existing presets (tested by a digest). Observation and action
+      types (``observation=``, ``action=``) added, and ``delta_d`` defaults to each scenario's own
+      speeds (CrowdNav's humans at their 1 m/s, no longer Δd 0.25), with every episode of
+      ``"random"`` and the paper's cases unchanged (tested by a digest).
     """
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 10}
@@ -148,7 +152,7 @@ class DynamicObstacleEnv(gym.Env):
     def __init__(
         self,
         scenario: str | Scenario = "random",
-        delta_d: float | None = 0.25,
+        delta_d: float | None = None,
         n_obstacles: int | None = None,
         max_obstacles: int | None = None,
         robot_visible: bool | None = None,
@@ -158,6 +162,8 @@ class DynamicObstacleEnv(gym.Env):
         reward_time: float = -0.005,
         reward_proximity: float = 0.0,
         proximity_distance: float = 0.5,
+        observation: str = "state",
+        action: str = "waypoint",
         render_mode: str | None = None,
     ):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
@@ -165,56 +171,30 @@ class DynamicObstacleEnv(gym.Env):
         self.render_mode = render_mode
         self._scenario_spec = scenario
         self._delta_d = check_delta_d(delta_d)
-        self._n_obstacles = self._check_n_obstacles(n_obstacles)
+        self._n_obstacles = check_n_obstacles(n_obstacles)
         if robot_visible is not None and not isinstance(robot_visible, (bool, np.bool_)):
             raise ValueError(f"robot_visible must be True, False or None, got {robot_visible!r}")
         self._robot_visible = None if robot_visible is None else bool(robot_visible)
-        weights = {"progress": reward_progress, "goal": reward_goal, "collision": reward_collision,
-                   "time": reward_time, "proximity": reward_proximity}  # fmt: skip
-        for name, value in weights.items():
-            if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) or not (
-                math.isfinite(value) and abs(value) <= MAX_REWARD_WEIGHT
-            ):
-                raise ValueError(f"reward_{name} must be a finite number with |w| <= {MAX_REWARD_WEIGHT:g}, got {value!r}")
-        self.reward_weights = {name: float(value) for name, value in weights.items()}
-        if not (isinstance(proximity_distance, (int, float, np.integer, np.floating)) and math.isfinite(proximity_distance)
-                and MIN_LENGTH <= proximity_distance):  # fmt: skip
-            raise ValueError(f"proximity_distance must be finite and >= {MIN_LENGTH:g} m, got {proximity_distance!r}")
-        self.proximity_distance = float(proximity_distance)
+        #: The reward terms' weights (``pathplan_env.rewards.RewardWeights``, validated).
+        self.reward_weights = RewardWeights(reward_progress, reward_goal, reward_collision, reward_time, reward_proximity, proximity_distance)
         # Build one scenario now so that bad input fails when the env is made, and to fix the spaces.
         self.scenario: Scenario = self._make_scenario(scenario, np.random.default_rng(0), self._n_obstacles, self._delta_d)
-        self._check_substeps(self.scenario)
+        scenario_substeps(self.scenario)
         self.bounds = self.scenario.bounds
         if max_obstacles is None:
             max_obstacles = max(16, self._n_obstacles or 0, self.scenario.n_obstacles)
         if int(max_obstacles) != max_obstacles or max_obstacles < self.scenario.n_obstacles:
-            raise ValueError(
-                f"max_obstacles must be an integer >= the scenario's {self.scenario.n_obstacles} obstacles, got {max_obstacles!r}"
-            )
+            raise ValueError(f"max_obstacles must be an integer >= the scenario's {self.scenario.n_obstacles} obstacles, got {max_obstacles!r}")
         self.max_obstacles = int(max_obstacles)
-
-        xmin, ymin, xmax, ymax = self.bounds
-        low, high = np.array([xmin, ymin], np.float32), np.array([xmax, ymax], np.float32)
-        vmax = np.float32(self.scenario.arena_diagonal / self.scenario.dt)
-        n = self.max_obstacles
-        point = spaces.Box(low, high, dtype=np.float32)
-        velocity = spaces.Box(-vmax, vmax, shape=(2,), dtype=np.float32)
-        self.observation_space = spaces.Dict(
-            {
-                "robot_position": point,
-                "robot_velocity": velocity,
-                "goal": point,
-                "obstacle_positions": spaces.Box(np.tile(low, (n, 1)), np.tile(high, (n, 1)), dtype=np.float32),
-                "obstacle_velocities": spaces.Box(-vmax, vmax, shape=(n, 2), dtype=np.float32),
-                "obstacle_radii": spaces.Box(0.0, min(xmax - xmin, ymax - ymin) / 2, shape=(n,), dtype=np.float32),
-                "obstacle_mask": spaces.Box(0.0, 1.0, shape=(n,), dtype=np.float32),
-            }
-        )
-        self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
         #: The arena's bounds, the box where the robot's disc fits, and the waypoint <-> action mapping.
         self.arena = Arena.of(self.scenario)
+        self.observation_type = make_observation_type(observation, self.arena, self.scenario.dt, self.max_obstacles)
+        self.action_type = make_action_type(action, self.arena)
+        self.observation_space = self.observation_type.space()
+        self.action_space = self.action_type.space()
+        self._observe, self._act = self.observation_type.observe, self.action_type.act  # bound once: step calls them
         self._world: World | None = None
-        self._moves: list[tuple[float, float]] | None = None
+        self._moves: list[tuple[float, float, float]] | None = None
         self._renderer = None
         self.trail: list[tuple[float, float]] = []
         self.waypoint: tuple[float, float] | None = None
@@ -223,21 +203,25 @@ class DynamicObstacleEnv(gym.Env):
         self.caption: str | None = None
 
     # -- static public facts (what planners may read besides the observation) -------------------
-    @property
-    def dt(self) -> float:
-        return self.scenario.dt
+    dt = property(lambda self: self.scenario.dt, doc="The control period (s): one step advances the world by it.")
+    robot_radius = property(lambda self: self.scenario.robot_radius, doc="The robot's radius (m).")
+    robot_speed = property(lambda self: self.scenario.robot_speed, doc="The robot's top speed (m/s).")
+    goal_radius = property(lambda self: self.scenario.goal_radius, doc="The goal is reached within this distance (m).")
+    proximity_distance = property(lambda self: self.reward_weights.proximity_distance, doc="Where the proximity term starts (m).")
 
     @property
-    def robot_radius(self) -> float:
-        return self.scenario.robot_radius
+    def robot_step_length(self) -> float:
+        """The farthest the robot moves in one step (m): ``robot_speed * dt``."""
+        return self.scenario.robot_speed * self.scenario.dt
+
+    #: ``robot_step_length`` under its old private name, which ``agents/oracles/clairvoyant.py`` still reads.
+    _reach = robot_step_length
 
     @property
-    def robot_speed(self) -> float:
-        return self.scenario.robot_speed
-
-    @property
-    def goal_radius(self) -> float:
-        return self.scenario.goal_radius
+    def world(self) -> World | None:
+        """The episode's simulator state (``None`` before the first reset). Policies must not read it:
+        only privileged oracles do (``agents.oracles.clairvoyant``), and say so in their name."""
+        return self._world
 
     # -- action mapping ------------------------------------------------------------------------
     def action_to_waypoint(self, action) -> np.ndarray:
@@ -259,80 +243,55 @@ class DynamicObstacleEnv(gym.Env):
         self._check_fits(scenario)
         world = World(scenario, recycle=self._world)  # checks the substeps before it touches the old world
         self._scenario_spec, self._delta_d, self._n_obstacles = spec, delta_d, n_obstacles
-        self.scenario = scenario
-        self._world = world
-        self._goal_xy = scenario.goal
+        self.scenario, self._world = scenario, world
         if self.arena.robot_radius != scenario.robot_radius:  # the bounds are checked equal above
             self.arena = Arena.of(scenario)
-        self._reach = scenario.robot_speed * scenario.dt
-        self._goal_radius = scenario.goal_radius
+        self._goal_xy = scenario.goal
         self._start_distance = max(float(np.hypot(self._goal_xy[0] - scenario.start[0], self._goal_xy[1] - scenario.start[1])), 1e-9)
         self._distance = self._start_distance
         self._path_length = 0.0
-        self._prepare_observation_padding()
+        self.action_type.reset(world, self.arena)
+        self.observation_type.reset(world, self.np_random)
         self.waypoint = None
         self.trail = [scenario.start]
-        self._moves: list[tuple[float, float]] = []  # what a copy of this env replays
+        self._moves = []  # what a copy of this env replays
         if self.render_mode == "human":
             self.render()
-        return self._observation(), self._info(min_clearance=self._world.clearance(), rewards=None)
+        clearance = world.clearance()
+        rewards = dict.fromkeys(self._rewards(False, False, self._distance, clearance), 0.0)  # the step's terms, zero
+        return self._observe(world), self._info(False, False, clearance, rewards)
 
     def step(self, action):
         world = self._world
         if world is None:
             raise RuntimeError("call reset() before step()")
-        if type(action) is not np.ndarray or action.shape != (2,) or action.dtype.char not in "fd":
-            action = self._parse_action(action)
-        px, py = world.robot_xy
-        gx, gy = self._goal_xy
-        finite, wx, wy, dx, dy, goal_fraction = move_and_goal(action, self.arena.box, px, py, self._reach, gx, gy, self._goal_radius)
-        if not finite:
-            raise ValueError(f"action must be finite, got {action!r} (NaN or infinite)")
-        self.waypoint = (wx, wy)
-        # the robot stops where the episode ends (the goal, or the first contact); the step's
-        # quantities are read at its end: the robot resting there, path_length up to there
+        # act: the robot's move toward the action's target (the action validated first)
+        dx, dy, goal_fraction, self.waypoint = self._act(action, world.robot_xy)
+        # simulate: the robot stops where the episode ends (the goal, or the first contact); the
+        # step's quantities are read at its end: the robot resting there, path_length up to there
         min_gap, contact_fraction = world.step(dx, dy, goal_fraction)
         self._moves.append((dx, dy, goal_fraction))
         collision = contact_fraction <= 1.0
         success = goal_fraction <= 1.0 and not collision
         self._path_length += math.hypot(dx, dy) * (goal_fraction if success else contact_fraction if collision else 1.0)
-        rx, ry = world.robot_xy
+        (rx, ry), (gx, gy) = world.robot_xy, self._goal_xy
         distance = 0.0 if success else math.hypot(rx - gx, ry - gy)
-        w = self.reward_weights
-        rewards = {
-            "progress": w["progress"] * (self._distance - distance) / self._start_distance,
-            "goal": w["goal"] if success else 0.0,
-            "collision": w["collision"] if collision else 0.0,
-            "time": w["time"],
-            "proximity": w["proximity"] * max(0.0, 1.0 - min_gap / self.proximity_distance) if w["proximity"] else 0.0,
-        }
+        rewards = self._rewards(success, collision, distance, min_gap)
         self._distance = distance
+        terminated = success or collision
         # the scenario's own time limit (CrowdNav's 25 s); the registration's step limit is TimeLimit's
         limit = self.scenario.time_limit
-        truncated = limit is not None and not (success or collision) and world.time >= limit * (1.0 - 1e-12)
+        truncated = limit is not None and not terminated and world.time >= limit * (1.0 - 1e-12)
+        info = self._info(success, collision, min_gap, rewards)
         if self.render_mode is not None:
             self.trail.append(world.robot_xy)
-        info = {  # as _info() builds it, inlined on the hot path
-            "is_success": success,
-            "collision": collision,
-            "cost": 1.0 if collision else 0.0,
-            "min_clearance": min_gap,
-            "path_length": self._path_length,
-            "time": world.time,
-            "distance_to_goal": distance,
-            "waypoint": self.waypoint,
-            "rewards": rewards,
-        }
-        if self.render_mode == "human":
-            self.render()
-        reward = rewards["progress"] + rewards["goal"] + rewards["collision"] + rewards["time"] + rewards["proximity"]
-        return self._observation(), reward, success or collision, truncated, info
+            if self.render_mode == "human":
+                self.render()
+        return self._observe(world), total(rewards), terminated, truncated, info
 
     def render(self):
         if self.render_mode is None:
-            gym.logger.warn(
-                "render() was called without a render_mode; pass render_mode='rgb_array' or 'human' to gym.make"
-            )
+            gym.logger.warn("render() was called without a render_mode; pass render_mode='rgb_array' or 'human' to gym.make")
             return None
         if self._world is None:
             raise RuntimeError("call reset() before render()")
@@ -340,21 +299,35 @@ class DynamicObstacleEnv(gym.Env):
             from .rendering import Renderer  # pygame is imported lazily, only when rendering
 
             self._renderer = Renderer(self.bounds, self.render_mode, self.metadata["render_fps"])
-        return self._renderer.draw(
-            scenario=self.scenario,
-            obstacle_state=self._world.obstacle_state,
-            radii=self._world.radii,
-            robot_position=self._world.robot_position,
-            trail=self.trail,
-            waypoint=self.waypoint,
-            plan=self.planned_path,
-            caption=self.caption,
-        )
+        world = self._world
+        return self._renderer.draw(scenario=self.scenario, obstacle_state=world.obstacle_state, radii=world.radii,
+                                   robot_position=world.robot_position, trail=self.trail, waypoint=self.waypoint,
+                                   plan=self.planned_path, caption=self.caption)  # fmt: skip
 
     def close(self):
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
+
+    # -- the step's reward and info ------------------------------------------------------------
+    def _rewards(self, success: bool, collision: bool, distance: float, min_gap: float) -> dict[str, float]:
+        """The step's reward terms (``info["rewards"]``; the reward is their total): a subclass that
+        adds a term adds it here. ``distance`` is the robot's new distance to the goal."""
+        return reward_terms(self.reward_weights, self._distance, distance, self._start_distance, success, collision, min_gap)
+
+    def _info(self, success: bool, collision: bool, min_clearance: float, rewards: dict[str, float]) -> dict[str, Any]:
+        """The info of a reset (nothing happened yet) or of a step."""
+        return {
+            "is_success": success,
+            "collision": collision,
+            "cost": 1.0 if collision else 0.0,
+            "min_clearance": min_clearance,
+            "path_length": self._path_length,
+            "time": self._world.time,
+            "distance_to_goal": self._distance,
+            "waypoint": self.waypoint,
+            "rewards": rewards,
+        }
 
     # -- helpers -------------------------------------------------------------------------------
     def _make_scenario(self, spec, rng, n_obstacles, delta_d) -> Scenario:
@@ -369,7 +342,7 @@ class DynamicObstacleEnv(gym.Env):
             raise ValueError(f"reset options: unknown keys {sorted(unknown)}; known: scenario, delta_d, n_obstacles")
         spec = options.get("scenario", self._scenario_spec)
         delta_d = check_delta_d(options["delta_d"]) if "delta_d" in options else self._delta_d
-        n_obstacles = self._check_n_obstacles(options["n_obstacles"]) if "n_obstacles" in options else self._n_obstacles
+        n_obstacles = check_n_obstacles(options["n_obstacles"]) if "n_obstacles" in options else self._n_obstacles
         return spec, delta_d, n_obstacles
 
     def _check_fits(self, scenario: Scenario, physics: bool = False) -> None:
@@ -383,71 +356,7 @@ class DynamicObstacleEnv(gym.Env):
         if scenario.n_obstacles > self.max_obstacles:
             raise ValueError(f"scenario has {scenario.n_obstacles} obstacles, more than max_obstacles={self.max_obstacles}")
         if physics:
-            self._check_substeps(scenario)
-
-    @staticmethod
-    def _check_substeps(scenario: Scenario) -> None:
-        """The scenario's physics within the substep bound (``World`` checks it again when built)."""
-        substeps_for(scenario.top_speeds(), scenario.arrays()["radii"], scenario.dt)
-
-    @staticmethod
-    def _check_n_obstacles(n) -> int | None:
-        if n is None:
-            return None
-        if isinstance(n, bool) or int(n) != n or n < 0:
-            raise ValueError(f"n_obstacles must be a non-negative integer, got {n!r}")
-        return int(n)
-
-    @staticmethod
-    def _parse_action(action) -> np.ndarray:
-        """Any array-like of two real numbers as a float64 array (the common case, a float array, skips this)."""
-        try:
-            array = np.asarray(action)
-        except (TypeError, ValueError):
-            raise ValueError(f"action must be two real numbers, got {action!r}") from None
-        if array.shape != (2,):
-            raise ValueError(f"action must have shape (2,), got shape {array.shape}")
-        if array.dtype.kind not in "iuf":  # bools, complex numbers and strings are no coordinates
-            raise ValueError(f"action must be two real numbers, got {action!r} (dtype {array.dtype})")
-        return array.astype(np.float64)
-
-    def _prepare_observation_padding(self) -> None:
-        """The episode's observation template: one float32 block that every observation copies.
-
-        Layout: robot position (2), robot velocity (2), goal (2), obstacle positions (N, 2),
-        obstacle velocities (N, 2), radii (N), mask (N); padding rows sit at the arena's lower corner.
-        """
-        template = np.empty(6 + 6 * self.max_obstacles, np.float32)
-        _fill_template(template, self._goal_xy[0], self._goal_xy[1], self.arena.low, self._world.radii, self.max_obstacles)
-        self._observation_template = template
-
-    def _observation(self) -> dict[str, np.ndarray]:
-        world, n_max = self._world, self.max_obstacles
-        (x, y), (vx, vy) = world.robot_xy, world.robot_velocity_xy
-        # one allocation per observation; the entries are views of it
-        block = _observation_block(self._observation_template, x, y, vx, vy, world.obstacle_state, n_max)
-        return {
-            "robot_position": block[0:2],
-            "robot_velocity": block[2:4],
-            "goal": block[4:6],
-            "obstacle_positions": block[6 : 6 + 2 * n_max].reshape(n_max, 2),
-            "obstacle_velocities": block[6 + 2 * n_max : 6 + 4 * n_max].reshape(n_max, 2),
-            "obstacle_radii": block[6 + 4 * n_max : 6 + 5 * n_max],
-            "obstacle_mask": block[6 + 5 * n_max :],
-        }
-
-    def _info(self, min_clearance: float, rewards, success: bool = False, collision: bool = False) -> dict:
-        return {
-            "is_success": bool(success),
-            "collision": bool(collision),
-            "cost": 1.0 if collision else 0.0,
-            "min_clearance": float(min_clearance),
-            "path_length": self._path_length,
-            "time": self._world.time,
-            "distance_to_goal": self._distance,
-            "waypoint": self.waypoint,
-            "rewards": rewards if rewards is not None else {k: 0.0 for k in self.reward_weights},
-        }
+            scenario_substeps(scenario)  # (World checks it again when built)
 
     def __getstate__(self):
         # The world travels as its scenario and the robot's moves since reset, and is replayed on
@@ -465,31 +374,3 @@ class DynamicObstacleEnv(gym.Env):
             for dx, dy, goal_fraction in self._moves:
                 world.step(dx, dy, goal_fraction)
             self._world = world
-
-
-@numba.njit(cache=True)
-def _fill_template(template, gx, gy, arena_low, radii, n_max):
-    """The episode's observation template (layout: ``_prepare_observation_padding``), in one
-    compiled call instead of half a dozen numpy ones on a few rows."""
-    n = radii.shape[0]
-    template[:] = 0.0
-    template[4], template[5] = gx, gy
-    for i in range(n, n_max):  # padding rows sit at the arena's lower corner
-        template[6 + 2 * i], template[7 + 2 * i] = arena_low[0], arena_low[1]
-    for i in range(n):
-        template[6 + 4 * n_max + i] = radii[i]
-        template[6 + 5 * n_max + i] = 1.0
-
-
-@numba.njit(cache=True)
-def _observation_block(template, x, y, vx, vy, obstacle_state, n_max):
-    """A copy of the episode's template with the robot's and the obstacles' state written in
-    (float32), in one compiled call instead of a copy and six numpy slice assignments."""
-    block = template.copy()
-    block[0], block[1], block[2], block[3] = x, y, vx, vy
-    for i in range(obstacle_state.shape[0]):
-        block[6 + 2 * i] = obstacle_state[i, 0]
-        block[7 + 2 * i] = obstacle_state[i, 1]
-        block[6 + 2 * n_max + 2 * i] = obstacle_state[i, 2]
-        block[7 + 2 * n_max + 2 * i] = obstacle_state[i, 3]
-    return block

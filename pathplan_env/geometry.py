@@ -18,6 +18,8 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
+from .arena import Arena
+
 NO_CONTACT = 2.0  # returned as the contact fraction when nothing touches (any value > 1)
 
 
@@ -78,11 +80,8 @@ def shortest_path_to_goal(scenario, margin: float = 0.0) -> float:
     among the scenario's obstacles at the start (inflated by the robot radius and ``margin``),
     inside the box where the robot's disc fits: the reference every length ratio divides by."""
     arrays = scenario.arrays()
-    xmin, ymin, xmax, ymax = scenario.bounds
-    r = scenario.robot_radius
-    _, length = shortest_path(
-        scenario.start, scenario.goal, arrays["positions"], arrays["radii"] + r + margin, bounds=(xmin + r, ymin + r, xmax - r, ymax - r)
-    )
+    inflated = arrays["radii"] + scenario.robot_radius + margin
+    _, length = shortest_path(scenario.start, scenario.goal, arrays["positions"], inflated, bounds=Arena.of(scenario).robot_box)
     return length - scenario.goal_radius  # the episode ends on the goal's disc
 
 

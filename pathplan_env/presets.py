@@ -149,19 +149,28 @@ def sample_random_scenario(rng: np.random.Generator, n_obstacles: int = 8, delta
 #: Obstacle count of the random preset when none is given.
 RANDOM_DEFAULT_OBSTACLES = 8
 
+#: Δd of the paper's cases and the random preset when none is given: their own default (their
+#: obstacles rest until a Δd moves them). CrowdNav's presets keep their humans' own 1 m/s.
+DEFAULT_DELTA_D = 0.25
+
 #: Every preset: ``(rng, n_obstacles or None for the preset's own count) -> Scenario``.
 PRESETS: dict[str, Callable[[np.random.Generator, int | None], Scenario]] = {
     **{name: (lambda rng, n, name=name: paper_case(name)) for name in PAPER_CASES},
     "random": lambda rng, n: sample_random_scenario(rng, RANDOM_DEFAULT_OBSTACLES if n is None else n),
     **CROWDNAV_PRESETS,
 }
+#: The presets' own Δd, applied when ``make_scenario`` gets none (presets not listed keep their speeds).
+PRESET_DELTA_D: dict[str, float] = {**dict.fromkeys(PAPER_CASES, DEFAULT_DELTA_D), "random": DEFAULT_DELTA_D}
 
 
 def make_scenario(
     spec: "str | Scenario", rng: np.random.Generator, n_obstacles: int | None = None, delta_d: float | None = None
 ) -> Scenario:
-    """Resolve a preset name, a :class:`Scenario` or its dict form, then apply ``delta_d`` (``None`` keeps the
-    velocities). ``n_obstacles`` sets the random and CrowdNav presets' counts (``None``: their own)."""
+    """Resolve a preset name, a :class:`Scenario` or its dict form, then apply ``delta_d``.
+
+    ``delta_d=None`` keeps the scenario's own speeds: a preset's own Δd (:data:`PRESET_DELTA_D`: 0.25
+    for the paper's cases and ``random``; CrowdNav's humans their 1 m/s), a :class:`Scenario`'s own
+    velocities. ``n_obstacles`` sets the random and CrowdNav presets' counts (``None``: their own)."""
     if isinstance(spec, dict):
         spec = Scenario.from_dict(spec)
     if isinstance(spec, Scenario):
@@ -169,6 +178,8 @@ def make_scenario(
     elif isinstance(spec, str):
         if spec not in PRESETS:
             raise ValueError(f"scenario: unknown preset {spec!r}; known presets: {sorted(PRESETS)}")
+        if delta_d is None:
+            delta_d = PRESET_DELTA_D.get(spec)
         if spec == "random":  # Δd applied while sampling: the same draws, without a second copy
             return sample_random_scenario(rng, RANDOM_DEFAULT_OBSTACLES if n_obstacles is None else n_obstacles, delta_d)
         scenario = PRESETS[spec](rng, n_obstacles)

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .arena import Arena
 from .behaviours import BOUNCE, Behaviour, make_behaviour
 
 Vec2 = tuple[float, float]
@@ -188,8 +189,9 @@ class Scenario:
     def _check_geometry(self) -> None:
         xmin, ymin, xmax, ymax = self.bounds
         r = self.robot_radius
+        fit_xmin, fit_ymin, fit_xmax, fit_ymax = Arena.of(self).robot_box
         for label, (x, y) in (("start", self.start), ("goal", self.goal)):
-            if not (xmin + r <= x <= xmax - r and ymin + r <= y <= ymax - r):
+            if not (fit_xmin <= x <= fit_xmax and fit_ymin <= y <= fit_ymax):
                 raise ValueError(
                     f"Scenario.{label} {(x, y)} is outside the arena {self.bounds} "
                     f"(the robot's disc of radius {r} must fit inside)"
@@ -340,7 +342,7 @@ _SCENARIO_DEFAULTS = {f.name: f.default for f in dataclasses.fields(Scenario)}
 
 def check_delta_d(delta_d) -> float | None:
     """Validate a ``delta_d`` argument early, naming it in the error."""
-    if delta_d is None:
+    if delta_d is None:  # the scenario's own speeds
         return None
     try:
         value = float(delta_d)
@@ -351,4 +353,13 @@ def check_delta_d(delta_d) -> float | None:
     return value
 
 
-__all__ = ["MAX_COORDINATE", "MIN_LENGTH", "Obstacle", "Scenario", "check_delta_d"]
+def check_n_obstacles(n) -> int | None:
+    """Validate an ``n_obstacles`` argument (``None``: the preset's own count), naming it in the error."""
+    if n is None:
+        return None
+    if isinstance(n, bool) or int(n) != n or n < 0:
+        raise ValueError(f"n_obstacles must be a non-negative integer, got {n!r}")
+    return int(n)
+
+
+__all__ = ["MAX_COORDINATE", "MIN_LENGTH", "Obstacle", "Scenario", "check_delta_d", "check_n_obstacles"]

@@ -71,6 +71,14 @@ def substeps_for(speeds: np.ndarray, radii: np.ndarray, dt: float) -> int:
     return needed
 
 
+def scenario_substeps(scenario: Scenario) -> int:
+    """:func:`substeps_for` a scenario's fastest obstacles (what ``World`` takes), without building it.
+
+    :raises ValueError: when more than ``MAX_SUBSTEPS`` would be needed.
+    """
+    return substeps_for(scenario.top_speeds(), scenario.arrays()["radii"], scenario.dt)
+
+
 @numba.njit(cache=True)
 def _finish_substep(state, new_state, ax, ay, bx, by, robot_radius, radii, speeds):
     """The robot's swept contact test from ``state`` to ``new_state``, then restore every obstacle's speed.

@@ -13,6 +13,8 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
+from .arena import Arena
+
 FEATURE_LIMIT = 10.0  # features are clipped to +-FEATURE_LIMIT (bounds for the Box space)
 PER_OBSTACLE = 7  # x, y, vx, vy (goal frame), radius, surface gap, mask
 ROBOT_FEATURES = 9  # goal distance, goal direction (2), robot velocity (2), wall distances (4)
@@ -43,6 +45,11 @@ class EnvFacts:
             raise ValueError(f"cannot read bounds, dt, robot radius and speed from {type(env).__name__}")
         bounds, radius, speed, dt, goal_radius = values
         return cls(tuple(float(b) for b in bounds), float(radius), float(speed), float(dt), float(goal_radius))
+
+    @property
+    def arena(self) -> Arena:
+        """The arena: its bounds, the box where the robot's disc fits, the waypoint <-> action mapping."""
+        return Arena(self.bounds, self.robot_radius)
 
     @property
     def length_scale(self) -> float:

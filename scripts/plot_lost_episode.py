@@ -55,7 +55,7 @@ def main(argv=None) -> None:
     xmin, ymin, xmax, ymax = scenario.bounds
     history: list = []
     provably_lost(trajectory, n, world.radii, r, np.array(scenario.start), np.array(scenario.goal), scenario.goal_radius,
-                  (xmin + r, ymin + r, xmax - r, ymax - r), env.unwrapped._reach, history=history)  # fmt: skip
+                  env.unwrapped.arena.robot_box, env.unwrapped.robot_step_length, history=history)  # fmt: skip
 
     fig, axes = plt.subplots(1, 2, figsize=(11, 5.4))
     zoom = 1.6  # the right panel: the robot's neighbourhood

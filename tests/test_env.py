@@ -192,6 +192,48 @@ def test_pickle_and_deepcopy_continue_identically(clone):
             break
 
 
+def test_default_episodes_of_random_and_paper_presets_are_pinned():
+    # computed on commit 302ca7b, when delta_d defaulted to 0.25 for every scenario: the random and
+    # paper presets keep 0.25 as their own default, so none of their episodes changed
+    digests = "".join(rollout_digest(3, scenario=s) for s in ("random", "paper-case-1", "paper-case-2", "paper-case-3"))
+    assert hashlib.sha256(digests.encode()).hexdigest() == "a18cbc0221c88b907cf858d127c804f49d14e44e3ed0deeb768241a49fd85f66"
+    assert rollout_digest(5) == rollout_digest(5, delta_d=0.25)
+
+
+# -- Δd: each scenario keeps its own speeds unless delta_d is given ----------------------------------
+@pytest.mark.parametrize("name", ["random", "paper-case-1", "paper-case-3"])
+def test_random_and_paper_presets_default_to_delta_d_a_quarter(name):
+    env = gym.make("DynamicObstacle-v0", scenario=name)
+    env.reset(seed=0)
+    scenario = env.unwrapped.scenario
+    assert all(math.isclose(ob.speed * scenario.dt / ob.radius, 0.25) for ob in scenario.obstacles)
+
+
+@pytest.mark.parametrize("name", ["crowdnav-circle-crossing", "crowdnav-square-crossing-visible"])
+def test_crowdnav_presets_keep_their_humans_speed_without_delta_d(name):
+    from pathplan_env.crowdnav import HUMAN_SPEED
+
+    env = gym.make("DynamicObstacle-v0", scenario=name)
+    env.reset(seed=0)
+    scenario = env.unwrapped.scenario
+    assert HUMAN_SPEED == 1.0 and [ob.preferred_speed for ob in scenario.obstacles] == [HUMAN_SPEED] * 5
+    env.reset(seed=0, options={"delta_d": 0.25})  # an explicit delta_d still sets them (0.3 m/s)
+    assert all(math.isclose(ob.preferred_speed, 0.25 * ob.radius / scenario.dt) for ob in env.unwrapped.scenario.obstacles)
+
+
+def test_a_hand_built_scenario_keeps_its_velocities_without_delta_d():
+    resting, moving = Obstacle((5, 5), 0.5), Obstacle((3, 7), 0.4, velocity=(0.3, -0.4))
+    scenario = Scenario(bounds=(0, 0, 10, 10), start=(1, 1), goal=(9, 9), obstacles=(resting, moving))
+    env = gym.make("DynamicObstacle-v0", scenario=scenario)
+    obs, _ = env.reset(seed=0)
+    assert env.unwrapped.scenario.obstacles == scenario.obstacles
+    np.testing.assert_array_equal(obs["obstacle_velocities"][:2], np.float32([[0.0, 0.0], [0.3, -0.4]]))
+    for _ in range(5):
+        obs, *_ = env.step(stand_still(env))
+    np.testing.assert_array_equal(obs["obstacle_positions"][0], [5.0, 5.0])  # resting stays put
+    assert math.isclose(float(np.hypot(*obs["obstacle_velocities"][1])), 0.5, rel_tol=1e-6)
+
+
 # -- physics and contacts -----------------------------------------------------------------------
 def test_fast_obstacle_crossing_standing_robot_is_a_collision():
     # radius 0.5 at delta_d = 4 moves 2 m a step: it crosses the robot's 0.4 m disc within one step
@@ -275,7 +317,7 @@ def test_elastic_bounces_keep_each_obstacle_speed():
     assert turned.any(axis=0).all(), "every obstacle should have bounced at least once"
     # Chipmunk detects contacts discretely: an obstacle may dip into a wall by about one substep's
     # displacement before it bounces, never more (and never through it)
-    substep_displacement = speeds.max() * scenario.dt / env.unwrapped._world.substeps
+    substep_displacement = speeds.max() * scenario.dt / env.unwrapped.world.substeps
     assert 0 < max(penetration) < 1.5 * substep_displacement
 
 
@@ -286,7 +328,7 @@ def test_no_obstacle_moves_farther_than_its_speed_allows(delta_d):
     steps, bounced = 0, 0
     for seed in range(2):
         env.reset(seed=seed)
-        world = env.unwrapped._world
+        world = env.unwrapped.world
         limit = world._speeds * env.unwrapped.dt
         world.robot_xy = (-1e3, -1e3)  # far away: the robot never ends the episode
         start_velocities = world.obstacle_state[:, 2:].copy()
@@ -308,12 +350,12 @@ def test_robot_never_pushes_obstacles():
 
     env = gym.make("DynamicObstacle-v0", n_obstacles=12, delta_d=0.5)
     env.reset(seed=3)
-    untouched = World(env.unwrapped.scenario).obstacle_trajectory(60)[:: env.unwrapped._world.substeps]
+    untouched = World(env.unwrapped.scenario).obstacle_trajectory(60)[:: env.unwrapped.world.substeps]
     contacts = 0
     for k in range(1, 61):
         obs, _, _, _, info = env.unwrapped.step(env.unwrapped.waypoint_to_action(env.unwrapped.scenario.goal if k % 20 < 10 else (1, 1)))
         contacts += info["collision"]
-        np.testing.assert_array_equal(env.unwrapped._world.obstacle_state, untouched[k])
+        np.testing.assert_array_equal(env.unwrapped.world.obstacle_state, untouched[k])
     assert contacts >= 3  # the robot did run into obstacles
 
 
@@ -324,7 +366,7 @@ def test_a_crossing_between_two_substeps_is_a_collision():
     scenario = Scenario(bounds=(0, 0, 20, 10), start=(2, 5), goal=(18, 9), obstacles=(obstacle,), robot_radius=0.2, robot_speed=100.0)
     env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=None)
     env.reset(seed=0)
-    assert env.unwrapped._world.substeps == 8
+    assert env.unwrapped.world.substeps == 8
     gaps = [abs((5.74 - 2.0 * j / 8) - (2.0 + 10.0 * j / 8)) - 0.7 for j in range(9)]
     assert min(gaps) > 0.03  # no endpoint test could see this contact
     _, _, terminated, _, info = env.step(env.unwrapped.waypoint_to_action((19.0, 5.0)))

@@ -22,7 +22,7 @@ def same_step(a, b) -> bool:
 def test_copies_made_mid_contact_continue_bit_for_bit(clone):
     env = gym.make("DynamicObstacle-v0", n_obstacles=50, delta_d=1.0)
     env.reset(seed=3)
-    world = env.unwrapped._world
+    world = env.unwrapped.world
     rng = np.random.default_rng(0)
     copies_while_touching = 0
     for step in range(60):
@@ -38,7 +38,7 @@ def test_copies_made_mid_contact_continue_bit_for_bit(clone):
                 a, b = env.unwrapped.step(action), twin.unwrapped.step(action)
                 assert same_step(a, b), f"copy made at step {step} diverged"
             env = twin  # go on from the copy: the original took the probe's steps
-            world = env.unwrapped._world
+            world = env.unwrapped.world
         env.unwrapped.step(rng.uniform(-1, 1, 2).astype(np.float32))
     assert copies_while_touching >= 5
 
@@ -93,7 +93,7 @@ def test_substeps_are_scale_free():
                             obstacles=(Obstacle((10 * scale, 10 * scale), 3.0 * scale),))  # fmt: skip
         env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=2.0)
         env.reset(seed=0)
-        return env.unwrapped._world.substeps
+        return env.unwrapped.world.substeps
 
     assert substeps(1.0) == substeps(100.0) == substeps(0.01) == 4
 
@@ -138,7 +138,7 @@ def test_recycled_worlds_keep_pymunks_bookkeeping():
     env = gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=6, delta_d=0.5)
     for seed in range(5):
         env.reset(seed=seed)
-    space = env.unwrapped._world.space
+    space = env.unwrapped.world.space
     assert len(space.bodies) == 6 + 1 and len(space.shapes) == 6 + 4  # obstacles, the walls' body and 4 walls
     assert all(o.space is space for o in [*space.bodies, *space.shapes])
     restored = pickle.loads(pickle.dumps(space))

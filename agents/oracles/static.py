@@ -28,9 +28,7 @@ class StaticOracleAgent(Agent):
         # never plan around a disc the robot or the goal is already inside: shrink it to fit
         for point in (robot, goal):
             inflated = np.minimum(inflated, np.hypot(*(centers - point).T) - 1e-6)
-        xmin, ymin, xmax, ymax = self.facts.bounds
-        r = self.facts.robot_radius
-        path, _ = shortest_path(robot, goal, centers, inflated, bounds=(xmin + r, ymin + r, xmax - r, ymax - r))
+        path, _ = shortest_path(robot, goal, centers, inflated, bounds=self.arena.robot_box)
         self.last_plan = path
         if path is None:  # boxed in: head for the goal and let replanning find a way when one opens
             return goal

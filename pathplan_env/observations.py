@@ -1,0 +1,199 @@
+"""Observation types: what the policy sees of the world, one small object each, chosen by name.
+
+An observation type has a ``space()``, a per-episode ``reset(world, rng)`` and ``observe(world)``;
+the env builds one from ``observation="<name>"`` (:data:`OBSERVATION_TYPES`) and never lays out an
+observation itself, so a new type (a lidar, a visible-state view) touches no ``step``.
+
+``"state"`` (:class:`StateObservation`) is the env's ``Dict`` of the world's exact state.
+"""
+
+from __future__ import annotations
+
+from itertools import pairwise
+from typing import Any, NamedTuple
+
+import numba
+import numpy as np
+from gymnasium import spaces
+
+from .arena import Arena
+
+
+class ObservationType:
+    """One way of observing the world.
+
+    :param arena: the arena (fixed for the env's life: it fixes the space).
+    :param dt: the control period (s).
+    :param max_obstacles: the most obstacles an episode may have.
+    """
+
+    #: The name ``observation=`` takes (:data:`OBSERVATION_TYPES`).
+    name = ""
+
+    def __init__(self, arena: Arena, dt: float, max_obstacles: int):
+        self.arena, self.dt, self.max_obstacles = arena, float(dt), int(max_obstacles)
+
+    def space(self) -> spaces.Space:
+        """The observation space (built once, when the env is made)."""
+        raise NotImplementedError
+
+    def reset(self, world, rng: np.random.Generator) -> None:
+        """Called on every reset, after the episode's world is built and before its first observation
+        (``rng``: the env's ``np_random``, for types that draw; the state observation draws nothing)."""
+
+    def observe(self, world) -> Any:
+        """The observation of the world as it is now (an element of :meth:`space`)."""
+        raise NotImplementedError
+
+
+class StateLayout(NamedTuple):
+    """Where each entry of the state observation starts in its one float32 block, and the block's
+    size: robot position (2), robot velocity (2), goal (2), obstacle positions (N, 2), obstacle
+    velocities (N, 2), radii (N), mask (N). Built by :func:`state_layout`, the one place the offsets
+    are written; the compiled kernels read it there, the views as :meth:`slices`."""
+
+    robot_position: int
+    robot_velocity: int
+    goal: int
+    obstacle_positions: int
+    obstacle_velocities: int
+    obstacle_radii: int
+    obstacle_mask: int
+    size: int
+
+    def slices(self) -> StateSlices:
+        """Each entry's slice of the block (from its offset to the next)."""
+        return StateSlices(*(slice(start, stop) for start, stop in pairwise(self)))
+
+
+class StateSlices(NamedTuple):
+    """:class:`StateLayout`'s entries as slices of the block."""
+
+    robot_position: slice
+    robot_velocity: slice
+    goal: slice
+    obstacle_positions: slice
+    obstacle_velocities: slice
+    obstacle_radii: slice
+    obstacle_mask: slice
+
+
+@numba.njit(cache=True)
+def state_layout(n_max: int) -> StateLayout:
+    """The state observation's layout with room for ``n_max`` obstacles (compiled, so that the
+    kernels below call it too)."""
+    robot_position = 0
+    robot_velocity = robot_position + 2
+    goal = robot_velocity + 2
+    obstacle_positions = goal + 2
+    obstacle_velocities = obstacle_positions + 2 * n_max
+    obstacle_radii = obstacle_velocities + 2 * n_max
+    obstacle_mask = obstacle_radii + n_max
+    size = obstacle_mask + n_max
+    return StateLayout(robot_position, robot_velocity, goal, obstacle_positions, obstacle_velocities, obstacle_radii, obstacle_mask, size)
+
+
+class StateObservation(ObservationType):
+    """The world's exact state as a ``Dict`` in the world frame (metres, m/s), every entry float32 with
+    finite bounds; rows past the episode's obstacles are padding (zeros at the arena's lower corner,
+    mask 0). The table is the env's docstring's.
+
+    Every observation is one float32 block (:class:`StateLayout`) copied from the episode's template
+    and filled in by one compiled call; the entries are views of it.
+    """
+
+    name = "state"
+
+    def __init__(self, arena: Arena, dt: float, max_obstacles: int):
+        super().__init__(arena, dt, max_obstacles)
+        self.layout = StateLayout(*state_layout(self.max_obstacles))
+        self._slices = self.layout.slices()
+        self._pairs = (self.max_obstacles, 2)
+        self._template = np.zeros(self.layout.size, np.float32)
+
+    def space(self) -> spaces.Dict:
+        xmin, ymin, xmax, ymax = self.arena.bounds
+        low, high = np.array([xmin, ymin], np.float32), np.array([xmax, ymax], np.float32)
+        vmax = np.float32(self.arena.diagonal / self.dt)  # crossing the arena in one step: no speed is higher
+        n = self.max_obstacles
+        point = spaces.Box(low, high, dtype=np.float32)
+        return spaces.Dict(
+            {
+                "robot_position": point,
+                "robot_velocity": spaces.Box(-vmax, vmax, shape=(2,), dtype=np.float32),
+                "goal": point,
+                "obstacle_positions": spaces.Box(np.tile(low, (n, 1)), np.tile(high, (n, 1)), dtype=np.float32),
+                "obstacle_velocities": spaces.Box(-vmax, vmax, shape=self._pairs, dtype=np.float32),
+                "obstacle_radii": spaces.Box(0.0, min(xmax - xmin, ymax - ymin) / 2, shape=(n,), dtype=np.float32),
+                "obstacle_mask": spaces.Box(0.0, 1.0, shape=(n,), dtype=np.float32),
+            }
+        )
+
+    def reset(self, world, rng: np.random.Generator) -> None:
+        """The episode's template: its goal and radii, padding rows at the arena's lower corner."""
+        gx, gy = world.scenario.goal
+        _fill_template(self._template, gx, gy, self.arena.low, world.radii, self.max_obstacles)
+
+    def observe(self, world) -> dict[str, np.ndarray]:
+        (x, y), (vx, vy) = world.robot_xy, world.robot_velocity_xy
+        # one allocation per observation; the entries are views of it
+        block = _observation_block(self._template, x, y, vx, vy, world.obstacle_state, self.max_obstacles)
+        s, pairs = self._slices, self._pairs
+        return {
+            "robot_position": block[s.robot_position],
+            "robot_velocity": block[s.robot_velocity],
+            "goal": block[s.goal],
+            "obstacle_positions": block[s.obstacle_positions].reshape(pairs),
+            "obstacle_velocities": block[s.obstacle_velocities].reshape(pairs),
+            "obstacle_radii": block[s.obstacle_radii],
+            "obstacle_mask": block[s.obstacle_mask],
+        }
+
+
+@numba.njit(cache=True)
+def _fill_template(template, gx, gy, arena_low, radii, n_max):
+    """The episode's observation template, in one compiled call instead of half a dozen numpy ones
+    on a few rows."""
+    at = state_layout(n_max)
+    n = radii.shape[0]
+    template[:] = 0.0
+    template[at.goal], template[at.goal + 1] = gx, gy
+    for i in range(n, n_max):  # padding rows sit at the arena's lower corner
+        template[at.obstacle_positions + 2 * i] = arena_low[0]
+        template[at.obstacle_positions + 2 * i + 1] = arena_low[1]
+    for i in range(n):
+        template[at.obstacle_radii + i] = radii[i]
+        template[at.obstacle_mask + i] = 1.0
+
+
+@numba.njit(cache=True)
+def _observation_block(template, x, y, vx, vy, obstacle_state, n_max):
+    """A copy of the episode's template with the robot's and the obstacles' state written in
+    (float32), in one compiled call instead of a copy and six numpy slice assignments."""
+    at = state_layout(n_max)
+    block = template.copy()
+    block[at.robot_position], block[at.robot_position + 1] = x, y
+    block[at.robot_velocity], block[at.robot_velocity + 1] = vx, vy
+    for i in range(obstacle_state.shape[0]):
+        block[at.obstacle_positions + 2 * i] = obstacle_state[i, 0]
+        block[at.obstacle_positions + 2 * i + 1] = obstacle_state[i, 1]
+        block[at.obstacle_velocities + 2 * i] = obstacle_state[i, 2]
+        block[at.obstacle_velocities + 2 * i + 1] = obstacle_state[i, 3]
+    return block
+
+
+#: Observation types by the name ``DynamicObstacleEnv(observation=...)`` takes.
+OBSERVATION_TYPES: dict[str, type[ObservationType]] = {StateObservation.name: StateObservation}
+
+
+def make_observation_type(name, arena: Arena, dt: float, max_obstacles: int) -> ObservationType:
+    """The observation type registered as ``name``.
+
+    :raises ValueError: naming the ``observation`` argument and the known types.
+    """
+    if not isinstance(name, str) or name not in OBSERVATION_TYPES:
+        raise ValueError(f"observation must be one of {sorted(OBSERVATION_TYPES)}, got {name!r}")
+    return OBSERVATION_TYPES[name](arena, dt, max_obstacles)
+
+
+__all__ = ["OBSERVATION_TYPES", "ObservationType", "StateLayout", "StateObservation", "make_observation_type", "state_layout"]

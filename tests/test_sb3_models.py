@@ -114,7 +114,7 @@ def test_flat_model_loads_from_its_zip_alone_and_says_what_it_applied(flat_model
     assert not np.array_equal(unnormalised.predict(obs, deterministic=True)[0], action)
 
 
-def test_dict_model_in_rl_zoo3s_layout_acts_as_in_the_users_loop(tmp_path):
+def test_dict_model_in_rl_zoo3s_layout_acts_as_in_the_users_loop(tmp_path, flat_model):
     """A MultiInputPolicy on DynamicObstacle-v0, saved as rl-zoo3 saves a run (<run>/<env_id>.zip,
     <run>/<env_id>/vecnormalize.pkl): every Dict key normalised, step for step the user's actions."""
     env_id = "DynamicObstacle-v0"
@@ -146,6 +146,8 @@ def test_dict_model_in_rl_zoo3s_layout_acts_as_in_the_users_loop(tmp_path):
     # statistics given by path
     given = agents.make("sb3", env, path=alone / "model.zip", vecnormalize=tmp_path / env_id / "vecnormalize.pkl")
     np.testing.assert_array_equal(given.predict(obs, deterministic=True)[0], agent.predict(obs, deterministic=True)[0])
+    with pytest.raises(ValueError, match="do not fit the model"):  # another model's statistics
+        agents.make("sb3", env, path=alone / "model.zip", vecnormalize=flat_model.parent / "vecnormalize.pkl")
 
 
 def test_the_algorithm_is_read_from_the_zip(tmp_path):
@@ -160,12 +162,14 @@ def test_the_algorithm_is_read_from_the_zip(tmp_path):
         assert agent.algorithm is algorithm and f"{algorithm.__name__} (read from the zip)" in agent.description
         assert env.action_space.contains(agent.predict(obs, deterministic=True)[0])
     assert agents.make("sb3", env, path=tmp_path / "TD3.zip", algo="ddpg").algorithm is DDPG  # DDPG saves TD3's policy
-    with pytest.raises(ValueError, match="holds a SAC model, not PPO.*'sb3'"):
+    with pytest.raises(ValueError, match="saved by SAC, not PPO.*'sb3'"):
         agents.make("ppo", env, path=tmp_path / "SAC.zip")
-    with pytest.raises(ValueError, match="holds a SAC model, not A2C"):
+    with pytest.raises(ValueError, match="saved by SAC, not A2C"):
         agents.make("sb3", env, path=tmp_path / "SAC.zip", algo="a2c")
     with pytest.raises(ValueError, match="algo: unknown"):
         agents.make("sb3", env, path=tmp_path / "SAC.zip", algo="sacc")
+    with pytest.raises(TypeError, match="vecnormalize"):  # the shipped PPO takes no statistics
+        agents.make("ppo", env, vecnormalize=None)
 
 
 class _OtherTask(gym.Env):
@@ -216,6 +220,9 @@ def test_statistics_are_looked_for_only_beside_the_model(tmp_path, flat_model):
         agents.make("sb3", env, path=_copy(flat_model, tmp_path / "bare"), vecnormalize=True)
     with pytest.raises(ValueError, match="vecnormalize: no file"):
         agents.make("sb3", env, path=flat_model, vecnormalize=tmp_path / "none.pkl")
+    (tmp_path / "junk.pkl").write_text("not a pickle")
+    with pytest.raises(ValueError, match="does not hold VecNormalize statistics"):
+        agents.make("sb3", env, path=flat_model, vecnormalize=tmp_path / "junk.pkl")
     # statistics beside a model that did not learn inside VecNormalize are someone else's: refused
     plain = PPO("MlpPolicy", make_vec_env("DynamicObstacleFlat-v0", n_envs=1), policy_kwargs=dict(SMALL), n_steps=32, batch_size=32, device="cpu")
     plain.learn(32)

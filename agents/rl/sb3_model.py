@@ -33,6 +33,7 @@ when a model is loaded.
 from __future__ import annotations
 
 import json
+import pickle
 import re
 import sys
 import time
@@ -51,7 +52,7 @@ from pathplan_env.wrappers import (
     egocentric_features,
     feature_size,
     relative_action_to_waypoint,
-)  # fmt: skip
+)
 
 from ..base import Agent
 from .policy import RLAgent
@@ -83,6 +84,7 @@ _POLICY_MODULES = {
 _STATEFUL = ("sb3_contrib.common.recurrent", "sb3_contrib.common.maskable")  # need LSTM states or action masks
 #: the env ids whose folder rl-zoo3 writes the statistics to (``<run>/<env_id>/vecnormalize.pkl``)
 ENV_IDS = ("DynamicObstacleFlat-v0", "DynamicObstacle-v0")
+_CHECKPOINT = re.compile(r"(.*)_(\d+)_steps")  # SB3's CheckpointCallback: <prefix>_<steps>_steps.zip
 
 
 def _saved_data(path: Path) -> dict:
@@ -136,7 +138,7 @@ def statistics_beside(path: str | Path) -> list[Path]:
     """
     path = Path(path)
     folder, found = path.parent, []
-    checkpoint = re.fullmatch(r"(.*)_(\d+)_steps", path.stem)
+    checkpoint = _CHECKPOINT.fullmatch(path.stem)
     if checkpoint:
         found.append(folder / f"{checkpoint[1]}_vecnormalize_{checkpoint[2]}_steps.pkl")
     found += [folder / "vecnormalize.pkl", folder / "vec_normalize.pkl"]
@@ -149,7 +151,7 @@ def _find_statistics(path: Path) -> Path | None:
     """The statistics beside the model: a checkpoint's own first; otherwise the one file found, and an
     error if several are (which one the model was trained with is the user's to say)."""
     candidates = statistics_beside(path)
-    if re.fullmatch(r"(.*)_(\d+)_steps", path.stem) and candidates[0].is_file():
+    if _CHECKPOINT.fullmatch(path.stem) and candidates[0].is_file():
         return candidates[0]
     existing = [c for c in candidates if c.is_file()]
     if len(existing) > 1:
@@ -186,7 +188,7 @@ def _load_statistics(path: Path, mtime: float, model_path: Path, algorithm: type
         statistics = VecNormalize.load(str(path), venv)
     except AssertionError as error:  # SB3's check that the statistics' shapes are the model's
         raise ValueError(f"vecnormalize: the statistics in {path} do not fit the model {model_path}: {error}") from None
-    except AttributeError:  # set_venv on something else
+    except (AttributeError, pickle.UnpicklingError, EOFError):  # not a pickle, or not of VecNormalize
         statistics = None
     if not isinstance(statistics, VecNormalize):
         raise ValueError(f"vecnormalize: {path} does not hold VecNormalize statistics (VecNormalize.save writes them)")
@@ -274,7 +276,7 @@ class SB3Agent(Agent):
         if name not in ALGORITHMS:
             raise ValueError(f"algo: unknown algorithm {algo!r}; known: {sorted(ALGORITHMS)}, or pass an SB3 algorithm class")
         if candidates and name not in candidates:
-            raise ValueError(f"path: {path} holds a {ALGORITHMS[candidates[0]][1]} model, not {ALGORITHMS[name][1]} (algo={algo!r})"
+            raise ValueError(f"path: {path} was saved by {ALGORITHMS[candidates[0]][1]}, not {ALGORITHMS[name][1]} (algo={algo!r})"
                              + ("; load it with agents.make('sb3', env, path=...)" if name == "ppo" else ""))  # fmt: skip
         return _algorithm_class(name), f"{ALGORITHMS[name][1]} (given)"
 
@@ -352,6 +354,8 @@ def trained_agent(env, seed: int | None = None, algo: str = "ppo", path: str | P
     """``agents.make("ppo", env, ...)``: the shipped model, or one from ``scripts/train_rl.py`` (its
     JSON sidecar beside it), runs as :class:`RLAgent`; any other model file of that algorithm as it
     comes (:class:`SB3Agent`; ``options``: its ``vecnormalize``)."""
+    if path is None and options:
+        raise TypeError(f"{sorted(options)} apply to a model file given by path=")
     if path is None or (Path(path).with_suffix(".json").is_file() and not options):
         return RLAgent(env, seed=seed, algo=algo, path=path, backend=backend)
     if backend == "numpy":

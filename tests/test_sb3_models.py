@@ -188,6 +188,11 @@ def test_a_model_of_another_task_or_no_model_is_refused_naming_the_path(tmp_path
     PPO("MlpPolicy", _OtherTask(), policy_kwargs=dict(SMALL), n_steps=8, batch_size=8, device="cpu").save(tmp_path / "other")
     with pytest.raises(ValueError, match=r"path: the model at .*other.zip takes observations Box\(-1.0, 1.0, \(10,\)"):
         agents.make("sb3", env, path=tmp_path / "other.zip")
+    wider = gym.make("DynamicObstacle-v0", max_obstacles=20)  # DynamicObstacle-v0's Dict, with more obstacle rows
+    PPO("MultiInputPolicy", wider, policy_kwargs=dict(SMALL), n_steps=8, batch_size=8, device="cpu").save(tmp_path / "wider")
+    with pytest.raises(ValueError, match="path: the model at .*wider.zip .* make the env with max_obstacles=20"):
+        agents.make("sb3", env, path=tmp_path / "wider.zip")
+    assert agents.make("sb3", wider, path=tmp_path / "wider.zip").k_nearest is None
     with pytest.raises(ValueError, match="path: no model at"):
         agents.make("sb3", env, path=tmp_path / "none.zip")
     with pytest.raises(ValueError, match="path: no model at"):

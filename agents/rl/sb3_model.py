@@ -296,7 +296,8 @@ class SB3Agent(Agent):
                 return k, f"DynamicObstacleFlat-v0's features (k={k}), actions relative waypoints"
         hint = ""
         if isinstance(space, spaces.Dict) and space.spaces.keys() == env_space.spaces.keys():
-            hint = f" (its obstacle arrays have {space['obstacle_mask'].shape} rows, this env's {env_space['obstacle_mask'].shape}: make the env with max_obstacles to match)"
+            rows = space["obstacle_mask"].shape[0]
+            hint = f" (obstacle rows: the model's {rows}, this env's {env_space['obstacle_mask'].shape[0]}; make the env with max_obstacles={rows})"
         raise ValueError(f"path: the model at {self.path} takes observations {space}, neither this env's {env_space}{hint} "
                          f"nor DynamicObstacleFlat-v0's Box(-{FEATURE_LIMIT:g}, {FEATURE_LIMIT:g}, ({ROBOT_FEATURES} + {PER_OBSTACLE} k,))")  # fmt: skip
 

@@ -86,9 +86,11 @@ def test_harness_scores_a_vecnormalize_model_as_the_users_own_loop(flat_model, t
     assert f"VecNormalize from {flat_model.parent / 'vecnormalize.pkl'}" in capfd.readouterr().err
     # the bug this guards against: the same model without its statistics plays other episodes
     unnormalised = harness(tmp_path / "none", {"path": str(flat_model), "vecnormalize": None})
-    assert unnormalised != own
+    differing = sum(a != b for a, b in zip(unnormalised, own))
+    assert differing >= EPISODES // 2, differing
     rates = [np.mean([success for success, _, _ in outcomes]) for outcomes in (own, scored, unnormalised)]
-    print(f"success over {EPISODES} episodes: own loop {rates[0]:.2f}, harness {rates[1]:.2f}, without VecNormalize {rates[2]:.2f}")
+    print(f"success over {EPISODES} episodes: own loop {rates[0]:.2f}, harness {rates[1]:.2f}, "
+          f"without VecNormalize {rates[2]:.2f} ({differing} episodes end otherwise)")  # fmt: skip
 
 
 def test_flat_model_loads_from_its_zip_alone_and_says_what_it_applied(flat_model, capfd, monkeypatch):

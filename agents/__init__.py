@@ -10,13 +10,15 @@ from .oracles import ClairvoyantOracle, StaticOracleAgent
 from .planners import MetaheuristicAgent, SpacetimeAStarAgent, SpacetimeMetaheuristicAgent
 from .reactive import ORCAAgent, StraightAgent, VelocityObstacleAgent
 from .rl import RLAgent
+from .rl.sb3_model import SB3Agent, trained_agent
 
 register("straight", StraightAgent)
 register("velocity-obstacle", VelocityObstacleAgent)
 register("orca", ORCAAgent)
 register("oracle-static", StaticOracleAgent)
 register("oracle-clairvoyant", ClairvoyantOracle)  # privileged: reads the simulator
-register("ppo", partial(RLAgent, algo="ppo"))
+register("ppo", partial(trained_agent, algo="ppo"))  # the shipped PPO; with path=: a train_rl.py model, or any PPO .zip
+register("sb3", SB3Agent)  # any SB3 model file as it comes, path= required (agents.rl.sb3_model)
 register("astar-spacetime", SpacetimeAStarAgent)
 # for crowds that steer: a cone of predicted futures, a wider margin, and an escape when every plan ends in contact
 register("astar-crowd", partial(SpacetimeAStarAgent, prediction="cone", margin=0.15, escape_trapped=True, escape_steps=8))

@@ -119,8 +119,38 @@ def rollout(agent: Agent, env, seed: int | None = None) -> dict:
 _REGISTRY: dict[str, Callable[..., Agent]] = {}
 
 
-def register(name: str, factory: Callable[..., Agent]) -> None:
+def register(name: str, factory: Callable[..., Any]) -> None:
+    """Make ``factory`` buildable as ``agents.make(name, env, seed=..., **overrides)`` and
+    evaluable by name (``evaluate([name], ...)``, ``scripts/evaluate.py --agents name`` when the
+    registering module is imported).
+
+    ``factory`` is called as ``factory(env, seed=seed, **overrides)`` and returns anything with
+    SB3's ``predict``: an :class:`Agent` subclass, or any class of your own. The harness sends the
+    factory itself to its worker processes, so a registration made under
+    ``if __name__ == "__main__":`` reaches them too (define the factory at module level)::
+
+        class PotentialField:
+            def __init__(self, env, seed=None): ...
+            def predict(self, observation, state=None, episode_start=None, deterministic=False): ...
+
+        agents.register("potential-field", PotentialField)
+        agents.make("potential-field", env, seed=0)
+
+    :raises ValueError: an empty name, a name with ``@``, ``:``, ``=`` or ``,`` (the command line's
+        separators), or a factory that is not callable.
+    """
+    if not isinstance(name, str) or not name.strip() or any(c in name for c in "@:=,"):
+        raise ValueError(f"name must be a non-empty string without '@', ':', '=' or ',', got {name!r}")
+    if not callable(factory):
+        raise ValueError(f"factory must be callable (a class or a function), got {factory!r}")
     _REGISTRY[name] = factory
+
+
+def factory(name: str) -> Callable[..., Any]:
+    """The factory registered as ``name``."""
+    if name not in _REGISTRY:
+        raise ValueError(f"unknown agent {name!r}; available: {available()}")
+    return _REGISTRY[name]
 
 
 def available() -> list[str]:
@@ -130,8 +160,6 @@ def available() -> list[str]:
 
 def make(name: str, env, seed: int | None = None, **overrides) -> Agent:
     """Build the agent ``name`` for ``env`` (an env, wrapped env or vector env); ``overrides`` go to its constructor."""
-    if name not in _REGISTRY:
-        raise ValueError(f"unknown agent {name!r}; available: {available()}")
-    agent = _REGISTRY[name](env, seed=seed, **overrides)
+    agent = factory(name)(env, seed=seed, **overrides)
     agent.name = name
     return agent

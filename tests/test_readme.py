@@ -41,11 +41,14 @@ def test_readme_command_parses(script, arguments):
     module = importlib.import_module(Path(script).stem)
     argv = [a.replace("...", "agents/models/ppo.zip") for a in shlex.split(arguments)]
     parsed = module.parse_args(argv)  # argparse exits on an unknown flag or a bad value
+    # registered names and presets must exist; a user's own entries (module:Class, name@model, label=entry,
+    # scene files) are run as written by test_benchmark_your_own_runs_as_written
+    own = re.compile(r"[:@=]|\.(json|ya?ml)$")
     for name in ("agents", "agent"):
         for agent in str(getattr(parsed, name, "") or "").split(","):
-            assert not agent or agent in agents.available(), (script, agent)
+            assert not agent or own.search(agent) or agent in agents.available(), (script, agent)
     for scenario in str(getattr(parsed, "scenarios", getattr(parsed, "scenario", "")) or "").split(","):
-        assert not scenario or scenario in pathplan_env.PRESETS, (script, scenario)
+        assert not scenario or own.search(scenario) or scenario in pathplan_env.PRESETS, (script, scenario)
 
 
 def test_the_quick_start_runs_as_written(tmp_path):
@@ -56,3 +59,31 @@ def test_the_quick_start_runs_as_written(tmp_path):
     first, rows = out.stdout.strip().splitlines()[-2:]
     assert first.split()[0] in ("True", "False") and "pso-spacetime" in rows
     assert (tmp_path / "results" / "mine" / "summary.json").exists()
+
+
+def _blocks(section: str, language: str) -> list[str]:
+    return [block.split("\n", 1)[1] for block in section.split("```")[1::2] if block.startswith(language)]
+
+
+@pytest.mark.slow
+def test_benchmark_your_own_runs_as_written(tmp_path):
+    """The README's "Benchmark your own agent": its scene file and agent module written where it
+    says, then its Python run and its command line, in a fresh directory."""
+    import json
+
+    section = README.split("## Benchmark your own agent", 1)[1].split("\n## ", 1)[0]
+    (scene,), (module,), (command,) = _blocks(section, "yaml"), _blocks(section, "python"), _blocks(section, "bash")
+    (tmp_path / "scenes").mkdir()
+    (tmp_path / "scenes" / "crossing.yaml").write_text(scene)
+    (tmp_path / "pf_agent.py").write_text(module)
+    env = {**__import__("os").environ, "PYTHONPATH": str(ROOT)}
+    out = subprocess.run([sys.executable, "pf_agent.py"], cwd=tmp_path, capture_output=True, text=True, timeout=900, env=env)
+    assert out.returncode == 0, out.stderr[-2000:]
+    printed = {tuple(line.split()[:2]) for line in out.stdout.splitlines()}
+    assert {("PotentialField", "random"), ("PotentialField", "crossing"), ("velocity-obstacle", "crossing")} <= printed
+    argv = shlex.split(command.strip().replace("python scripts/", str(ROOT / "scripts") + "/", 1))
+    out = subprocess.run([sys.executable, *argv], cwd=tmp_path, capture_output=True, text=True, timeout=900, env=env)
+    assert out.returncode == 0, out.stderr[-2000:]
+    rows = json.loads((tmp_path / "results" / "pf" / "summary.json").read_text())["results"]
+    labels = {(row["agent"], row["scenario"]) for row in rows}
+    assert ("pf_agent:PotentialField", "crossing") in labels and ("oracle-clairvoyant", "crossing") in labels

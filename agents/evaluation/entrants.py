@@ -146,16 +146,16 @@ def _agent_spec(entry, argument: str) -> AgentSpec:
 def _agent_from_text(text: str, argument: str) -> AgentSpec:
     import agents
 
-    registry = agents.base._REGISTRY  # the factories themselves: a registration in __main__ travels with the jobs
-    if text in registry:
-        return AgentSpec(text, "factory", registry[text], name=text)
+    known = agents.available()  # the factories themselves travel with the jobs: a registration in __main__ too
+    if text in known:
+        return AgentSpec(text, "factory", agents.base.factory(text), name=text)
     name, at, model = text.partition("@")
     if at:
-        if name not in registry:
-            raise ValueError(f"{argument}: {text!r}: unknown agent {name!r}; available: {agents.available()}")
+        if name not in known:
+            raise ValueError(f"{argument}: {text!r}: unknown agent {name!r}; available: {known}")
         if not Path(model).exists():
             raise ValueError(f"{argument}: {text!r}: no model file {model}")
-        return AgentSpec(text, "factory", registry[name], name=name, kwargs={"path": str(Path(model).resolve())})
+        return AgentSpec(text, "factory", agents.base.factory(name), name=name, kwargs={"path": str(Path(model).resolve())})
     module, colon, attribute = text.rpartition(":")
     if colon and module and attribute and not module.endswith(("\\", "/")):
         if module.endswith(".py"):

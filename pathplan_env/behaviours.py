@@ -21,11 +21,12 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numba
 import numpy as np
 
-from .orca import orca_velocity, preferred_velocity
+from .orca import ORCAAgentState, ORCAParams, orca_velocity, preferred_velocity
 
 #: Goal-directed agents slow down within this time of their goal (CrowdNav's rule: 1 s at 1 m/s).
 SLOW_DOWN_TIME = 1.0
@@ -78,12 +79,15 @@ class ORCA:
         set_("safety_space", _positive("ORCA", "safety_space", self.safety_space, allow_zero=True))
         set_("radius_padding", _positive("ORCA", "radius_padding", self.radius_padding, allow_zero=True))
 
+    @cached_property
+    def params(self) -> ORCAParams:
+        """The compiled kernel's record, built once (not per step)."""
+        return ORCAParams(self.neighbor_dist, self.max_neighbors, self.time_horizon)
+
     def steer(self, idx, state, body_state, speeds, radii, goals, preferred, robot, dt) -> None:
         """Set the velocities of obstacles ``idx`` for this step (see :func:`_write_velocities`)."""
         pad = self.radius_padding + self.safety_space
-        chosen = _orca_step(idx, state, radii, goals, preferred, robot, dt, pad, self.neighbor_dist, self.max_neighbors, self.time_horizon,
-                            SLOW_DOWN_TIME)  # fmt: skip
-        _write_velocities(idx, chosen, state, body_state, speeds)
+        _orca_step(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, self.params, pad)
 
 
 @dataclass(frozen=True)
@@ -112,8 +116,8 @@ class SocialForce:
 
     def steer(self, idx, state, body_state, speeds, radii, goals, preferred, robot, dt) -> None:
         """Set the velocities of obstacles ``idx`` for this step (see :func:`_write_velocities`)."""
-        chosen = _social_force_step(idx, state, radii, goals, preferred, robot, dt, self.relaxation_time, self.strength, self.range)
-        _write_velocities(idx, chosen, state, body_state, speeds)
+        _social_force_step(idx, state, body_state, speeds, radii, goals, preferred, robot, dt,
+                           self.relaxation_time, self.strength, self.range)  # fmt: skip
 
 
 BEHAVIOURS = {"bounce": Bounce, "orca": ORCA, "social-force": SocialForce}
@@ -145,11 +149,12 @@ def make_behaviour(spec, where: str = "behaviour") -> Behaviour:
     return cls(**params)
 
 
-# -- compiled steps: every driven obstacle in one call ------------------------------------------
+# -- compiled steps: every driven obstacle in one call, velocities chosen and written -----------
 @numba.njit(cache=True)
 def _write_velocities(idx, chosen, state, body_state, speeds):
     """The chosen velocities into the world's state and its pymunk view, and the speeds that bounces
-    keep for the step (one compiled call: the numpy indexing it replaces cost more than ORCA)."""
+    keep for the step (compiled, inside each step's one call: the numpy indexing it replaces cost
+    more than ORCA)."""
     for k in range(idx.shape[0]):
         i = idx[k]
         state[i, 2], state[i, 3] = chosen[k, 0], chosen[k, 1]
@@ -176,20 +181,22 @@ def _agents(state, radii, robot, pad):
 
 
 @numba.njit(cache=True)
-def _orca_step(idx, state, radii, goals, speeds, robot, dt, pad, neighbor_dist, max_neighbors, time_horizon, slow_down):
+def _orca_step(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, params, pad):
+    """ORCA velocities (:class:`~pathplan_env.orca.ORCAParams` ``params``, every radius plus ``pad``)
+    for obstacles ``idx``, written by :func:`_write_velocities`."""
     positions, velocities, padded = _agents(state, radii, robot, pad)
     out = np.empty((idx.shape[0], 2))
     for k in range(idx.shape[0]):  # every agent decides from the same snapshot, as CrowdNav's humans do
         i = idx[k]
-        px, py = preferred_velocity(state[i, 0], state[i, 1], goals[i, 0], goals[i, 1], speeds[i], slow_down)
-        out[k, 0], out[k, 1] = orca_velocity(state[i, 0], state[i, 1], state[i, 2], state[i, 3], padded[i], i,
-                                             positions, velocities, padded, speeds[i], px, py,
-                                             neighbor_dist, max_neighbors, time_horizon, dt)  # fmt: skip
-    return out
+        px, py = preferred_velocity(state[i, 0], state[i, 1], goals[i, 0], goals[i, 1], preferred[i], SLOW_DOWN_TIME)
+        agent = ORCAAgentState(state[i, 0], state[i, 1], state[i, 2], state[i, 3], padded[i], preferred[i], px, py)
+        out[k, 0], out[k, 1] = orca_velocity(agent, i, positions, velocities, padded, params, dt)
+    _write_velocities(idx, out, state, body_state, speeds)
 
 
 @numba.njit(cache=True)
-def _social_force_step(idx, state, radii, goals, speeds, robot, dt, relaxation_time, strength, decay):
+def _social_force_step(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, relaxation_time, strength, decay):
+    """Social-force velocities for obstacles ``idx``, written by :func:`_write_velocities`."""
     positions, velocities, padded = _agents(state, radii, robot, 0.0)
     m = positions.shape[0]
     out = np.empty((idx.shape[0], 2))
@@ -198,7 +205,7 @@ def _social_force_step(idx, state, radii, goals, speeds, robot, dt, relaxation_t
         x, y, vx, vy = state[i, 0], state[i, 1], state[i, 2], state[i, 3]
         gx, gy = goals[i, 0] - x, goals[i, 1] - y
         dist = math.hypot(gx, gy)
-        desired_x, desired_y = gx / (dist + 1e-6) * speeds[i], gy / (dist + 1e-6) * speeds[i]
+        desired_x, desired_y = gx / (dist + 1e-6) * preferred[i], gy / (dist + 1e-6) * preferred[i]
         ax, ay = (desired_x - vx) / relaxation_time, (desired_y - vy) / relaxation_time
         for j in range(m):
             if j == i:
@@ -210,10 +217,10 @@ def _social_force_step(idx, state, radii, goals, speeds, robot, dt, relaxation_t
             ay += push * dy / d
         nvx, nvy = vx + ax * dt, vy + ay * dt
         s = math.hypot(nvx, nvy)
-        if s > speeds[i]:  # capped at the preferred speed, so that Δd bounds every displacement
-            nvx, nvy = nvx / s * speeds[i], nvy / s * speeds[i]
+        if s > preferred[i]:  # capped at the preferred speed, so that Δd bounds every displacement
+            nvx, nvy = nvx / s * preferred[i], nvy / s * preferred[i]
         out[k, 0], out[k, 1] = nvx, nvy
-    return out
+    _write_velocities(idx, out, state, body_state, speeds)
 
 
 __all__ = ["BEHAVIOURS", "BOUNCE", "Behaviour", "Bounce", "ORCA", "SocialForce", "make_behaviour"]

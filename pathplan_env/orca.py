@@ -8,14 +8,39 @@ the ORCA humans run it once per human per step inside the env's step, where a bi
 cost (a simulator per agent, dozens of calls) would exceed the env's whole budget; it is checked
 against pyrvo (RVO2's maintained binding) in ``tests/test_crowds.py``. RVO2 computes in float32,
 we in float64: the two agree to float32's precision.
+
+The kernel takes named records, as RVO2's ``Agent`` holds its fields: the deciding agent
+(:class:`ORCAAgentState`) and its constant parameters (:class:`ORCAParams`).
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numba
 import numpy as np
+
+
+class ORCAParams(NamedTuple):
+    """An agent's constant ORCA parameters (RVO2's ``neighborDist``, ``maxNeighbors``, ``timeHorizon``)."""
+
+    neighbor_dist: float  # m, centre to centre: farther agents are ignored
+    max_neighbors: int  # at most this many neighbours, nearest first
+    time_horizon: float  # s: the chosen velocity avoids every neighbour for this long
+
+
+class ORCAAgentState(NamedTuple):
+    """The agent choosing its velocity: where it is, how it moves, how big and fast it is, where it wants to go."""
+
+    x: float  # m
+    y: float  # m
+    vx: float  # m/s
+    vy: float  # m/s
+    radius: float  # m
+    max_speed: float  # m/s: the chosen velocity stays within this circle
+    pref_vx: float  # m/s: the preferred velocity
+    pref_vy: float  # m/s
 
 #: RVO2's threshold for (almost) parallel constraint lines.
 RVO_EPSILON = 1e-5
@@ -108,16 +133,18 @@ def _linear_program3(lines, n_lines, begin_line, radius, result):
 
 
 @numba.njit(cache=True)
-def orca_velocity(x, y, vx, vy, radius, skip, positions, velocities, radii, max_speed, pref_x, pref_y,
-                     neighbor_dist, max_neighbors, time_horizon, dt):  # fmt: skip
-    """The ORCA velocity of an agent at ``(x, y)`` with velocity ``(vx, vy)`` and ``radius`` among
-    the agents of the arrays (row ``skip`` is the agent itself, or ``-1`` if it is not in them).
+def orca_velocity(agent, skip, positions, velocities, radii, params, dt):
+    """The ORCA velocity of ``agent`` (an :class:`ORCAAgentState`) among the agents of the arrays
+    (``positions``, ``velocities`` (m, 2) and ``radii`` (m,); row ``skip`` is the agent itself, or
+    ``-1`` if it is not in them), with :class:`ORCAParams`.
 
     Neighbours: the ``max_neighbors`` nearest within ``neighbor_dist`` (centre to centre), in order
     of distance, as RVO2's k-d tree query returns them. Each gives the half-plane of velocities that
     avoid it for ``time_horizon`` seconds, taking half the responsibility (the reciprocal ORCA
-    assumption); when already overlapping, for one ``dt``. Returns ``(vx, vy)``.
+    assumption); when already overlapping, for one step of ``dt`` seconds. Returns ``(vx, vy)``.
     """
+    x, y, vx, vy, radius = agent.x, agent.y, agent.vx, agent.vy, agent.radius
+    neighbor_dist, max_neighbors, time_horizon = params.neighbor_dist, params.max_neighbors, params.time_horizon
     m = positions.shape[0]
     order = np.empty(m, np.int64)
     dist_sq = np.empty(m)
@@ -176,9 +203,9 @@ def orca_velocity(x, y, vx, vy, radius, skip, positions, velocities, radii, max_
         lines[k, 0], lines[k, 1] = vx + 0.5 * ux, vy + 0.5 * uy
         lines[k, 2], lines[k, 3] = dx, dy
     result = np.empty(2)
-    fail = _linear_program2(lines, count, max_speed, pref_x, pref_y, False, result)
+    fail = _linear_program2(lines, count, agent.max_speed, agent.pref_vx, agent.pref_vy, False, result)
     if fail < count:
-        _linear_program3(lines, count, fail, max_speed, result)
+        _linear_program3(lines, count, fail, agent.max_speed, result)
     return result[0], result[1]
 
 

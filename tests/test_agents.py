@@ -9,7 +9,7 @@ from stable_baselines3.common.evaluation import evaluate_policy
 
 import agents
 import pathplan_env
-from agents.planners.bee_colony import abc_run
+from agents.planners.bee_colony import ABCSettings, abc_run
 from agents.planners.objective import Scene, evaluate
 from agents.planners.pso import inertia_schedule
 from pathplan_env import Obstacle, Scenario
@@ -95,16 +95,16 @@ def test_modified_abc_warm_starts_from_previous_best():
 
 def test_modified_abc_scouts_replace_every_infeasible_source():
     # an obstacle covering the whole search box: every source is infeasible in every cycle
-    scene = _one_obstacle_scene()
-    scene.radii = np.array([50.0])
+    scene = _one_obstacle_scene()._replace(radii=np.array([50.0]))
     sources, cycles = 6, 5
     x0 = np.random.default_rng(0).uniform(-1, 1, size=(sources, 4))
     budget = sources + cycles * 3 * sources
     lo, hi = -np.ones(4), np.ones(4)
-    *_, scouted = abc_run(x0, lo, hi, budget, 20, True, 0, scene.args())
-    assert scouted == cycles * sources
-    *_, scouted_vanilla = abc_run(x0, lo, hi, budget, 20, False, 0, scene.args())
-    assert scouted_vanilla < scouted
+    modified = abc_run(x0, lo, hi, ABCSettings(budget, 20, True), 0, scene)
+    assert modified.scouted == cycles * sources
+    assert len(modified.history) == cycles and modified.history_evaluations[-1] == modified.evaluations == budget
+    vanilla = abc_run(x0, lo, hi, ABCSettings(budget, 20, False), 0, scene)
+    assert vanilla.scouted < modified.scouted
 
 
 def test_objective_penalises_cutting_and_predicts_motion():
@@ -113,8 +113,8 @@ def test_objective_penalises_cutting_and_predicts_motion():
     cost, penalty = evaluate(straight, scene)
     assert penalty[0] > 2 * math.pi and cost[0] == pytest.approx(4.0 + penalty[0])
     # the obstacle moves away fast: the predictive objective sees the straight path clear
-    scene.velocities = np.array([[0.0, 10.0]])
-    assert evaluate(straight, scene)[1][0] == 0.0
+    moving = scene._replace(velocities=np.array([[0.0, 10.0]]))
+    assert evaluate(straight, moving)[1][0] == 0.0
 
 
 def test_oracle_length_equals_hand_computed_tangent_path():

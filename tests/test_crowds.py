@@ -18,7 +18,7 @@ from agents.base import rollout
 from pathplan_env import Obstacle, Scenario
 from pathplan_env.behaviours import ORCA, SocialForce, make_behaviour
 from pathplan_env.crowdnav import HUMAN_RADIUS
-from pathplan_env.orca import orca_velocity
+from pathplan_env.orca import ORCAAgentState, ORCAParams, orca_velocity
 from pathplan_env.splits import heldout_seeds
 from pathplan_env.world import World
 
@@ -65,7 +65,8 @@ def test_orca_matches_rvo2():
             sim.set_agent_pref_velocity(j, tuple(pref) if j == 0 else (0.0, 0.0))
         sim.do_step()
         theirs = sim.get_agent_velocity(0)
-        ours = orca_velocity(pos[0, 0], pos[0, 1], vel[0, 0], vel[0, 1], rad[0], 0, pos, vel, rad, 1.0, pref[0], pref[1], 10.0, 10, 5.0, 0.25)
+        agent = ORCAAgentState(pos[0, 0], pos[0, 1], vel[0, 0], vel[0, 1], rad[0], 1.0, pref[0], pref[1])
+        ours = orca_velocity(agent, 0, pos, vel, rad, ORCAParams(10.0, 10, 5.0), 0.25)
         worst = max(worst, abs(theirs.x - ours[0]), abs(theirs.y - ours[1]))
     assert worst < 1e-4  # RVO2 computes in float32
 

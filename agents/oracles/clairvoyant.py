@@ -26,7 +26,7 @@ from pathplan_env.env import DynamicObstacleEnv
 from pathplan_env.world import World
 
 from ..base import Agent
-from ..planners.spacetime_search import BUDGET, FOUND, heading_moves, provably_lost, search
+from ..planners.spacetime_search import BUDGET, FOUND, SearchSettings, SpacetimeProblem, heading_moves, provably_lost, search
 
 #: What the oracle concludes about an episode: a plan, provably no plan, a failed search, or no
 #: limit because the obstacles react to the robot.
@@ -82,26 +82,19 @@ class ClairvoyantOracle(Agent):
         # the same episode, bit for bit, from its start (for reacting obstacles: as if the robot were invisible)
         future = World(dataclasses.replace(scenario, robot_visible=False) if reactive else scenario)
         trajectory = future.obstacle_trajectory(max_steps)[now * future.substeps :]
-        r = scenario.robot_radius
-        xmin, ymin, xmax, ymax = scenario.bounds
-        start = np.array(world.robot_xy)
-        goal = np.array(scenario.goal)
+        problem = SpacetimeProblem(trajectory, future.substeps, scenario.robot_radius, world.radii, np.array(world.robot_xy),
+                                   np.array(scenario.goal), scenario.goal_radius, env.arena.box, env._reach)  # fmt: skip
         expansions = 0
         for weight, cell in self.searches:
-            outcome, targets, spent = search(
-                trajectory, future.substeps, r, world.radii, start, goal, scenario.goal_radius, env.arena.box,
-                self._arena_low, self._arena_size, env._reach, self.moves, remaining, cell, self.max_expansions, weight,
-            )  # fmt: skip
-            expansions += spent
+            result = search(problem, SearchSettings(self.moves, remaining, cell, self.max_expansions, weight))
+            outcome, targets = result.outcome, result.targets
+            expansions += result.expansions
             if outcome != BUDGET:
                 break
         if outcome == FOUND:
             verdict, lost_at = "plan", None
         else:
-            lost, lost_at = provably_lost(
-                trajectory, future.substeps, world.radii, r, start, goal, scenario.goal_radius,
-                (xmin + r, ymin + r, xmax - r, ymax - r), env._reach, self.lost_cell,
-            )  # fmt: skip
+            lost, lost_at = provably_lost(problem, self.lost_cell)
             verdict = "lost" if lost else "undetermined"
         if reactive:
             verdict = "reactive"

@@ -16,11 +16,21 @@ The run stops once ``max_evaluations`` objective evaluations are spent.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numba
 import numpy as np
 
 from .fast_random import below, new_state, uniform
-from .objective import objective
+from .objective import OptimizerResult, objective
+
+
+class ABCSettings(NamedTuple):
+    """The colony's budget and scouts."""
+
+    max_evaluations: int  # objective evaluations the run may spend
+    limit: int  # original ABC: trials without improvement before a scout replaces the source
+    scouts_replace_infeasible: bool  # modified ABC: scouts replace every infeasible source instead
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -43,14 +53,15 @@ def _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, problem):
 
 
 @numba.njit(cache=True, error_model="numpy")
-def abc_run(x0, lo, hi, max_evaluations, limit, scouts_replace_infeasible, seed, problem):
-    """Run ABC from the food sources ``x0`` (SN, D), minimising :func:`agents.planners.objective.objective` for ``problem``.
+def abc_run(x0, lo, hi, settings, seed, problem):
+    """Run ABC from the food sources ``x0`` (SN, D) in the box ``[lo, hi]``, minimising
+    :func:`agents.planners.objective.objective` for ``problem``.
 
-    :return: ``(best_x, best_cost, best_penalty, history, history_evaluations, evaluations, scouted)``:
-        ``history[c]`` is the best cost after cycle ``c`` (trailing entries unused are NaN),
-        ``history_evaluations[c]`` the objective evaluations spent by then (scouts included);
-        ``scouted`` counts the sources the scouts replaced.
+    :return: an :class:`~agents.planners.objective.OptimizerResult`: ``history[c]`` is the best cost
+        after cycle ``c``, ``history_evaluations[c]`` the objective evaluations spent by then (scouts
+        included); ``scouted`` counts the sources the scouts replaced.
     """
+    max_evaluations, limit = settings.max_evaluations, settings.limit
     rng = new_state(seed)
     SN, D = x0.shape
     x = x0.copy()
@@ -62,7 +73,7 @@ def abc_run(x0, lo, hi, max_evaluations, limit, scouts_replace_infeasible, seed,
     evaluations = SN
     b = np.argmin(cost)
     best_x, best_cost, best_pen = x[b].copy(), cost[b], pen[b]
-    history = np.full(max_evaluations // (2 * SN) + 1, np.nan)
+    history = np.empty(max_evaluations // (2 * SN) + 1)  # the cycles run are returned
     history_evaluations = np.zeros(history.shape[0], dtype=np.int64)
     cycle = 0
     scouted = 0
@@ -79,7 +90,7 @@ def abc_run(x0, lo, hi, max_evaluations, limit, scouts_replace_infeasible, seed,
             if cost[i] < best_cost:
                 best_x[:], best_cost, best_pen = x[i], cost[i], pen[i]
         for i in range(SN):  # scouts
-            if scouts_replace_infeasible:
+            if settings.scouts_replace_infeasible:
                 abandon = pen[i] > 0.0
             else:
                 abandon = trials[i] > limit
@@ -95,4 +106,4 @@ def abc_run(x0, lo, hi, max_evaluations, limit, scouts_replace_infeasible, seed,
         history[cycle] = best_cost
         history_evaluations[cycle] = evaluations
         cycle += 1
-    return best_x, best_cost, best_pen, history, history_evaluations, evaluations, scouted
+    return OptimizerResult(best_x, best_cost, best_pen, history[:cycle], history_evaluations[:cycle], evaluations, scouted)

@@ -12,9 +12,9 @@ from typing import Any
 import numpy as np
 
 from ..base import Agent, point_along, real_obstacles
-from .bee_colony import abc_run
-from .objective import Scene
-from .pso import inertia_schedule, pso_run
+from .bee_colony import ABCSettings, abc_run
+from .objective import Scene, TimedScene
+from .pso import PSOSettings, inertia_schedule, pso_run
 
 
 class MetaheuristicAgent(Agent):
@@ -76,6 +76,8 @@ class MetaheuristicAgent(Agent):
             self.w_max = self.w_min = float(w_constant)
         self.c1, self.c2, self.v_max_fraction, self.abc_limit = float(c1), float(c2), float(v_max_fraction), int(abc_limit)
         self.inertia = inertia_schedule(self.iterations, self.w_max, self.w_min)
+        self.pso_settings = PSOSettings(self.inertia, self.c1, self.c2, self.v_max_fraction)
+        self.abc_settings = ABCSettings(self.population * self.iterations, self.abc_limit, variant == "paper")
         if warm_start is None:
             warm_start = variant == "paper" and (optimizer == "abc" or self.predictive)
         self.warm_start = bool(warm_start)
@@ -108,9 +110,10 @@ class MetaheuristicAgent(Agent):
 
     def optimize(self, scene: Scene, memory: dict[str, Any]) -> np.ndarray:
         """One replan: the best candidate (2k,). Records ``last_cost``, ``last_penalty``, ``last_history``."""
-        return self.run_optimizer(scene.args(), self._lo, self._hi, memory, self.straight_line(scene.robot, scene.goal))
+        return self.run_optimizer(scene, self._lo, self._hi, memory, self.straight_line(scene.robot, scene.goal))
 
-    def run_optimizer(self, problem: tuple, lo: np.ndarray, hi: np.ndarray, memory: dict[str, Any], seeds: np.ndarray) -> np.ndarray:
+    def run_optimizer(self, problem: Scene | TimedScene, lo: np.ndarray, hi: np.ndarray, memory: dict[str, Any],
+                      seeds: np.ndarray) -> np.ndarray:  # fmt: skip
         """The optimiser on any objective (``agents.planners.objective.objective``) in the box ``[lo, hi]``.
 
         With ``warm_start``, the population holds the previous best (``memory["best"]``) and the
@@ -126,18 +129,14 @@ class MetaheuristicAgent(Agent):
             seeds = np.atleast_2d(seeds)[: size - 1]
             x0[1 : 1 + len(seeds)] = seeds
         if self.optimizer == "pso":
-            best, cost, penalty, history = pso_run(x0, lo, hi, self.inertia, self.c1, self.c2, self.v_max_fraction, seed, problem)
-            # the initial swarm, then one evaluation per particle an iteration
-            self.last_history_evaluations = size * np.arange(2, len(history) + 2)
+            result = pso_run(x0, lo, hi, self.pso_settings, seed, problem)
         else:
-            best, cost, penalty, history, spent, _, self.last_scouted = abc_run(
-                x0, lo, hi, self.population * self.iterations, self.abc_limit, self.variant == "paper", seed, problem
-            )
-            kept = ~np.isnan(history)
-            history, self.last_history_evaluations = history[kept], spent[kept]
-        memory["best"] = best
-        self.last_cost, self.last_penalty, self.last_history = float(cost), float(penalty), history
-        return best
+            result = abc_run(x0, lo, hi, self.abc_settings, seed, problem)
+        memory["best"] = result.best
+        self.last_cost, self.last_penalty = float(result.best_cost), float(result.best_penalty)
+        self.last_history, self.last_history_evaluations = result.history, result.history_evaluations
+        self.last_scouted = int(result.scouted)
+        return result.best
 
     def plan(self, obs, memory):
         scene = self.scene(obs)

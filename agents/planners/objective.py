@@ -13,13 +13,15 @@ segment flown between times t0 and t1 is again a straight segment, from ``A - c(
 static objective is the predictive one with zero velocities.
 
 Everything is compiled with numba: one replan evaluates thousands of paths, and a numpy call per
-particle or per iteration costs more than the arithmetic (see scripts/bench_planners.py).
+particle or per iteration costs more than the arithmetic (see scripts/bench_planners.py). The
+kernels take named records (``typing.NamedTuple``, which numba compiles and caches): a problem is a
+:class:`Scene` or a :class:`TimedScene`, and every optimiser returns an :class:`OptimizerResult`.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -34,21 +36,47 @@ TWO_PI = 2.0 * math.pi
 INFEASIBLE = 1e4
 
 
-@dataclass
-class Scene:
-    """What one plan needs, as contiguous float64 arrays (built from an observation by the agent)."""
+class Scene(NamedTuple):
+    """What one plan of the static or predictive objective needs (:func:`path_cost`), as float64
+    arrays (built from an observation by the agent)."""
 
-    robot: np.ndarray  # (2,)
-    goal: np.ndarray  # (2,)
-    centers: np.ndarray  # (N, 2)
-    velocities: np.ndarray  # (N, 2); zeros for the static objective
-    radii: np.ndarray  # (N,) inflated: obstacle + robot radius + margin
+    robot: np.ndarray  # (2,) m
+    goal: np.ndarray  # (2,) m
+    centers: np.ndarray  # (N, 2) m
+    velocities: np.ndarray  # (N, 2) m/s; zeros for the static objective
+    radii: np.ndarray  # (N,) m, inflated: obstacle + robot radius + margin
     speed: float  # robot speed (m/s): maps path length to time in predictive mode
-    horizon: float  # obstacles are extrapolated for at most this many seconds
-    penalty_weight: float
+    horizon: float  # s: obstacles are extrapolated for at most this long
+    penalty_weight: float  # penalty per metre of cut depth (dimensionless)
 
-    def args(self) -> tuple:
-        return (self.robot, self.goal, self.centers, self.velocities, self.radii, self.speed, self.horizon, self.penalty_weight)
+
+class TimedScene(NamedTuple):
+    """What one plan of the space-time objective needs (:func:`timed_path_cost`): the predicted
+    obstacles, the robot's task and its step."""
+
+    trajectory: np.ndarray  # (S * substeps + 1, N, >= 2): predicted obstacle centres (m) at every substep
+    substeps: int  # substeps a step
+    robot_radius: float  # m
+    contact_radii: np.ndarray  # (N,) m: obstacle radii with the margin
+    robot: np.ndarray  # (2,) m
+    goal: np.ndarray  # (2,) m
+    goal_radius: float  # m
+    reach: float  # m: the robot's step at top speed
+    horizon_steps: int  # steps checked against ``trajectory``
+    penalty_weight: float  # penalty per metre of cut depth (dimensionless)
+    travel: np.ndarray  # (horizon_steps, N) m: each obstacle's path length in each step
+
+
+class OptimizerResult(NamedTuple):
+    """What a run of an optimiser (``pso_run``, ``abc_run``) returns."""
+
+    best: np.ndarray  # (D,) the best candidate found
+    best_cost: float  # its cost (m)
+    best_penalty: float  # its penalty (m): 0 when feasible
+    history: np.ndarray  # the best cost after each iteration (PSO) or cycle (ABC)
+    history_evaluations: np.ndarray  # objective evaluations spent by each ``history`` entry
+    evaluations: int  # objective evaluations spent in all
+    scouted: int  # sources the ABC's scouts replaced (0 for PSO)
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
@@ -64,8 +92,10 @@ def _segment_origin_distance_sq(ax, ay, bx, by):
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")  # inlined into the optimisers' loops
-def path_cost(x, robot, goal, centers, velocities, radii, speed, horizon, penalty_weight):
-    """Cost and penalty of one candidate ``x`` (2k,): ``(length + penalty, penalty)``."""
+def path_cost(x, scene):
+    """Cost and penalty of one candidate ``x`` (2k,) for a :class:`Scene`: ``(length + penalty, penalty)``."""
+    robot, goal, centers, velocities, radii = scene.robot, scene.goal, scene.centers, scene.velocities, scene.radii
+    speed, horizon, penalty_weight = scene.speed, scene.horizon, scene.penalty_weight
     k = x.shape[0] // 2
     length = 0.0
     penalty = 0.0
@@ -106,17 +136,16 @@ def walk_along(pts, seg, px, py, distance):
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
-def timed_path_cost(
-    x, traj, n, robot_radius, contact_radii, robot, goal, goal_radius, reach, horizon_steps, penalty_weight, travel,
-):  # fmt: skip
+def timed_path_cost(x, scene):
     """Space-time objective of ``x`` = ``k`` waypoints (2k) then ``k + 1`` segment speeds (fractions of
-    the robot's top speed): ``(cost, penalty)`` in metres (arrival time x top speed), the penalty
-    counting only contacts within the horizon (the constraint the modified ABC's scouts test).
+    the robot's top speed) for a :class:`TimedScene`: ``(cost, penalty)`` in metres (arrival time x
+    top speed), the penalty counting only contacts within the horizon (the constraint the modified
+    ABC's scouts test).
 
     The robot flies robot -> w1 -> ... -> goal, each step a straight chord of ``speed x reach``
     along the path. For the first ``horizon_steps`` steps every chord is checked against the
-    predicted obstacle states ``traj`` at every substep (the env's swept test, pairs beyond reach
-    skipped by ``travel``, each obstacle's path length per step); past the horizon the rest of the
+    predicted obstacle states ``trajectory`` at every substep (the env's swept test, pairs beyond
+    reach skipped by ``travel``, each obstacle's path length per step); past the horizon the rest of the
     path is flown at top speed and checked against the obstacles where the prediction leaves them.
     Each obstacle cut into pays the paper's Eq. 4 penalty once: its circumference (of the contact
     disc) plus ``penalty_weight`` times the deepest cut. A contact within the horizon is the
@@ -126,6 +155,9 @@ def timed_path_cost(
     penalty form: in space-time a plan can always wait, and waiting must never look dearer than a
     touch). A cut past the horizon, where the prediction is a guess, adds to the cost only.
     """
+    traj, n, robot_radius, contact_radii = scene.trajectory, scene.substeps, scene.robot_radius, scene.contact_radii
+    robot, goal, goal_radius, reach = scene.robot, scene.goal, scene.goal_radius, scene.reach
+    horizon_steps, penalty_weight, travel = scene.horizon_steps, scene.penalty_weight, scene.travel
     k = (x.shape[0] - 1) // 3
     pts = np.empty((k + 2, 2))
     pts[0, 0], pts[0, 1] = robot[0], robot[1]
@@ -198,42 +230,34 @@ def timed_path_cost(
 
 
 def objective(x, problem):
-    """The cost of candidate ``x`` for ``problem``, the tuple of a :class:`Scene` (``Scene.args()``,
-    :func:`path_cost`) or of a timed path (:func:`timed_path_cost`). Usable only inside compiled
-    code, where numba picks the objective from the tuple's type: the optimisers are written once."""
+    """The cost of candidate ``x`` for ``problem``, a :class:`Scene` (:func:`path_cost`) or a
+    :class:`TimedScene` (:func:`timed_path_cost`). Usable only inside compiled code, where numba
+    picks the objective from the record's class: the optimisers are written once."""
     raise NotImplementedError("objective() is dispatched by numba inside compiled code")
 
 
 @overload(objective)
 def _objective(x, problem):
-    if len(problem.types) == 8:
-
-        def static_or_predictive(x, problem):
-            return path_cost(x, problem[0], problem[1], problem[2], problem[3], problem[4], problem[5], problem[6], problem[7])
-
-        return static_or_predictive
-
-    def timed(x, problem):
-        return timed_path_cost(
-            x, problem[0], problem[1], problem[2], problem[3], problem[4], problem[5], problem[6], problem[7],
-            problem[8], problem[9], problem[10],
-        )  # fmt: skip
-
-    return timed
+    record = getattr(problem, "instance_class", None)
+    if record is Scene:
+        return lambda x, problem: path_cost(x, problem)
+    if record is TimedScene:
+        return lambda x, problem: timed_path_cost(x, problem)
+    raise numba.TypingError(f"objective() takes a Scene or a TimedScene, got {problem}")
 
 
 @numba.njit(cache=True, error_model="numpy")
-def population_cost(X, robot, goal, centers, velocities, radii, speed, horizon, penalty_weight):
-    """Costs and penalties of a whole population ``X`` (P, 2k) in one call."""
+def population_cost(X, scene):
+    """Costs and penalties of a whole population ``X`` (P, 2k) for a :class:`Scene` in one call."""
     n = X.shape[0]
     cost = np.empty(n)
     penalty = np.empty(n)
     for i in range(n):
-        cost[i], penalty[i] = path_cost(X[i], robot, goal, centers, velocities, radii, speed, horizon, penalty_weight)
+        cost[i], penalty[i] = path_cost(X[i], scene)
     return cost, penalty
 
 
 def evaluate(X: np.ndarray, scene: Scene) -> tuple[np.ndarray, np.ndarray]:
     """Costs and penalties of candidates ``X`` (P, 2k) or (2k,) for a :class:`Scene`."""
     X = np.ascontiguousarray(np.atleast_2d(X), dtype=np.float64)
-    return population_cost(X, *scene.args())
+    return population_cost(X, scene)

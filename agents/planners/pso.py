@@ -6,18 +6,29 @@ Velocity and position updates (Eq. 5-6)::
     x <- x + v
 
 with the linearly decreasing inertia of Eq. 7, ``w(it) = wmax - (wmax - wmin) * it / itmax``
-(:func:`inertia_schedule`, passed to the compiled run as an array). The vanilla ablation uses a
-constant inertia (``wmax == wmin``). Positions are clipped to the search box
+(:func:`inertia_schedule`, passed to the compiled run as an array in :class:`PSOSettings`). The
+vanilla ablation uses a constant inertia (``wmax == wmin``). Positions are clipped to the search box
 and velocities to a fraction of its size. The whole run is one numba call.
 """
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numba
 import numpy as np
 
 from .fast_random import new_state, uniform
-from .objective import objective
+from .objective import OptimizerResult, objective
+
+
+class PSOSettings(NamedTuple):
+    """The swarm's coefficients (Eq. 5-7)."""
+
+    inertia: np.ndarray  # w(it) for each iteration it = 0 .. itmax - 1 (:func:`inertia_schedule`)
+    c1: float  # cognitive coefficient (pull toward the particle's best)
+    c2: float  # social coefficient (pull toward the swarm's best)
+    v_max_fraction: float  # velocity clip, as a fraction of the search box's size per dimension
 
 
 def inertia_schedule(iterations: int, w_max: float, w_min: float) -> np.ndarray:
@@ -27,13 +38,14 @@ def inertia_schedule(iterations: int, w_max: float, w_min: float) -> np.ndarray:
 
 
 @numba.njit(cache=True, error_model="numpy")
-def pso_run(x0, lo, hi, inertia, c1, c2, v_max_fraction, seed, problem):
-    """Run PSO from the swarm ``x0`` (P, D), one iteration per entry of ``inertia`` (Eq. 7's w(it)),
-    minimising :func:`agents.planners.objective.objective` for ``problem``.
+def pso_run(x0, lo, hi, settings, seed, problem):
+    """Run PSO from the swarm ``x0`` (P, D) in the box ``[lo, hi]``, one iteration per entry of
+    ``settings.inertia`` (Eq. 7's w(it)), minimising :func:`agents.planners.objective.objective` for ``problem``.
 
-    :return: ``(best_x, best_cost, best_penalty, history)``; ``history[it]`` is the best cost after
-        iteration ``it``.
+    :return: an :class:`~agents.planners.objective.OptimizerResult`; ``history[it]`` is the best
+        cost after iteration ``it``.
     """
+    inertia, c1, c2, v_max_fraction = settings.inertia, settings.c1, settings.c2, settings.v_max_fraction
     rng = new_state(seed)
     P, D = x0.shape
     x = x0.copy()
@@ -53,6 +65,7 @@ def pso_run(x0, lo, hi, inertia, c1, c2, v_max_fraction, seed, problem):
     gbest = pbest[g].copy()
     gbest_cost, gbest_pen = pbest_cost[g], pbest_pen[g]
     history = np.empty(inertia.shape[0])
+    history_evaluations = np.empty(inertia.shape[0], np.int64)
     for it in range(inertia.shape[0]):
         w = inertia[it]
         for i in range(P):
@@ -69,4 +82,5 @@ def pso_run(x0, lo, hi, inertia, c1, c2, v_max_fraction, seed, problem):
                     gbest_cost, gbest_pen = cost, pen
                     gbest[:] = x[i]
         history[it] = gbest_cost
-    return gbest, gbest_cost, gbest_pen, history
+        history_evaluations[it] = P * (it + 2)  # the initial swarm, then one evaluation per particle an iteration
+    return OptimizerResult(gbest, gbest_cost, gbest_pen, history, history_evaluations, P * (inertia.shape[0] + 1), 0)

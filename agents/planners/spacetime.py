@@ -10,7 +10,7 @@ its first step:
 * ``pso-spacetime`` / ``abc-spacetime``: the paper's adaptive constraint PSO and modified ABC, the
   same compiled update rules as ``pso`` / ``abc``, optimising a sequence of moves (a relative
   displacement per ``hold`` steps, up to one robot step each) against the same predictions, with
-  the paper's penalty (Eq. 4) on predicted contact (:func:`agents.planners.objective.plan_cost`).
+  the paper's penalty (Eq. 4) on predicted contact (:func:`agents.planners.objective.timed_path_cost`).
 
 They see only the observation and :class:`~pathplan_env.wrappers.EnvFacts`. Contacts are
 predicted against obstacles inflated by ``margin`` (relative, on the contact distance), which
@@ -26,9 +26,9 @@ from pathplan_env.wrappers import EnvFacts
 
 from ..base import Agent, real_obstacles
 from .metaheuristic import MetaheuristicAgent
-from .objective import walk_along
+from .objective import TimedScene, walk_along
 from .prediction import predict_obstacles, substeps_for
-from .spacetime_search import BUDGET, EXHAUSTED, heading_moves, replay, search
+from .spacetime_search import BUDGET, EXHAUSTED, SearchSettings, SpacetimeProblem, heading_moves, replay, search
 
 
 #: How the planners predict the obstacles: the env's bounce physics, or a cone of three such
@@ -113,16 +113,18 @@ class SpacetimeAStarAgent(Agent):
     def plan(self, obs, memory):
         trajectory, n, radii, robot, goal = self.model.predict_scene(obs)
         f = self.facts
-        common = (n, f.robot_radius, radii, robot, goal, f.goal_radius, self.model.arena.box, self._arena_low, self._arena_size, self.step_length)
+        problem = SpacetimeProblem(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.model.arena.box,
+                                   self.step_length)  # fmt: skip
         targets = memory.get("plan")
         if targets is not None and len(targets) > 0:  # keep the previous plan while it still holds
-            free, reached = replay(trajectory, *common, targets)
+            free, reached = replay(problem, targets)
             keep = reached or (free == len(targets) and len(targets) >= self.keep_plan_steps)
         else:
             keep = False
         if not keep:
             for budget in (self.max_expansions, self.max_expansions * self.retry_factor):
-                outcome, targets, _ = search(trajectory, *common, self.moves, self.horizon_steps, self.cell, budget, self.h_weight)
+                result = search(problem, SearchSettings(self.moves, self.horizon_steps, self.cell, budget, self.h_weight))
+                outcome, targets = result.outcome, result.targets
                 if outcome != BUDGET:
                     break
         if len(targets) == 0 or (not keep and outcome == EXHAUSTED and self.escape_trapped):
@@ -180,15 +182,15 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         self._timed_lo = np.concatenate([self._lo, np.zeros(speeds)])
         self._timed_hi = np.concatenate([self._hi, np.ones(speeds)])
 
-    def timed_problem(self, obs) -> tuple:
-        """The objective's arguments for one observation (``timed_path_cost`` after ``x``)."""
+    def timed_problem(self, obs) -> TimedScene:
+        """The space-time objective's problem for one observation (:func:`~agents.planners.objective.timed_path_cost`)."""
         trajectory, n, radii, robot, goal = self.model.predict_scene(obs)
         # each obstacle's path length in each step: pairs farther apart than both can travel are skipped
         moves = np.hypot(*np.diff(trajectory[:, :, :2], axis=0).transpose(2, 0, 1))
         travel = np.ascontiguousarray(moves.reshape(self.model.horizon_steps, n, -1).sum(axis=1))
         f = self.facts
-        return (trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.step_length,
-                self.model.horizon_steps, self.penalty_weight, travel)  # fmt: skip
+        return TimedScene(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.step_length,
+                          self.model.horizon_steps, self.penalty_weight, travel)  # fmt: skip
 
     def seed_paths(self, robot: np.ndarray, goal: np.ndarray) -> np.ndarray:
         """Warm-start candidates at top speed: the straight line, then a first waypoint
@@ -203,7 +205,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
 
     def plan(self, obs, memory):
         problem = self.timed_problem(obs)
-        robot, goal = problem[4], problem[5]
+        robot, goal = problem.robot, problem.goal
         best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, self.seed_paths(robot, goal))
         k = self.n_waypoints
         path = np.vstack([robot, best[: 2 * k].reshape(-1, 2), goal])

@@ -12,21 +12,58 @@ is complete only up to that resolution, which is why a failed search is "undeter
 :func:`provably_lost` says otherwise. The heuristic (steps still needed at top speed) is admissible,
 so the first goal node popped arrives earliest; ties go to the deeper node.
 
-Compiled with numba: one search expands thousands of nodes with dozens of moves each.
+Compiled with numba: one search expands thousands of nodes with dozens of moves each. The kernels
+take named records: the problem (:class:`SpacetimeProblem`: what is known of the obstacles' future
+and the robot's task) and the search's settings (:class:`SearchSettings`).
 """
 
 from __future__ import annotations
 
 import heapq
 import math
+from typing import NamedTuple
 
 import numba
 import numpy as np
 
+from pathplan_env.arena import ArenaBox
 from pathplan_env.geometry import swept_pair
 from pathplan_env.kinematics import reach_fraction, robot_move, substep_point
 
 FOUND, HORIZON, EXHAUSTED, BUDGET = 0, 1, 2, 3  # search outcomes
+
+
+class SpacetimeProblem(NamedTuple):
+    """Known obstacle trajectories and the robot's task: what :func:`search`, :func:`replay` and
+    :func:`provably_lost` read."""
+
+    trajectory: np.ndarray  # (S + 1, N, >= 2): obstacle centres (m) after every substep from now
+    substeps: int  # substeps a step
+    robot_radius: float  # m
+    radii: np.ndarray  # (N,) m: the obstacles' contact radii
+    start: np.ndarray  # (2,) m: the robot now
+    goal: np.ndarray  # (2,) m
+    goal_radius: float  # m
+    box: ArenaBox  # the env's action mapping and the box where the robot's disc fits
+    reach: float  # m: the robot's step at top speed
+
+
+class SearchSettings(NamedTuple):
+    """The A*'s moves, depth, merge grid, budget and heuristic weight."""
+
+    moves: np.ndarray  # (M, 3): ``(ux, uy, fraction of the robot's step)`` (:func:`heading_moves`)
+    max_steps: int  # a node this deep is a leaf (where the trajectory or the episode ends)
+    cell: float  # m: nodes are merged per (step, grid cell)
+    max_expansions: int  # node budget
+    h_weight: float  # heuristic weight (1: plain A*, earliest arrival)
+
+
+class SearchResult(NamedTuple):
+    """What :func:`search` returns."""
+
+    outcome: int  # FOUND, HORIZON, EXHAUSTED or BUDGET
+    targets: np.ndarray  # (steps, 2) m: the waypoint to aim at in each step
+    expansions: int  # nodes expanded
 
 
 def heading_moves(n_headings: int, speed_fractions) -> np.ndarray:
@@ -37,11 +74,12 @@ def heading_moves(n_headings: int, speed_fractions) -> np.ndarray:
 
 
 @numba.njit(cache=True, inline="always")
-def _to_action(tx, ty, low, size):
-    """``Agent.waypoint_to_action`` for one point, with the same arithmetic (float64, then float32)."""
+def _to_action(tx, ty, box):
+    """``Agent.waypoint_to_action`` for one point, to the bit (float64, then float32): its
+    ``2 (x - xmin) / width`` equals ``(x - xmin) / half_width``, scaling by 2 being exact."""
     a = np.empty(2, np.float32)
-    a[0] = min(max(2.0 * (tx - low[0]) / size[0] - 1.0, -1.0), 1.0)
-    a[1] = min(max(2.0 * (ty - low[1]) / size[1] - 1.0, -1.0), 1.0)
+    a[0] = min(max((tx - box.xmin) / box.half_width - 1.0, -1.0), 1.0)
+    a[1] = min(max((ty - box.ymin) / box.half_height - 1.0, -1.0), 1.0)
     return a
 
 
@@ -72,21 +110,23 @@ def _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, gx, gy
 
 
 @numba.njit(cache=True)
-def search(
-    traj, n, robot_radius, radii, start, goal, goal_radius, params, low, size, reach,
-    moves, max_steps, cell, max_expansions, h_weight,
-):  # fmt: skip
-    """Earliest-arrival A* from ``start`` at substep 0 of ``traj`` ((S + 1, N, 4), ``n`` substeps a step).
+def search(problem, settings):
+    """Earliest-arrival A* from ``problem.start`` at substep 0 of ``problem.trajectory`` (a
+    :class:`SpacetimeProblem`), with :class:`SearchSettings`.
 
-    A node at depth ``max_steps`` (where ``traj`` or the episode ends) counts as a leaf: when one is
+    A node at depth ``max_steps`` (where the trajectory or the episode ends) counts as a leaf: when one is
     popped before any goal node, the search stops there (``HORIZON``), its path the most promising.
 
-    :return: ``(outcome, targets, expansions)``: ``targets`` (steps, 2) are the waypoints to aim at,
-        one per step (found plan, horizon leaf, or the deepest node reached when the search fails).
+    :return: a :class:`SearchResult`: its ``targets`` are the waypoints to aim at, one per step
+        (found plan, horizon leaf, or the deepest node reached when the search fails).
     """
-    bx0, by0 = params[4], params[5]
-    gx_cells = int((params[6] - bx0) / cell) + 2
-    gy_cells = int((params[7] - by0) / cell) + 2
+    traj, n, robot_radius, radii = problem.trajectory, problem.substeps, problem.robot_radius, problem.radii
+    start, goal, goal_radius, box, reach = problem.start, problem.goal, problem.goal_radius, problem.box, problem.reach
+    moves, max_steps, cell = settings.moves, settings.max_steps, settings.cell
+    max_expansions, h_weight = settings.max_expansions, settings.h_weight
+    bx0, by0 = box.fit_xmin, box.fit_ymin
+    gx_cells = int((box.fit_xmax - bx0) / cell) + 2
+    gy_cells = int((box.fit_ymax - by0) / cell) + 2
     capacity = max_expansions * (moves.shape[0] + 2) + 1
     cap = min(capacity, 2_000_000)
     node_x = np.empty(cap)
@@ -140,8 +180,8 @@ def search(
                 tx, ty = x, y  # wait
             else:
                 tx, ty = goal[0], goal[1]
-            action = _to_action(tx, ty, low, size)
-            _, _, _, dx, dy = robot_move(action, params, x, y, reach)
+            action = _to_action(tx, ty, box)
+            _, _, _, dx, dy = robot_move(action, box, x, y, reach)
             result = _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, goal[0], goal[1], goal_radius)
             if result < 0:
                 continue
@@ -171,22 +211,25 @@ def search(
     for s in range(steps - 1, -1, -1):
         targets[s, 0], targets[s, 1] = node_tx[j], node_ty[j]
         j = node_parent[j]
-    return outcome, targets, expansions
+    return SearchResult(outcome, targets, expansions)
 
 
 @numba.njit(cache=True)
-def replay(traj, n, robot_radius, radii, start, goal, goal_radius, params, low, size, reach, targets):
-    """Fly ``targets`` (one waypoint a step) from ``start`` through ``traj`` as the search would.
+def replay(problem, targets):
+    """Fly ``targets`` (one waypoint a step) from ``problem.start`` through ``problem.trajectory``
+    (a :class:`SpacetimeProblem`) as the search would.
 
     :return: ``(steps, reached)``: how many steps stay free of contact (all of them if none
         touches) and whether the goal is reached within them.
     """
+    traj, n, robot_radius, radii = problem.trajectory, problem.substeps, problem.robot_radius, problem.radii
+    start, goal, goal_radius, box, reach = problem.start, problem.goal, problem.goal_radius, problem.box, problem.reach
     x, y = start[0], start[1]
     steps = min(targets.shape[0], (traj.shape[0] - 1) // n)
     near = np.arange(radii.shape[0])
     for k in range(steps):
-        action = _to_action(targets[k, 0], targets[k, 1], low, size)
-        _, _, _, dx, dy = robot_move(action, params, x, y, reach)
+        action = _to_action(targets[k, 0], targets[k, 1], box)
+        _, _, _, dx, dy = robot_move(action, box, x, y, reach)
         result = _fly(traj, k * n, n, x, y, dx, dy, robot_radius, radii, near, radii.shape[0], goal[0], goal[1], goal_radius)
         if result < 0:
             return k, False
@@ -196,12 +239,11 @@ def replay(traj, n, robot_radius, radii, start, goal, goal_radius, params, low, 
     return steps, False
 
 
-def provably_lost(trajectory: np.ndarray, substeps: int, radii: np.ndarray, robot_radius: float, start, goal,
-                  goal_radius: float, robot_box, reach: float, cell: float = 0.005, max_steps: int = 6,
+def provably_lost(problem: SpacetimeProblem, cell: float = 0.005, max_steps: int = 6,
                   history: list | None = None) -> tuple[bool | None, int]:
     """Whether no path can reach the goal, by an outer approximation of the reachable set.
 
-    ``trajectory[s]`` (S + 1, N, >= 2) are the obstacle centres after ``s`` substeps. The set of
+    ``problem.trajectory[s]`` are the obstacle centres after ``s`` substeps. The set of
     positions the robot can occupy after each substep is over-approximated on a grid of ``cell``
     metres: a cell is kept if its centre lies within one substep's reach plus one cell diagonal of a
     kept cell's centre, and inside the box where the robot's disc fits; it is dropped only if the
@@ -216,7 +258,10 @@ def provably_lost(trajectory: np.ndarray, substeps: int, radii: np.ndarray, robo
     """
     from scipy.ndimage import distance_transform_edt
 
-    xmin, ymin, xmax, ymax = robot_box
+    trajectory, substeps, radii, robot_radius = problem.trajectory, problem.substeps, problem.radii, problem.robot_radius
+    start, goal, goal_radius, reach = problem.start, problem.goal, problem.goal_radius, problem.reach
+    box = problem.box
+    xmin, ymin, xmax, ymax = box.fit_xmin, box.fit_ymin, box.fit_xmax, box.fit_ymax
     gx = max(1, int(math.ceil((xmax - xmin) / cell)))
     gy = max(1, int(math.ceil((ymax - ymin) / cell)))
     cx = xmin + (np.arange(gx) + 0.5) * cell

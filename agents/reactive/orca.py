@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from pathplan_env.behaviours import SLOW_DOWN_TIME
-from pathplan_env.orca import orca_velocity, preferred_velocity
+from pathplan_env.orca import ORCAAgentState, ORCAParams, orca_velocity, preferred_velocity
 
 from ..base import Agent, real_obstacles
 
@@ -33,7 +33,8 @@ class ORCAAgent(Agent):
         centers, velocities, radii = real_obstacles(obs)
         speed = self.facts.robot_speed
         pref_x, pref_y = preferred_velocity(x, y, gx, gy, min(speed, np.hypot(gx - x, gy - y) / self.facts.dt), SLOW_DOWN_TIME)
-        new_vx, new_vy = orca_velocity(x, y, vx, vy, self.facts.robot_radius + self.padding, -1, centers, velocities, radii + self.padding,
-                                       speed, pref_x, pref_y, self.neighbor_dist, self.max_neighbors, self.time_horizon, self.facts.dt)  # fmt: skip
+        robot = ORCAAgentState(x, y, vx, vy, self.facts.robot_radius + self.padding, speed, pref_x, pref_y)
+        params = ORCAParams(self.neighbor_dist, self.max_neighbors, self.time_horizon)
+        new_vx, new_vy = orca_velocity(robot, -1, centers, velocities, radii + self.padding, params, self.facts.dt)
         self.last_plan = np.array([[x, y], [x + new_vx * self.facts.dt, y + new_vy * self.facts.dt]])
         return self.last_plan[1]

@@ -29,4 +29,8 @@ for _optimizer in ("pso", "abc"):
 register("pso-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="pso"))
 register("abc-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="abc", population=40))  # 20 food sources
 
-__all__ = ["Agent", "ClairvoyantOracle", "MetaheuristicAgent", "ORCAAgent", "RLAgent", "SpacetimeAStarAgent", "SpacetimeMetaheuristicAgent", "StaticOracleAgent", "StraightAgent", "VelocityObstacleAgent", "available", "make", "register", "rollout"]
+__all__ = [
+    "Agent", "ClairvoyantOracle", "MetaheuristicAgent", "ORCAAgent", "RLAgent", "SpacetimeAStarAgent",
+    "SpacetimeMetaheuristicAgent", "StaticOracleAgent", "StraightAgent", "VelocityObstacleAgent",
+    "available", "make", "register", "rollout",
+]  # fmt: skip

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import time
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -86,16 +87,6 @@ class Agent:
     def waypoint_to_action(self, waypoints: np.ndarray) -> np.ndarray:
         """Waypoints (..., 2) as the env's actions (``Arena.waypoint_to_action``)."""
         return self.arena.waypoint_to_action(waypoints)
-
-    @property
-    def _arena_low(self) -> np.ndarray:
-        """``arena.low`` under its old name, for the planners that still pass it to their kernels."""
-        return self.arena.low
-
-    @property
-    def _arena_size(self) -> np.ndarray:
-        """``arena.size`` under its old name (see ``_arena_low``)."""
-        return self.arena.size
 
     @property
     def step_length(self) -> float:

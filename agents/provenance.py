@@ -3,6 +3,7 @@ evaluation and training run)."""
 
 from __future__ import annotations
 
+import contextlib
 import os
 import platform
 import subprocess
@@ -27,8 +28,6 @@ def versions() -> dict:
         "pathplan_env": pathplan_env.__version__,
         "machine": f"{platform.machine()} {os.cpu_count()} cores",
     }
-    try:
+    with contextlib.suppress(OSError):  # no git on this machine: the commit is left out
         info["git_commit"] = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True, cwd=Path(__file__).parent).stdout.strip()
-    except OSError:
-        pass
     return info

@@ -69,7 +69,7 @@ class ORCA:
     goal_directed = True
 
     def __post_init__(self):
-        set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731 (frozen dataclass normalisation)
+        set_ = lambda k, v: object.__setattr__(self, k, v)  # frozen dataclass normalisation
         set_("neighbor_dist", _positive("ORCA", "neighbor_dist", self.neighbor_dist))
         n = self.max_neighbors
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:

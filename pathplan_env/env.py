@@ -210,12 +210,14 @@ class DynamicObstacleEnv(gym.Env):
     proximity_distance = property(lambda self: self.reward_weights.proximity_distance, doc="Where the proximity term starts (m).")
 
     @property
+    def delta_d(self) -> float | None:
+        """The Δd this env applies to its scenarios (``None``: each scenario's own speeds)."""
+        return self._delta_d
+
+    @property
     def robot_step_length(self) -> float:
         """The farthest the robot moves in one step (m): ``robot_speed * dt``."""
         return self.scenario.robot_speed * self.scenario.dt
-
-    #: ``robot_step_length`` under its old private name, which ``agents/oracles/clairvoyant.py`` still reads.
-    _reach = robot_step_length
 
     @property
     def world(self) -> World | None:

@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 import math
-from typing import Callable
+from collections.abc import Callable
 
 import numba
 import numpy as np
@@ -164,7 +164,7 @@ PRESET_DELTA_D: dict[str, float] = {**dict.fromkeys(PAPER_CASES, DEFAULT_DELTA_D
 
 
 def make_scenario(
-    spec: "str | Scenario", rng: np.random.Generator, n_obstacles: int | None = None, delta_d: float | None = None
+    spec: str | Scenario, rng: np.random.Generator, n_obstacles: int | None = None, delta_d: float | None = None
 ) -> Scenario:
     """Resolve a preset name, a :class:`Scenario` or its dict form, then apply ``delta_d``.
 

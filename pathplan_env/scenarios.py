@@ -82,7 +82,7 @@ class Obstacle:
         return math.hypot(*self.velocity)
 
     @classmethod
-    def _from_checked(cls, center: Vec2, radius: float, velocity: Vec2, goal: Vec2 | None = None, preferred_speed: float = 0.0) -> "Obstacle":
+    def _from_checked(cls, center: Vec2, radius: float, velocity: Vec2, goal: Vec2 | None = None, preferred_speed: float = 0.0) -> Obstacle:
         """Build from values that are already valid float tuples (sampling, ``with_delta_d``): no re-validation."""
         ob = object.__new__(cls)
         object.__setattr__(ob, "center", center)
@@ -136,7 +136,7 @@ class Scenario:
             raise ValueError(f"Scenario.bounds must be finite with xmin < xmax and ymin < ymax, got {self.bounds!r}")
         if max(map(abs, (xmin, ymin, xmax, ymax))) > MAX_COORDINATE:
             raise ValueError(f"Scenario.bounds must lie within +-{MAX_COORDINATE:g} m (observations are float32), got {self.bounds!r}")
-        set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731 (frozen dataclass normalisation)
+        set_ = lambda k, v: object.__setattr__(self, k, v)  # frozen dataclass normalisation
         set_("bounds", (xmin, ymin, xmax, ymax))
         set_("start", _vec2(self.start, "Scenario.start"))
         set_("goal", _vec2(self.goal, "Scenario.goal"))
@@ -168,7 +168,7 @@ class Scenario:
         self._check_geometry()
 
     @classmethod
-    def _from_checked(cls, arrays: dict[str, np.ndarray], **fields) -> "Scenario":
+    def _from_checked(cls, arrays: dict[str, np.ndarray], **fields) -> Scenario:
         """Build from fields that are already valid and normalised, with their obstacle arrays.
 
         For the random sampler, whose output is valid by construction: validating it again cost
@@ -273,7 +273,7 @@ class Scenario:
             return max((self.top_speeds() * self.dt / self._arrays["radii"]).tolist(), default=0.0)
         return max((ob.speed * self.dt / ob.radius for ob in self.obstacles), default=0.0)
 
-    def with_delta_d(self, delta_d: float, rng: np.random.Generator) -> "Scenario":
+    def with_delta_d(self, delta_d: float, rng: np.random.Generator) -> Scenario:
         """A copy whose every obstacle moves exactly ``delta_d`` radii per step.
 
         Obstacles that already move keep their direction; resting ones get a direction from ``rng``.
@@ -304,7 +304,7 @@ class Scenario:
         object.__setattr__(scenario, "_arrays", {**self._arrays, "velocities": new_velocities})
         return scenario
 
-    def _with_preferred_speeds(self, delta_d: float, bounce_velocities: np.ndarray) -> "Scenario":
+    def _with_preferred_speeds(self, delta_d: float, bounce_velocities: np.ndarray) -> Scenario:
         obstacles = []
         for i, ob in enumerate(self.obstacles):
             if self.behaviour_of(i).goal_directed:
@@ -314,7 +314,7 @@ class Scenario:
         return dataclasses.replace(self, obstacles=tuple(obstacles))
 
     @classmethod
-    def from_dict(cls, data: dict) -> "Scenario":
+    def from_dict(cls, data: dict) -> Scenario:
         """A scenario from its ``dataclasses.asdict`` form (what a JSON ``EnvSpec`` holds), validated."""
         if not isinstance(data, dict):
             raise ValueError(f"scenario must be a preset name, a Scenario or its dict form, got {type(data).__name__}")

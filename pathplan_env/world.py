@@ -168,7 +168,7 @@ class World:
     (``pymunk.batch``), not one Python attribute access per body.
     """
 
-    def __init__(self, scenario: Scenario, recycle: "World | None" = None):
+    def __init__(self, scenario: Scenario, recycle: World | None = None):
         """Build the world of ``scenario``; ``recycle`` (the previous episode's world, which is
         emptied) lends its moving obstacles' pymunk bodies and shapes, since creating them was the
         largest cost of a reset. The episode is the same bit for bit either way (tested)."""

@@ -34,7 +34,7 @@ class EnvFacts:
     goal_radius: float
 
     @classmethod
-    def of(cls, env) -> "EnvFacts":
+    def of(cls, env) -> EnvFacts:
         """Read the facts from an env, a wrapped env, a Gymnasium vector env or an SB3 VecEnv."""
         names = ("bounds", "robot_radius", "robot_speed", "dt", "goal_radius")
         if hasattr(env, "unwrapped") and hasattr(env.unwrapped, "robot_speed"):

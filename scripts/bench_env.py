@@ -92,7 +92,7 @@ def main(argv=None) -> None:
     targets = {5: 0.5, 50: 0.1}
     for n in (5, 20, 50):
         rate, ratio = paired_ratio(
-            lambda: gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=n, delta_d=args.delta_d), reference, args.steps, args.repeats
+            lambda n=n: gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=n, delta_d=args.delta_d), reference, args.steps, args.repeats
         )
         target = f">= {targets[n]}x" if n in targets else ""
         print(f"| {n} | {rate:.0f} | {ratio:.3f}x | {target} |")
@@ -102,7 +102,8 @@ def main(argv=None) -> None:
     print("|---|---:|---:|---:|---:|")
     for preset, n in (("crowdnav-circle-crossing", 5), ("crowdnav-circle-crossing-visible", 5), ("crowdnav-square-crossing", 5),
                       ("crowdnav-circle-crossing", 10)):  # fmt: skip
-        rate, ratio = paired_ratio(lambda: gym.make("DynamicObstacle-v0", scenario=preset, n_obstacles=n, delta_d=None), reference, args.steps, args.repeats)
+        make = lambda preset=preset, n=n: gym.make("DynamicObstacle-v0", scenario=preset, n_obstacles=n, delta_d=None)
+        rate, ratio = paired_ratio(make, reference, args.steps, args.repeats)
         target = ">= 0.2x" if n == 5 else ""
         print(f"| {preset} | {n} | {rate:.0f} | {ratio:.3f}x | {target} |")
 

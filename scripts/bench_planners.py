@@ -24,8 +24,8 @@ from tqdm import tqdm
 
 import agents
 import pathplan_env  # noqa: F401  (registers the env)
-from pathplan_env.geometry import shortest_path_to_goal
 from agents.planners.objective import evaluate
+from pathplan_env.geometry import shortest_path_to_goal
 
 BUDGET_PARTICLES, BUDGET_ITERATIONS = 30, 100
 
@@ -71,7 +71,7 @@ def replan_times(repeats: int) -> dict[str, float]:
     abc = agents.make("abc", env, seed=0, population=BUDGET_PARTICLES, iterations=BUDGET_ITERATIONS)
     scene = paper_case_3_scene(pso)
     lo, hi = pso._lo, pso._hi
-    objective = lambda X: evaluate(X, scene)[0]  # noqa: E731  (the same compiled objective for everyone)
+    objective = lambda X: evaluate(X, scene)[0]
     rng = np.random.default_rng(0)
     times = {
         "ours: pso": median_ms(lambda: pso.optimize(scene, {}), repeats),
@@ -99,7 +99,7 @@ def replan_times(repeats: int) -> dict[str, float]:
         problem = {"obj_func": lambda x: float(objective(x[None])[0]), "bounds": FloatVar(lb=lo, ub=hi), "minmax": "min", "log_to": None}
         for label, model in (("mealpy LDW_PSO", lambda: PSO.LDW_PSO(epoch=BUDGET_ITERATIONS, pop_size=BUDGET_PARTICLES)),
                              ("mealpy OriginalABC", lambda: ABC.OriginalABC(epoch=BUDGET_ITERATIONS // 2, pop_size=BUDGET_PARTICLES))):  # fmt: skip
-            times[label] = median_ms(lambda: model().solve(problem, seed=0), 3)
+            times[label] = median_ms(lambda model=model: model().solve(problem, seed=0), 3)
     except ImportError:
         print("mealpy not installed (pip install -e .[bench]): skipped")
     return times

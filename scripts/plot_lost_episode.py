@@ -16,13 +16,13 @@ import gymnasium as gym
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-import agents  # noqa: E402
-from agents.planners.spacetime_search import provably_lost  # noqa: E402
-from pathplan_env.splits import heldout_seeds  # noqa: E402
-from pathplan_env.world import World  # noqa: E402
+import agents
+from agents.planners.spacetime_search import SpacetimeProblem, provably_lost
+from pathplan_env.splits import heldout_seeds
+from pathplan_env.world import World
 
 
 def parse_args(argv=None) -> argparse.Namespace:
@@ -54,8 +54,9 @@ def main(argv=None) -> None:
     r = scenario.robot_radius
     xmin, ymin, xmax, ymax = scenario.bounds
     history: list = []
-    provably_lost(trajectory, n, world.radii, r, np.array(scenario.start), np.array(scenario.goal), scenario.goal_radius,
-                  env.unwrapped.arena.robot_box, env.unwrapped.robot_step_length, history=history)  # fmt: skip
+    problem = SpacetimeProblem(trajectory, n, r, world.radii, np.array(scenario.start), np.array(scenario.goal), scenario.goal_radius,
+                               env.unwrapped.arena.box, env.unwrapped.robot_step_length)  # fmt: skip
+    provably_lost(problem, history=history)
 
     fig, axes = plt.subplots(1, 2, figsize=(11, 5.4))
     zoom = 1.6  # the right panel: the robot's neighbourhood

@@ -14,7 +14,7 @@ from agents.planners.objective import Scene, evaluate
 from agents.planners.pso import inertia_schedule
 from pathplan_env import Obstacle, Scenario
 
-PLANNERS = [name for name in agents.available() if name not in ("straight", "ppo")]
+PLANNERS = [name for name in agents.available() if name not in ("straight", "ppo", "sb3")]  # sb3 needs a model path
 
 
 def run_episode(agent, env, seed=0):

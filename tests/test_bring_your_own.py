@@ -198,7 +198,7 @@ def test_a_bad_agent_is_named_before_a_recorded_run_is_touched(tmp_path, entry, 
 
 def test_what_cannot_reach_the_workers_is_named_before_any_work(tmp_path):
     (tmp_path / "episodes.jsonl").write_text("a finished run\n")
-    local = lambda env: PredictOnly()  # noqa: E731 (a lambda pickles by reference to nothing)
+    local = lambda env: PredictOnly()  # a lambda pickles by reference to nothing
     with pytest.raises(ValueError, match="'<lambda>' cannot be sent to the worker processes .* or use workers=1"):
         evaluate_library([local], [TINY], [0.5], 1, tmp_path, workers=2)
     assert (tmp_path / "episodes.jsonl").read_text() == "a finished run\n"

@@ -43,8 +43,8 @@ def run_still(env, seed, steps=100):
     track, gaps = [], []
     for _ in range(steps):
         obs, _, terminated, truncated, _ = env.step(still)
-        track.append(env.unwrapped._world.obstacle_state[:, :2].copy())
-        gaps.append(human_gaps(env.unwrapped._world))
+        track.append(env.unwrapped.world.obstacle_state[:, :2].copy())
+        gaps.append(human_gaps(env.unwrapped.world))
         if terminated or truncated:
             break
     return np.array(track), min(gaps)
@@ -189,7 +189,7 @@ def test_crowdnav_time_limit_truncates_at_25_seconds():
     env = crowd_env("crowdnav-circle-crossing-visible")  # visible: the humans walk around a robot that stays
     obs, _ = env.reset(seed=0)
     still = env.unwrapped.waypoint_to_action(obs["robot_position"])
-    for step in range(1, 101):
+    for step in range(1, 101):  # noqa: B007 (read after the loop: the step it ended on)
         obs, _, terminated, truncated, info = env.step(still)
         if terminated or truncated:
             break

@@ -65,7 +65,7 @@ def test_make_by_module_path_and_time_limit():
     env = gym.make("pathplan_env:DynamicObstacle-v0", scenario="paper-case-1", delta_d=0)
     assert env.spec.max_episode_steps == pathplan_env.MAX_EPISODE_STEPS
     env.reset(seed=0)
-    for step in range(1, 10_000):
+    for step in range(1, 10_000):  # noqa: B007 (read after the loop: the step it ended on)
         _, _, terminated, truncated, _ = env.step(stand_still(env))
         if terminated or truncated:
             break
@@ -171,7 +171,7 @@ def test_an_episode_does_not_depend_on_the_envs_history(n_obstacles, delta_d):
             positions.append(obs["obstacle_positions"])
         return np.array(positions)
 
-    make = lambda: gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=n_obstacles, delta_d=delta_d)  # noqa: E731
+    make = lambda: gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=n_obstacles, delta_d=delta_d)
     fresh, used = make(), make()
     for seed in range(5):
         obstacle_trajectory(used, 100 + seed, 30)

@@ -9,10 +9,10 @@ from pathlib import Path
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
-import evaluate  # noqa: E402
+import evaluate
 
-from agents.evaluation.run_diff import diff_runs  # noqa: E402
-from pathplan_env.splits import TEST_SEED_BASE, is_training_seed, heldout_seeds  # noqa: E402
+from agents.evaluation.run_diff import diff_runs
+from pathplan_env.splits import TEST_SEED_BASE, heldout_seeds, is_training_seed
 
 TINY = ["--agents", "straight,pso-predictive", "--scenarios", "paper-case-1", "--delta-d", "0,0.5", "--episodes", "4", "--no-plots"]
 
@@ -46,7 +46,7 @@ def test_summary_schema_and_rates(tiny_run):
     straight = [c for c in summary["results"] if c["agent"] == "straight" and c["delta_d"] == 0][0]
     assert straight["collision_rate"] == 1.0  # the obstacle blocks the direct line
     assert straight["spl"] == 0.0 and straight["common_episodes"] == 0 and straight["common_length_ratio"] is None
-    rows = list(csv.DictReader(open(tiny_run / "episodes.csv")))
+    rows = list(csv.DictReader((tiny_run / "episodes.csv").read_text().splitlines()))
     assert len(rows) == 24
     assert {r["verdict"] for r in rows if r["agent"] == "oracle-clairvoyant"} == {"plan"}
 
@@ -62,7 +62,7 @@ def test_compare_runs_finds_a_changed_episode_and_a_missing_cell(tiny_run, tmp_p
 
     for name in ("summary.json", "episodes.csv"):
         (tmp_path / name).write_text((tiny_run / name).read_text())
-    rows = list(csv.DictReader(open(tmp_path / "episodes.csv")))
+    rows = list(csv.DictReader((tmp_path / "episodes.csv").read_text().splitlines()))
     rows[5]["min_clearance"] = "0.123"
     with open(tmp_path / "episodes.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(rows[0]))

@@ -29,3 +29,9 @@ def test_the_contracts_are_the_ones_we_mean():
     forbidden = {tuple(c["source_modules"]): c["forbidden_modules"] for c in config["contracts"] if c["type"] == "forbidden"}
     assert forbidden[("pathplan_env",)] == ["agents"]
     assert any("agents.planners" in sources and targets == ["agents.evaluation"] for sources, targets in forbidden.items())
+def test_ruff_is_clean():
+    ruff = shutil.which("ruff", path=str(Path(sys.executable).parent)) or shutil.which("ruff")
+    if ruff is None:
+        pytest.skip("ruff is in the test extra")
+    result = subprocess.run([ruff, "check", "--no-cache", str(ROOT)], capture_output=True, text=True, cwd=ROOT)
+    assert result.returncode == 0, result.stdout[-3000:]

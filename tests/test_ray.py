@@ -61,7 +61,7 @@ def test_an_episode_whose_ray_worker_dies_is_retried(tmp_path):
     results = []
     run_jobs_on_ray(jobs, results.append, num_cpus=2, runner=dies_once)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["died-0", "died-1", "died-2"]
-    strip_ms = lambda r: json.dumps({k: v for k, v in vars(r).items() if k != "plan_ms"}, sort_keys=True)  # noqa: E731 (NaNs compare equal)
+    strip_ms = lambda r: json.dumps({k: v for k, v in vars(r).items() if k != "plan_ms"}, sort_keys=True)  # NaNs compare equal
     assert sorted(map(strip_ms, results)) == sorted(strip_ms(run_episode(*job)) for job in jobs)
 
 

@@ -19,7 +19,13 @@ import pathplan_env  # noqa: F401
 from agents.rl import MODELS_DIR
 from agents.rl.training import Args, build_model, demonstration_env, make_env, ship, train
 from pathplan_env.splits import (
-    TRAINING_SEEDS_PER_RUN, VALIDATION_SEED_BASE, heldout_seeds, is_training_seed, is_validation_seed, training_seed_base, validation_seeds,
+    TRAINING_SEEDS_PER_RUN,
+    VALIDATION_SEED_BASE,
+    heldout_seeds,
+    is_training_seed,
+    is_validation_seed,
+    training_seed_base,
+    validation_seeds,
 )  # fmt: skip
 from pathplan_env.wrappers import EpisodeSchedule, make_learning_env
 
@@ -182,11 +188,11 @@ def test_missing_model_is_a_clear_error(tmp_path):
 
 def _episode(env, seed=None):
     obs, _ = env.reset(seed=seed)
-    return env.unwrapped.scenario, env.unwrapped._delta_d, obs
+    return env.unwrapped.scenario, env.unwrapped.delta_d, obs
 
 
 def test_episode_schedule_is_reproducible_and_strided():
-    make = lambda first: EpisodeSchedule(gym.make("DynamicObstacle-v0"), first_seed=first, stride=2, delta_d=(0.0, 1.0), n_obstacles=(4, 12))  # noqa: E731
+    make = lambda first: EpisodeSchedule(gym.make("DynamicObstacle-v0"), first_seed=first, stride=2, delta_d=(0.0, 1.0), n_obstacles=(4, 12))
     a, b = make(10), make(10)
     episodes_a = [_episode(a) for _ in range(5)]
     episodes_b = [_episode(b) for _ in range(5)]

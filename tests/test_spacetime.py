@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 import agents
-from agents.planners.prediction import predict_obstacles, substeps_for
 from agents.base import real_obstacles
+from agents.planners.prediction import predict_obstacles, substeps_for
 from pathplan_env import Obstacle, Scenario
 from pathplan_env.splits import heldout_seeds
 
@@ -61,7 +61,7 @@ def test_prediction_matches_the_env_over_ten_steps_with_bounces():
         centers, velocities, radii = real_obstacles(obs)
         n = substeps_for(velocities, radii, env.unwrapped.dt)
         predicted = predict_obstacles(centers, velocities, radii, np.array(env.unwrapped.bounds), env.unwrapped.dt, 10, n)
-        world = env.unwrapped._world
+        world = env.unwrapped.world
         world.robot_xy = (-1e3, -1e3)  # out of the way: the episode runs on
         for _ in range(10):
             world.step(0.0, 0.0)
@@ -107,3 +107,15 @@ def test_spacetime_bad_parameters_raise():
         agents.make("astar-spacetime", env, horizon_steps=0)
     with pytest.raises(ValueError, match="margin"):
         agents.make("pso-spacetime", env, margin=-0.1)
+
+
+def test_the_lost_episode_picture_is_drawn(tmp_path):
+    """scripts/plot_lost_episode.py runs the lost-episode proof end to end (it calls the kernels directly)."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    script = Path(__file__).resolve().parents[1] / "scripts" / "plot_lost_episode.py"
+    out = subprocess.run([sys.executable, str(script), "--out", str(tmp_path / "lost.png")], capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert "lost within" in out.stdout and (tmp_path / "lost.png").stat().st_size > 10_000

@@ -102,7 +102,7 @@ def resolve_agent_kwargs(agents: list[AgentSpec], agent_kwargs: dict, env) -> di
             if kwargs:
                 raise ValueError(f"agent {spec.label!r} does not take {sorted(kwargs)}: {error}") from None
             raise ValueError(f"agent {spec.label!r}: building it raised TypeError: {error}") from None
-        except Exception as error:  # noqa: BLE001 (the user's code: named in one line, before any work)
+        except Exception as error:  # the user's code: named in one line, before any work
             raise ValueError(f"agent {spec.label!r}: building it raised {type(error).__name__}: {error}") from None
         if not callable(getattr(agent, "predict", None)):
             raise ValueError(f"agent {spec.label!r}: built a {type(agent).__name__}, which has no "

@@ -134,7 +134,7 @@ def _agent_spec(entry, argument: str) -> AgentSpec:
     elif callable(getattr(entry, "predict", None)):
         try:
             copy.deepcopy(entry)
-        except Exception as error:  # noqa: BLE001 (each episode starts from a copy: one that cannot be made is named now)
+        except Exception as error:  # each episode starts from a copy: one that cannot be made is named now
             raise ValueError(f"{argument}: {type(entry).__name__} object: cannot be copied for each episode ({error})") from None
         own = getattr(entry, "name", None)
         spec = AgentSpec(own if isinstance(own, str) and own and own != agents.Agent.name else type(entry).__name__, "object", entry)
@@ -189,7 +189,7 @@ def load_reference(reference: str, search_path: str | None = None) -> tuple[str,
     except ModuleNotFoundError as error:
         where = f" (looked on sys.path and in {search_path})" if error.name == module_name and search_path else ""
         raise ValueError(f"no module named {error.name!r}{where}") from None
-    except Exception as error:  # noqa: BLE001 (the user's module failed while importing: say how, in one line)
+    except Exception as error:  # the user's module failed while importing: say how, in one line
         raise ValueError(f"importing {module_name} raised {type(error).__name__}: {error}") from None
     try:
         target = functools.reduce(getattr, attribute.split("."), module)
@@ -251,7 +251,7 @@ def _check_transport(spec: AgentSpec, argument: str, transport: str | None) -> N
                              f"cannot import: define it in a module (then module:attribute), or use workers=1")  # fmt: skip
     try:
         pickler.dumps(target)
-    except Exception as error:  # noqa: BLE001 (pickle's errors vary by type: PicklingError, AttributeError, TypeError)
+    except Exception as error:  # pickle's errors vary by type: PicklingError, AttributeError, TypeError
         raise ValueError(f"{argument}: {spec.label!r} cannot be sent to the worker processes ({type(error).__name__}: {error}): "
                          f"define it at a module's top level, or use workers=1") from None  # fmt: skip
 

@@ -12,6 +12,7 @@ from tqdm import tqdm
 from .episodes import run_episode
 from .records import EpisodeResult
 
+
 def _init_worker() -> None:
     os.environ["OMP_NUM_THREADS"] = "1"  # one torch thread per worker: the workers already fill the cores
 

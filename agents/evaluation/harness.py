@@ -4,7 +4,8 @@
     rows = evaluate(["pso-spacetime", "velocity-obstacle"], ["random"], [0.5, 1.0], episodes=100, out="results/mine")
     rows = evaluate([MyPlanner, ("mine-tuned", MyPlanner(gain=2))], ["scenes/corridor.yaml"], [None], 20, "results/own")
 
-Agents and scenarios come in many forms (:mod:`agents.evaluation.entrants`), each named by a label. Every (agent, scenario, Δd) cell runs the same episodes: episode ``i`` uses seed
+Agents and scenarios come in many forms (:mod:`agents.evaluation.entrants`), each named by a label.
+Every (agent, scenario, Δd) cell runs the same episodes: episode ``i`` uses seed
 ``pathplan_env.splits.heldout_seeds(seed, episodes)[i]`` for the env (scene, directions) and the
 agent, so results do not depend on the number of workers. The privileged ``oracle-clairvoyant``
 runs on the same episodes to give each cell its physical limit, custom scenarios included. Episodes are appended to

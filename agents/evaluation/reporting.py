@@ -12,7 +12,7 @@ from .records import LIMIT_AGENT, delta_order, delta_text
 def markdown_table(rows: list[dict]) -> str:
     """Every cell: success with its Wilson interval, the limit, collisions, timeouts, SPL, the length
     ratio over the agent's own successes and over the episodes every agent solved, planning times."""
-    fmt = lambda v, spec: "-" if v is None else format(v, spec)  # noqa: E731
+    fmt = lambda v, spec: "-" if v is None else format(v, spec)
     lines = [
         "| scenario | agent | Δd | episodes | success [95% CI] | limit | success ÷ limit | collision | timeout | SPL "
         "| length ratio (own successes / common) | plan ms (median / p95) |",
@@ -38,7 +38,7 @@ def limit_table(rows: list[dict], scenario: str) -> str:
     if not cells:
         return ""
     by = {(r["agent"], r["delta_d"]): r for r in cells}
-    fmt = lambda v: "-" if v is None else f"{v:.2f}"  # noqa: E731
+    fmt = lambda v: "-" if v is None else f"{v:.2f}"
     lines = [f"| {scenario}: success ÷ limit | " + " | ".join(f"Δd = {delta_text(d)}" for d in deltas) + " |",
              "|---|" + "---:|" * len(deltas)]  # fmt: skip
     limit_row = [next(r for r in cells if r["delta_d"] == d) for d in deltas]  # every row of a cell carries its limit
@@ -51,7 +51,7 @@ def limit_table(rows: list[dict], scenario: str) -> str:
 def crowdnav_table(rows: list[dict], scenarios: list[str]) -> str:
     """CrowdNav's Table I columns for each agent and scenario: success, collision, timeout, navigation
     time (mean over successes, s), discomfort frequency and the mean smallest clearance in discomfort."""
-    fmt = lambda v, spec: "-" if v is None else format(v, spec)  # noqa: E731
+    fmt = lambda v, spec: "-" if v is None else format(v, spec)
     lines = ["| scenario | agent | episodes | success [95% CI] | collision | timeout | time (s) | discomfort freq. | clearance in discomfort (m) |",
              "|---|---|---:|---:|---:|---:|---:|---:|---:|"]  # fmt: skip
     chosen = [r for r in rows if r["scenario"] in scenarios and (r["agent"] != LIMIT_AGENT or "limit" in r)]  # no limit where humans react

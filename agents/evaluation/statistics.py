@@ -4,10 +4,12 @@ limit, SPL, and the length ratio on the episodes every agent solved (``summarize
 from __future__ import annotations
 
 import math
+
 import numpy as np
 from scipy.stats import binomtest
 
 from .records import LIMIT_AGENT, EpisodeResult
+
 
 def wilson_interval(successes: int, n: int) -> tuple[float, float]:
     if n == 0:
@@ -71,7 +73,7 @@ def summarize(results: list[EpisodeResult]) -> list[dict]:
         common = common_of.get((scenario, delta_d), set())  # none when the limit ran alone
         n = len(eps)
         wins = [e for e in eps if e.success]
-        mean_over = lambda values: float(np.mean(values)) if len(values) else None  # noqa: E731
+        mean_over = lambda values: float(np.mean(values)) if len(values) else None
         plans = np.concatenate([e.plan_ms for e in eps])
         rows.append(
             {

@@ -71,7 +71,7 @@ class ClairvoyantOracle(Agent):
     def solve(self) -> dict:
         """Search from the env's current state; returns the memory entries the episode flies."""
         env = self._env
-        scenario, world = env.scenario, env._world
+        scenario, world = env.scenario, env.world
         begin = time.perf_counter()
         now = int(round(world.time / scenario.dt))
         max_steps = self.max_steps
@@ -83,7 +83,7 @@ class ClairvoyantOracle(Agent):
         future = World(dataclasses.replace(scenario, robot_visible=False) if reactive else scenario)
         trajectory = future.obstacle_trajectory(max_steps)[now * future.substeps :]
         problem = SpacetimeProblem(trajectory, future.substeps, scenario.robot_radius, world.radii, np.array(world.robot_xy),
-                                   np.array(scenario.goal), scenario.goal_radius, env.arena.box, env._reach)  # fmt: skip
+                                   np.array(scenario.goal), scenario.goal_radius, env.arena.box, env.robot_step_length)  # fmt: skip
         expansions = 0
         for weight, cell in self.searches:
             result = search(problem, SearchSettings(self.moves, remaining, cell, self.max_expansions, weight))

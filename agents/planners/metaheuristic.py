@@ -81,10 +81,9 @@ class MetaheuristicAgent(Agent):
         if warm_start is None:
             warm_start = variant == "paper" and (optimizer == "abc" or self.predictive)
         self.warm_start = bool(warm_start)
-        xmin, ymin, xmax, ymax = self.facts.bounds
-        r = self.facts.robot_radius
-        self._lo = np.tile([xmin + r, ymin + r], self.n_waypoints)
-        self._hi = np.tile([xmax - r, ymax - r], self.n_waypoints)
+        fit_xmin, fit_ymin, fit_xmax, fit_ymax = self.arena.robot_box  # waypoints where the robot's disc fits
+        self._lo = np.tile([fit_xmin, fit_ymin], self.n_waypoints)
+        self._hi = np.tile([fit_xmax, fit_ymax], self.n_waypoints)
         self.last_history: np.ndarray | None = None
         self.last_history_evaluations: np.ndarray | None = None  # evaluations spent at each history entry
         self.last_cost = self.last_penalty = np.nan

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from pathplan_env.arena import Arena
 from pathplan_env.wrappers import EnvFacts
 
 from ..base import Agent, real_obstacles
@@ -29,7 +28,6 @@ from .metaheuristic import MetaheuristicAgent
 from .objective import TimedScene, walk_along
 from .prediction import predict_obstacles, substeps_for
 from .spacetime_search import BUDGET, EXHAUSTED, SearchSettings, SpacetimeProblem, heading_moves, replay, search
-
 
 #: How the planners predict the obstacles: the env's bounce physics, or a cone of three such
 #: futures per obstacle (its heading, and turned ``cone_degrees`` either way), for obstacles that
@@ -53,7 +51,7 @@ class SpacetimeModel:
             raise ValueError(f"margin must be in [0, 1), got {margin!r}")
         self.facts, self.horizon_steps, self.margin = facts, int(horizon_steps), float(margin)
         # the env's action mapping (``robot_move``'s box), from the static facts
-        self.arena = Arena(facts.bounds, facts.robot_radius)
+        self.arena = facts.arena
         self.bounds = np.array(facts.bounds, np.float64)
 
     def predict_scene(self, obs):

@@ -159,6 +159,8 @@ PRESETS: dict[str, Callable[[np.random.Generator, int | None], Scenario]] = {
     "random": lambda rng, n: sample_random_scenario(rng, RANDOM_DEFAULT_OBSTACLES if n is None else n),
     **CROWDNAV_PRESETS,
 }
+#: The presets whose obstacle count ``n_obstacles`` sets; every other scenario has its own obstacles.
+COUNTED_PRESETS = frozenset({"random", *CROWDNAV_PRESETS})
 #: The presets' own Δd, applied when ``make_scenario`` gets none (presets not listed keep their speeds).
 PRESET_DELTA_D: dict[str, float] = {**dict.fromkeys(PAPER_CASES, DEFAULT_DELTA_D), "random": DEFAULT_DELTA_D}
 
@@ -173,6 +175,9 @@ def make_scenario(
     velocities. ``n_obstacles`` sets the random and CrowdNav presets' counts (``None``: their own)."""
     if isinstance(spec, dict):
         spec = Scenario.from_dict(spec)
+    if n_obstacles is not None and not (isinstance(spec, str) and spec in COUNTED_PRESETS):
+        named = repr(spec) if isinstance(spec, str) else "a Scenario"
+        raise ValueError(f"n_obstacles: {named} has its own obstacles (leave n_obstacles None); it applies to the presets {sorted(COUNTED_PRESETS)}")
     if isinstance(spec, Scenario):
         scenario = spec
     elif isinstance(spec, str):

@@ -423,3 +423,17 @@ def test_bad_configuration_raises_naming_the_field(kwargs, field):
 def test_negative_obstacle_radius_raises():
     with pytest.raises(ValueError, match="Obstacle.radius"):
         Obstacle(center=(1, 1), radius=-0.5)
+
+
+@pytest.mark.parametrize("scenario", ["paper-case-1", "paper-case-3"])
+def test_n_obstacles_on_a_scene_with_its_own_obstacles_is_refused(scenario):
+    """It used to be ignored without a word: paper-case-1 with n_obstacles=20 ran its one obstacle."""
+    with pytest.raises(ValueError, match="n_obstacles"):
+        gym.make("DynamicObstacle-v0", scenario=scenario, n_obstacles=20)
+    hand_built = gym.make("DynamicObstacle-v0", scenario=scenario).unwrapped.scenario
+    with pytest.raises(ValueError, match="n_obstacles"):
+        gym.make("DynamicObstacle-v0", scenario=hand_built, n_obstacles=3)
+    env = gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=12)
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match="n_obstacles"):
+        env.reset(options={"scenario": scenario})  # the env's 12 would apply to it

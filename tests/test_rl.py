@@ -243,7 +243,7 @@ def test_seed_splits_are_disjoint():
         validation_seeds(100, 10)
 
 
-@pytest.mark.parametrize("scenario, n_obstacles", [("random", 8), ("random", 3), ("random", 20), ("paper-case-3", 0)])
+@pytest.mark.parametrize("scenario, n_obstacles", [("random", 8), ("random", 3), ("random", 20), ("paper-case-3", None)])
 def test_learning_wrapper_output_is_in_its_space(scenario, n_obstacles):
     # fewer obstacles than k_nearest (padding), more (truncation), and a paper case
     env = make_learning_env(gym.make("DynamicObstacle-v0", scenario=scenario, n_obstacles=n_obstacles, delta_d=1.0))

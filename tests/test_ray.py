@@ -14,6 +14,8 @@ import evaluate  # noqa: E402
 
 from agents.evaluation.run_diff import diff_runs  # noqa: E402
 
+pytestmark = pytest.mark.slow  # each test starts a local Ray (15-30 s)
+
 TINY = ["--agents", "straight,pso-predictive", "--scenarios", "paper-case-1", "--delta-d", "0,0.5", "--episodes", "3", "--no-plots"]
 
 

@@ -51,6 +51,7 @@ def test_readme_command_parses(script, arguments):
         assert not scenario or own.search(scenario) or scenario in pathplan_env.PRESETS, (script, scenario)
 
 
+@pytest.mark.slow
 def test_the_quick_start_runs_as_written(tmp_path):
     # a stranger pastes it into a fresh directory: it must run there without a traceback
     block = README.split("## Quick start", 1)[1].split("```python", 1)[1].split("```", 1)[0]

@@ -235,3 +235,16 @@ def test_render_episode_takes_an_agent_and_a_scene_of_ones_own(tmp_path, monkeyp
     render_episode.main(["--agent", "pf_agent_render:Beeline", "--scenario", "corridor.yaml", "--delta-d", "own",
                          "--out", str(tmp_path / "episode.gif")])  # fmt: skip
     assert (tmp_path / "episode.gif").stat().st_size > 0
+
+
+def test_register_refuses_names_the_command_line_could_not_name():
+    import agents
+
+    for bad in ("", "a@b", "mod:Cls", "x=y", "a,b"):
+        with pytest.raises(ValueError, match="name"):
+            agents.register(bad, agents.StraightAgent)
+    with pytest.raises(ValueError, match="factory"):
+        agents.register("not-callable", 3)
+    assert "not-callable" not in agents.available()
+    with pytest.raises(ValueError, match="unknown agent"):
+        agents.base.factory("no-such-agent")

@@ -1,7 +1,8 @@
 """The arena: its bounds, the box where the robot's disc fits, and the waypoint <-> action mapping.
 
-One value object instead of the same few lines in every planner: the env, the planners, the
-oracles and the scripts all read the arena from ``env.unwrapped.arena``, so they cannot disagree.
+One value object instead of the same few lines in every planner: the env (``env.unwrapped.arena``),
+the agents (``EnvFacts.arena``, from the env's public facts), the oracles and the scripts all use
+it, so they cannot disagree.
 """
 
 from __future__ import annotations

@@ -14,7 +14,7 @@ from .arena import Arena
 from .observations import make_observation_type
 from .presets import make_scenario
 from .rewards import MAX_REWARD_WEIGHT, RewardWeights, reward_terms, total  # noqa: F401 (MAX_REWARD_WEIGHT: its old home)
-from .scenarios import Scenario, check_delta_d, check_n_obstacles
+from .scenarios import Scenario, check_count, check_delta_d, check_n_obstacles
 from .world import World, scenario_substeps
 
 
@@ -119,14 +119,16 @@ class DynamicObstacleEnv(gym.Env):
     gym.make("DynamicObstacle-v0", scenario="random", delta_d=None, n_obstacles=None, max_obstacles=None,
              robot_visible=None, observation="state", action="waypoint", render_mode=None)
     ```
-    - ``scenario``: a preset name or a ``pathplan_env.Scenario``.
+    - ``scenario``: a preset name, a ``pathplan_env.Scenario`` or its dict form
+      (``pathplan_env.scenario_files.load_scenario`` reads one from a JSON or YAML file).
     - ``delta_d``: obstacle displacement per step in radii, applied to every obstacle (directions
       kept; resting obstacles get random ones); ``0`` freezes the obstacles. ``None`` (the default)
       keeps the scenario's own speeds: Δd 0.25 for ``"random"`` and the paper's cases, 1 m/s for
       CrowdNav's humans, a hand-built ``Scenario``'s own velocities.
     - ``n_obstacles``: obstacle count of the ``"random"`` preset (default 8; at most 100: its arena
       grows with the count, and past 100 it outgrows what the robot can cross in the 200-step time
-      limit) and of the CrowdNav presets (default 5).
+      limit) and of the CrowdNav presets (default 5); a ``ValueError`` for a scene with its own
+      obstacles (the paper's cases, a ``Scenario``).
     - ``max_obstacles``: padding size ``N`` of the obstacle arrays; default ``max(16, obstacles)``.
     - ``robot_visible``: overrides the scenario's: whether goal-directed obstacles see the robot.
     - ``reward_progress``, ``reward_goal``, ``reward_collision``, ``reward_time``, ``reward_proximity``:
@@ -183,7 +185,7 @@ class DynamicObstacleEnv(gym.Env):
         self.bounds = self.scenario.bounds
         if max_obstacles is None:
             max_obstacles = max(16, self._n_obstacles or 0, self.scenario.n_obstacles)
-        if int(max_obstacles) != max_obstacles or max_obstacles < self.scenario.n_obstacles:
+        if check_count(max_obstacles, "max_obstacles") < self.scenario.n_obstacles:
             raise ValueError(f"max_obstacles must be an integer >= the scenario's {self.scenario.n_obstacles} obstacles, got {max_obstacles!r}")
         self.max_obstacles = int(max_obstacles)
         #: The arena's bounds, the box where the robot's disc fits, and the waypoint <-> action mapping.
@@ -240,10 +242,18 @@ class DynamicObstacleEnv(gym.Env):
         if options:  # validated in full before anything changes: a rejected reset leaves the env as it was
             spec, delta_d, n_obstacles = self._parse_options(options)
             self._check_fits(self._make_scenario(spec, np.random.default_rng(0), n_obstacles, delta_d), physics=True)
+        generator = self._np_random
+        saved = (generator, self._np_random_seed, None if generator is None else generator.bit_generator.state)
         super().reset(seed=seed)
-        scenario = self._make_scenario(spec, self.np_random, n_obstacles, delta_d)
-        self._check_fits(scenario)
-        world = World(scenario, recycle=self._world)  # checks the substeps before it touches the old world
+        try:  # a draw can still fail (a random scene that does not fit): then the generator is put back
+            scenario = self._make_scenario(spec, self.np_random, n_obstacles, delta_d)
+            self._check_fits(scenario)
+            world = World(scenario, recycle=self._world)  # checks the substeps before it touches the old world
+        except ValueError:
+            self._np_random, self._np_random_seed = saved[0], saved[1]
+            if generator is not None:
+                generator.bit_generator.state = saved[2]
+            raise
         self._scenario_spec, self._delta_d, self._n_obstacles = spec, delta_d, n_obstacles
         self.scenario, self._world = scenario, world
         if self.arena.robot_radius != scenario.robot_radius:  # the bounds are checked equal above
@@ -253,7 +263,8 @@ class DynamicObstacleEnv(gym.Env):
         self._distance = self._start_distance
         self._path_length = 0.0
         self.action_type.reset(world, self.arena)
-        self.observation_type.reset(world, self.np_random)
+        # a stream of its own, spawned from the episode's seed: a noisy sensor never shifts the scenes
+        self.observation_type.reset(world, self.np_random.spawn(1)[0])
         self.waypoint = None
         self.trail = [scenario.start]
         self._moves = []  # what a copy of this env replays

@@ -39,7 +39,8 @@ class ObservationType:
 
     def reset(self, world, rng: np.random.Generator) -> None:
         """Called on every reset, after the episode's world is built and before its first observation
-        (``rng``: the env's ``np_random``, for types that draw; the state observation draws nothing)."""
+        (``rng``: a stream of the type's own, spawned from the env's seed, for types that draw, e.g. a
+        noisy sensor; drawing from it never changes the episode. The state observation draws nothing)."""
 
     def observe(self, world) -> Any:
         """The observation of the world as it is now (an element of :meth:`space`)."""

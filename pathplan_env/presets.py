@@ -10,7 +10,7 @@ import numba
 import numpy as np
 
 from .crowdnav import CROWDNAV_PRESETS
-from .scenarios import Obstacle, Scenario, Vec2
+from .scenarios import Obstacle, Scenario, Vec2, check_count
 
 #: The paper's Table 1 obstacle centres. The paper states nothing else; our assumptions
 #: (documented in docs/paper_assumptions.md): start (0, 0), goal (5, 5), arena [-1, 6]^2, so the
@@ -103,8 +103,7 @@ def sample_random_scenario(rng: np.random.Generator, n_obstacles: int = 8, delta
     Obstacles rest unless ``delta_d`` is given; then they move in random directions at that Δd (the
     same draws and values as ``sample_random_scenario(rng, n).with_delta_d(delta_d, rng)``).
     """
-    if isinstance(n_obstacles, bool) or int(n_obstacles) != n_obstacles or n_obstacles < 0:
-        raise ValueError(f"n_obstacles must be a non-negative integer, got {n_obstacles!r}")
+    check_count(n_obstacles, "n_obstacles")
     if n_obstacles > RANDOM_MAX_OBSTACLES:
         raise ValueError(
             f"n_obstacles must be <= {RANDOM_MAX_OBSTACLES} for the random preset, got {n_obstacles}: its arena grows with the "

@@ -49,7 +49,7 @@ class RewardWeights:
                 raise ValueError(f"reward_{name} must be a finite number with |w| <= {MAX_REWARD_WEIGHT:g}, got {value!r}")
             object.__setattr__(self, name, float(value))
         distance = self.proximity_distance
-        if not (isinstance(distance, (int, float, np.integer, np.floating)) and math.isfinite(distance) and distance >= MIN_LENGTH):
+        if not (_is_real(distance) and math.isfinite(distance) and distance >= MIN_LENGTH):
             raise ValueError(f"proximity_distance must be finite and >= {MIN_LENGTH:g} m, got {distance!r}")
         object.__setattr__(self, "proximity_distance", float(distance))
 

@@ -330,6 +330,9 @@ class Scenario:
                 except TypeError as error:
                     raise ValueError(f"Scenario.obstacles[{i}]: {error}") from None
             obstacles.append(ob)
+        missing = sorted(f.name for f in dataclasses.fields(cls) if f.default is dataclasses.MISSING and f.name not in data)
+        if missing:
+            raise ValueError(f"scenario dict: missing fields {missing}")
         return cls(**{**data, "obstacles": tuple(obstacles)})
 
     def arrays(self) -> dict[str, np.ndarray]:
@@ -353,13 +356,18 @@ def check_delta_d(delta_d) -> float | None:
     return value
 
 
+def check_count(value, name: str) -> int:
+    """A whole number >= 0 (an integral float too), or a ValueError naming the argument: never a
+    TypeError or OverflowError from ``int()`` on a list, a string, NaN or infinity."""
+    integral = isinstance(value, (int, np.integer)) or (isinstance(value, (float, np.floating)) and float(value).is_integer())
+    if isinstance(value, (bool, np.bool_)) or not integral or value < 0:
+        raise ValueError(f"{name} must be a non-negative integer, got {value!r}")
+    return int(value)
+
+
 def check_n_obstacles(n) -> int | None:
     """Validate an ``n_obstacles`` argument (``None``: the preset's own count), naming it in the error."""
-    if n is None:
-        return None
-    if isinstance(n, bool) or int(n) != n or n < 0:
-        raise ValueError(f"n_obstacles must be a non-negative integer, got {n!r}")
-    return int(n)
+    return None if n is None else check_count(n, "n_obstacles")
 
 
 __all__ = ["MAX_COORDINATE", "MIN_LENGTH", "Obstacle", "Scenario", "check_delta_d", "check_n_obstacles"]

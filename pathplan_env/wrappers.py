@@ -190,7 +190,8 @@ class EpisodeSchedule(gym.Wrapper):
 
     Episode ``k`` uses the seed ``first_seed + k * stride``. Its Δd is drawn uniformly from
     ``delta_d`` (a number or a ``(low, high)`` range) and its obstacle count uniformly from
-    ``n_obstacles`` (an int or an inclusive ``(low, high)`` range), by a generator seeded with that
+    ``n_obstacles`` (an int or an inclusive ``(low, high)`` range; ``None`` for a scenario with its own
+    obstacles, e.g. a paper case), by a generator seeded with that
     episode seed, so every episode is reproducible from its seed alone, whatever the vector env's
     autoreset order. Seeds or options passed to ``reset`` explicitly take precedence.
     ``set_delta_d`` changes the range (for a curriculum); ``restart`` rewinds the stream. A
@@ -211,10 +212,12 @@ class EpisodeSchedule(gym.Wrapper):
         self.episodes = 0
         self.last_seed: int | None = None  # the seed of the episode being played
         self.set_delta_d(delta_d)
-        low, high = (n_obstacles, n_obstacles) if np.isscalar(n_obstacles) else n_obstacles
-        if not 0 <= int(low) <= int(high):
-            raise ValueError(f"n_obstacles must be an int >= 0 or a range (low, high) with 0 <= low <= high, got {n_obstacles!r}")
-        self.n_obstacles_range = (int(low), int(high))
+        self.n_obstacles_range: tuple[int, int] | None = None  # None: the scenario's own obstacles
+        if n_obstacles is not None:
+            low, high = (n_obstacles, n_obstacles) if np.isscalar(n_obstacles) else n_obstacles
+            if not 0 <= int(low) <= int(high):
+                raise ValueError(f"n_obstacles must be an int >= 0, a range (low, high) with 0 <= low <= high, or None, got {n_obstacles!r}")
+            self.n_obstacles_range = (int(low), int(high))
 
     def set_delta_d(self, delta_d) -> None:
         low, high = (delta_d, delta_d) if np.isscalar(delta_d) else delta_d
@@ -237,8 +240,7 @@ class EpisodeSchedule(gym.Wrapper):
         delta_d = float(draw.uniform(*self.delta_d_range))
         if self.static_fraction and draw.uniform() < self.static_fraction:
             delta_d = 0.0
-        episode = {
-            "delta_d": delta_d,
-            "n_obstacles": int(draw.integers(self.n_obstacles_range[0], self.n_obstacles_range[1] + 1)),
-        }
+        episode = {"delta_d": delta_d}
+        if self.n_obstacles_range is not None:  # the paper's cases and hand-built scenes have their own
+            episode["n_obstacles"] = int(draw.integers(self.n_obstacles_range[0], self.n_obstacles_range[1] + 1))
         return self.env.reset(seed=int(seed), options={**episode, **(options or {})})

@@ -70,7 +70,7 @@ def replan_times(repeats: int) -> dict[str, float]:
     pso = agents.make("pso", env, seed=0, population=BUDGET_PARTICLES, iterations=BUDGET_ITERATIONS)
     abc = agents.make("abc", env, seed=0, population=BUDGET_PARTICLES, iterations=BUDGET_ITERATIONS)
     scene = paper_case_3_scene(pso)
-    lo, hi = pso._lo, pso._hi
+    lo, hi = pso.search_lo, pso.search_hi
     objective = lambda X: evaluate(X, scene)[0]
     rng = np.random.default_rng(0)
     times = {

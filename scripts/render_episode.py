@@ -23,6 +23,7 @@ from PIL import Image
 import agents
 import pathplan_env  # noqa: F401
 from agents.evaluation import resolve_agents, resolve_scenarios
+from agents.evaluation.episodes import episode_policy
 from agents.evaluation.records import OWN_SPEEDS, delta_text
 
 
@@ -70,14 +71,14 @@ def main(argv=None) -> None:
     args.agent, args.scenario, delta = spec.label, scenario.label, delta_text(args.delta_d)  # labels in captions
 
     env = gym.make("DynamicObstacle-v0", scenario=scenario.scenario, delta_d=args.delta_d, n_obstacles=args.n_obstacles, render_mode="rgb_array")
-    agent = spec.build(env, args.seed)
     obs, info = env.reset(seed=args.seed)
+    agent, act = episode_policy(spec, env, args.seed)  # as the harness plays it: the rendered episode is the scored one
     view = env.unwrapped  # the renderer draws the agent's planned path and a caption when they are set
     view.caption = f"{args.agent}, {args.scenario}, Δd = {delta}, seed {args.seed}: step 0"
     frames = [env.render()]
     step = 0
     while True:
-        action, _ = agent.predict(obs, deterministic=True)
+        action = act(obs)
         view.planned_path = getattr(agent, "last_plan", None)  # an agent of one's own need not have one
         obs, _, terminated, truncated, info = env.step(action)
         step += 1

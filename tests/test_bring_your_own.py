@@ -248,3 +248,29 @@ def test_register_refuses_names_the_command_line_could_not_name():
     assert "not-callable" not in agents.available()
     with pytest.raises(ValueError, match="unknown agent"):
         agents.base.factory("no-such-agent")
+
+
+def test_review_cases_a_new_user_would_hit(tmp_path):
+    """A factory that takes only a seed; one Agent object on two arenas; one preset under two labels."""
+    import gymnasium as gym
+
+    import agents
+    from agents.evaluation import evaluate
+
+    class SeedOnly:
+        def __init__(self, seed=None):
+            self.seed = seed
+
+        def predict(self, observation, state=None, episode_start=None, deterministic=False):
+            return np.zeros(2, np.float32), state
+
+    rows = evaluate([SeedOnly], ["random"], [0.5], 2, tmp_path / "a", limit=False, plots=False)
+    assert rows[0]["agent"] == "SeedOnly" and rows[0]["episodes"] == 2
+    made_for_random = agents.make("straight", gym.make("DynamicObstacle-v0"))
+    with pytest.raises(ValueError, match="another arena"):
+        evaluate([made_for_random], ["random", "paper-case-1"], [0.5], 2, tmp_path / "b", limit=False, plots=False)
+    run = tmp_path / "c"
+    rows = evaluate(["straight"], [("x", "random"), ("y", "random")], [0.5], 2, run, limit=False, plots=False)
+    assert sorted((r["scenario"], r["episodes"]) for r in rows) == [("x", 2), ("y", 2)]
+    rows = evaluate(["straight"], [("x", "random"), ("y", "random")], [0.5], 2, run, limit=False, plots=False, resume=True)
+    assert sorted((r["scenario"], r["episodes"]) for r in rows) == [("x", 2), ("y", 2)]  # neither dropped on resume

@@ -3,6 +3,7 @@ model trained through plain stable-baselines3 with VecNormalize scores in the ha
 the user's own loop, episode by episode; the algorithm and the observations are read from the model."""
 
 import csv
+import json
 from pathlib import Path
 
 import gymnasium as gym
@@ -246,3 +247,14 @@ def _copy(path: Path, folder: Path) -> Path:
     folder.mkdir(parents=True, exist_ok=True)
     (folder / path.name).write_bytes(path.read_bytes())
     return folder / path.name
+
+
+def test_ppo_with_a_hand_written_sidecar_still_gets_its_statistics(tmp_path, flat_model):
+    """The issue's case: a JSON written by hand beside a VecNormalize model used to route it to the
+    sidecar loader, which ignored the statistics; only train_rl.py's own sidecar does now."""
+    run = tmp_path / "run"
+    model = _copy(flat_model, run)
+    _copy(flat_model.parent / "vecnormalize.pkl", run)
+    model.with_suffix(".json").write_text(json.dumps({"algo": "ppo", "k_nearest": 8}))
+    agent = agents.make("ppo", gym.make("DynamicObstacle-v0"), path=model)
+    assert type(agent).__name__ == "SB3Agent" and "vecnormalize.pkl" in agent.description

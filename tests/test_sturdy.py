@@ -76,6 +76,12 @@ def test_non_numeric_actions_raise_value_error(action):
         (lambda: gym.make("DynamicObstacle-v0", reward_proximity=1e308), "reward_proximity"),
         (lambda: gym.make("DynamicObstacle-v0", proximity_distance=5e-324), "proximity_distance"),
         (lambda: gym.make("DynamicObstacle-v0", n_obstacles=1000), "n_obstacles"),
+        (lambda: gym.make("DynamicObstacle-v0", n_obstacles=math.inf), "n_obstacles"),  # not an OverflowError
+        (lambda: gym.make("DynamicObstacle-v0", n_obstacles=[3]), "n_obstacles"),  # not a TypeError
+        (lambda: gym.make("DynamicObstacle-v0", n_obstacles=math.nan), "n_obstacles"),
+        (lambda: gym.make("DynamicObstacle-v0", max_obstacles=math.inf), "max_obstacles"),
+        (lambda: gym.make("DynamicObstacle-v0", proximity_distance=True), "proximity_distance"),
+        (lambda: gym.make("DynamicObstacle-v0", scenario={"bounds": (0, 0, 5, 5)}), "missing fields"),
         (lambda: gym.make("DynamicObstacle-v0", delta_d=4.0, scenario=Scenario(
             bounds=(0, 0, 20, 20), start=(1, 1), goal=(19, 19),
             obstacles=(Obstacle((5, 5), 1e-5), Obstacle((10, 10), 1.0))), ), "substeps"),  # fmt: skip

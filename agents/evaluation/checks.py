@@ -63,7 +63,7 @@ def check_run(agent_names, scenarios, deltas, episodes, *, seed=0, split="test",
     if split not in ("test", "validation"):
         raise ValueError(f"split must be 'test' or 'validation', got {split!r}")
     first_seed = (heldout_seeds if split == "test" else validation_seeds)(seed, 1)[0]
-    first_env = None
+    first_env, scene_envs = None, []
     for spec in scenario_specs:
         for delta_d in deltas:
             try:
@@ -73,7 +73,12 @@ def check_run(agent_names, scenarios, deltas, episodes, *, seed=0, split="test",
                 raise ValueError(f"scenario {spec.label!r} at delta_d {delta_text(delta_d)}: {error}") from None
             if first_env is None:
                 first_env = env
+        scene_envs.append(env)
     overrides = resolve_agent_kwargs(agents, agent_kwargs or {}, first_env)
+    for agent in agents:  # an object is used as given: it must fit every scene (an Agent's arena)
+        if agent.kind == "object":
+            for env in scene_envs[1:]:
+                agent.build(env, 0)
     return CheckedRun(agents, scenario_specs, deltas, overrides)
 
 

@@ -37,6 +37,7 @@ from typing import Any
 
 from pathplan_env import PRESETS, Scenario
 from pathplan_env.scenario_files import SUFFIXES, is_scenario_file, load_scenario
+from pathplan_env.wrappers import EnvFacts
 
 _LABELLED = re.compile(r"([\w.+-]+)=(.+)")  # "label=entry": a label has no '/', ':', '@' or '='
 AGENT_FORMS = "a registered name, name@model_path, module:attribute or path/to/file.py:attribute"
@@ -75,6 +76,10 @@ class AgentSpec:
         if not _is_factory(target):
             if overrides:
                 raise TypeError(f"an object with predict takes no keyword arguments, got {sorted(overrides)}")
+            facts = getattr(target, "facts", None)  # an agents.Agent made on one env maps actions through its arena
+            if facts is not None and facts != EnvFacts.of(env):
+                raise ValueError(f"agent {self.label!r} was made for another arena ({facts.bounds}) than this scenario's "
+                                 f"{EnvFacts.of(env).bounds}: pass its class or name instead, so each scenario builds its own")
             return copy.deepcopy(target)  # as given, whatever the previous episode left in it
         agent = _call_factory(target, env, seed, {**self.kwargs, **(overrides or {})})
         if self.name is not None:
@@ -101,7 +106,7 @@ class ScenarioSpec:
         """The run's record of it (``--resume``): a preset's name, or the label and a digest of the
         scene, so an edited scene file is not resumed from the episodes of the old one."""
         if isinstance(self.scenario, str):
-            return self.scenario
+            return self.scenario if self.label == self.scenario else f"{self.label}#{self.scenario}"
         text = json.dumps(self.definition, sort_keys=True)
         return f"{self.label}#{hashlib.sha1(text.encode()).hexdigest()[:12]}"
 
@@ -230,7 +235,8 @@ def _call_factory(factory, env, seed, kwargs):
         return factory(env, seed=seed, **kwargs)
     kinds = {p.kind for p in parameters}
     takes_seed = inspect.Parameter.VAR_KEYWORD in kinds or any(p.name == "seed" for p in parameters)
-    takes_env = bool(kinds & {inspect.Parameter.POSITIONAL_ONLY, inspect.Parameter.POSITIONAL_OR_KEYWORD, inspect.Parameter.VAR_POSITIONAL})
+    positional = (inspect.Parameter.POSITIONAL_ONLY, inspect.Parameter.POSITIONAL_OR_KEYWORD)
+    takes_env = inspect.Parameter.VAR_POSITIONAL in kinds or any(p.kind in positional and p.name != "seed" for p in parameters)
     seeded = {"seed": seed} if takes_seed else {}
     return factory(env, **seeded, **kwargs) if takes_env else factory(**seeded, **kwargs)
 

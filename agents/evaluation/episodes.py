@@ -59,6 +59,27 @@ def _seed_global_generators(seed: int) -> None:
         sys.modules["torch"].manual_seed(seed)
 
 
+def episode_policy(agent: AgentSpec, env, seed: int, overrides: dict | None = None):
+    """``(policy, act)``: the agent built for one episode on ``env`` (just reset with ``seed``), as
+    every episode of the harness starts (global generators seeded, the agent's ``reset()``), and
+    ``act(observation) -> action``, which calls its ``predict`` as SB3's ``evaluate_policy`` does:
+    ``state`` carried over, ``episode_start`` true on the first step only (``render_episode`` uses
+    it too, so a rendered episode is the scored one)."""
+    _seed_global_generators(seed)
+    policy = agent.build(env, seed, overrides)
+    if callable(getattr(policy, "reset", None)):
+        policy.reset()  # the agent's memory of any earlier episode
+    call = _policy(policy)
+    memory = {"state": None, "episode_start": np.ones(1, dtype=bool)}
+
+    def act(observation):
+        action, memory["state"] = call(observation, memory["state"], memory["episode_start"])
+        memory["episode_start"] = np.zeros(1, dtype=bool)
+        return action
+
+    return policy, act
+
+
 def run_episode(agent: AgentSpec | str, scenario: ScenarioSpec | str, delta_d: float | None, episode: int, seed: int,
                 n_obstacles: int | None, overrides: dict) -> EpisodeResult:  # fmt: skip
     """One episode of one agent (the unit of work every executor runs). ``agent`` and ``scenario``
@@ -72,21 +93,15 @@ def run_episode(agent: AgentSpec | str, scenario: ScenarioSpec | str, delta_d: f
     warm_up(agent, scenario, delta_d, n_obstacles, overrides)
     env = gym.make("DynamicObstacle-v0", scenario=scenario.scenario, delta_d=delta_d, n_obstacles=n_obstacles)
     obs, info = env.reset(seed=seed)
-    _seed_global_generators(seed)
-    policy = agent.build(env, seed, overrides)
-    if callable(getattr(policy, "reset", None)):
-        policy.reset()  # the agent's memory of any earlier episode
-    act = _policy(policy)
+    policy, act = episode_policy(agent, env, seed, overrides)
     scenario_of_episode = env.unwrapped.scenario
     reference = shortest_path_to_goal(scenario_of_episode)  # to the goal's disc, where an episode ends
     plan_ms, clearance, steps, discomfort_steps, discomfort_sum = [], math.inf, 0, 0, 0.0
-    state, episode_start = None, np.ones(1, dtype=bool)  # as SB3's evaluate_policy: True on the first step only
     while True:
         begin = time.perf_counter()
-        action, state = act(obs, state, episode_start)
+        action = act(obs)
         own = getattr(policy, "last_plan_seconds", None)  # an agent's own timing leaves out its bookkeeping
         plan_ms.append(1e3 * (own if isinstance(own, (int, float)) else time.perf_counter() - begin))
-        episode_start = np.zeros(1, dtype=bool)
         obs, _, terminated, truncated, info = env.step(action)
         clearance = min(clearance, info["min_clearance"])
         steps += 1

@@ -79,6 +79,8 @@ def evaluate(
         except ImportError:
             raise ValueError('--backend ray needs Ray: pip install -e ".[ray]"') from None
 
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
+        raise ValueError(f"workers must be an integer >= 1, got {workers!r}")  # before it decides the transport
     transport = "ray" if backend == "ray" else "process" if workers > 1 else None
     run = check_run(agent_names, scenarios, deltas, episodes, seed=seed, split=split, n_obstacles=n_obstacles,
                     workers=workers, agent_kwargs=agent_kwargs, transport=transport)  # fmt: skip

@@ -82,8 +82,9 @@ class MetaheuristicAgent(Agent):
             warm_start = variant == "paper" and (optimizer == "abc" or self.predictive)
         self.warm_start = bool(warm_start)
         fit_xmin, fit_ymin, fit_xmax, fit_ymax = self.arena.robot_box  # waypoints where the robot's disc fits
-        self._lo = np.tile([fit_xmin, fit_ymin], self.n_waypoints)
-        self._hi = np.tile([fit_xmax, fit_ymax], self.n_waypoints)
+        #: The optimisers' search box over the k waypoints (x1, y1, x2, y2, ...): where the disc fits.
+        self.search_lo = np.tile([fit_xmin, fit_ymin], self.n_waypoints)
+        self.search_hi = np.tile([fit_xmax, fit_ymax], self.n_waypoints)
         self.last_history: np.ndarray | None = None
         self.last_history_evaluations: np.ndarray | None = None  # evaluations spent at each history entry
         self.last_cost = self.last_penalty = np.nan
@@ -105,11 +106,11 @@ class MetaheuristicAgent(Agent):
     def straight_line(self, robot: np.ndarray, goal: np.ndarray) -> np.ndarray:
         """The k waypoints evenly spaced on the straight line to the goal (2k,)."""
         fractions = np.arange(1, self.n_waypoints + 1) / (self.n_waypoints + 1)
-        return np.clip((robot + fractions[:, None] * (goal - robot)).ravel(), self._lo, self._hi)
+        return np.clip((robot + fractions[:, None] * (goal - robot)).ravel(), self.search_lo, self.search_hi)
 
     def optimize(self, scene: Scene, memory: dict[str, Any]) -> np.ndarray:
         """One replan: the best candidate (2k,). Records ``last_cost``, ``last_penalty``, ``last_history``."""
-        return self.run_optimizer(scene, self._lo, self._hi, memory, self.straight_line(scene.robot, scene.goal))
+        return self.run_optimizer(scene, self.search_lo, self.search_hi, memory, self.straight_line(scene.robot, scene.goal))
 
     def run_optimizer(self, problem: Scene | TimedScene, lo: np.ndarray, hi: np.ndarray, memory: dict[str, Any],
                       seeds: np.ndarray) -> np.ndarray:  # fmt: skip

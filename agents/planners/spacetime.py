@@ -177,8 +177,8 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         super().__init__(env, seed, optimizer=optimizer, variant="paper", predictive=True, **kwargs)
         self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction)
         speeds = self.n_waypoints + 1
-        self._timed_lo = np.concatenate([self._lo, np.zeros(speeds)])
-        self._timed_hi = np.concatenate([self._hi, np.ones(speeds)])
+        self._timed_lo = np.concatenate([self.search_lo, np.zeros(speeds)])
+        self._timed_hi = np.concatenate([self.search_hi, np.ones(speeds)])
 
     def timed_problem(self, obs) -> TimedScene:
         """The space-time objective's problem for one observation (:func:`~agents.planners.objective.timed_path_cost`)."""
@@ -196,7 +196,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         k = self.n_waypoints
         rows = [np.concatenate([self.straight_line(robot, goal), np.ones(k + 1)])]
         for angle in 2 * np.pi * np.arange(self.n_dodges) / self.n_dodges:
-            w1 = np.clip(robot + self.dodge_steps * self.step_length * np.array([np.cos(angle), np.sin(angle)]), self._lo[:2], self._hi[:2])
+            w1 = np.clip(robot + self.dodge_steps * self.step_length * np.array([np.cos(angle), np.sin(angle)]), self.search_lo[:2], self.search_hi[:2])
             rest = w1 + np.arange(1, k)[:, None] / k * (goal - w1)
             rows.append(np.concatenate([w1, rest.ravel(), np.ones(k + 1)]))
         return np.clip(np.array(rows), self._timed_lo, self._timed_hi)

@@ -75,7 +75,7 @@ def heading_moves(n_headings: int, speed_fractions) -> np.ndarray:
 
 @numba.njit(cache=True, inline="always")
 def _to_action(tx, ty, box):
-    """``Agent.waypoint_to_action`` for one point, to the bit (float64, then float32): its
+    """``Arena.waypoint_to_action`` for one point, to the bit (float64, then float32): its
     ``2 (x - xmin) / width`` equals ``(x - xmin) / half_width``, scaling by 2 being exact."""
     a = np.empty(2, np.float32)
     a[0] = min(max((tx - box.xmin) / box.half_width - 1.0, -1.0), 1.0)

@@ -341,6 +341,16 @@ class SB3Agent(Agent):
         return np.asarray(action, dtype=np.float32), state
 
 
+def _written_by_train_rl(path: Path) -> bool:
+    """Whether ``train_rl.py``'s sidecar lies beside the model (a JSON with its keys), not just any JSON."""
+    sidecar = path.with_suffix(".json")
+    try:
+        metadata = json.loads(sidecar.read_text())
+    except (OSError, ValueError):
+        return False
+    return isinstance(metadata, dict) and {"k_nearest", "command"} <= set(metadata)
+
+
 _ANNOUNCED: set[str] = set()
 
 
@@ -357,7 +367,7 @@ def trained_agent(env, seed: int | None = None, algo: str = "ppo", path: str | P
     comes (:class:`SB3Agent`; ``options``: its ``vecnormalize``)."""
     if path is None and options:
         raise TypeError(f"{sorted(options)} apply to a model file given by path=")
-    if path is None or (Path(path).with_suffix(".json").is_file() and not options):
+    if path is None or (not options and _written_by_train_rl(Path(path)) and not any(p.is_file() for p in statistics_beside(path))):
         return RLAgent(env, seed=seed, algo=algo, path=path, backend=backend)
     if backend == "numpy":
         raise ValueError(f"backend: 'numpy' runs a model exported by scripts/export_policy.py, with its sidecar {Path(path).with_suffix('.json')}")

@@ -15,14 +15,13 @@ otherwise cross the robot between two steps unseen).
 from __future__ import annotations
 
 import math
-import weakref
 
 import numba
 import numpy as np
 import pymunk
 import pymunk.batch
-from pymunk._util import _dead_ref
 
+from .chipmunk import READ_BODY, WRITE_BODY, BatchBuffer, each_body, ffi, set_mass, space_add, space_remove, space_step
 from .geometry import NO_CONTACT, swept_contact
 from .scenarios import Scenario
 
@@ -34,12 +33,6 @@ MAX_SUBSTEP_DISPLACEMENT = 0.5
 #: by far more; numerical drift of a free body is far less).
 SPEED_TOLERANCE = 1e-9
 _STATE_FIELDS = pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.VELOCITY
-_batch = pymunk.batch  # its ffi and lib, for the per-substep read below
-_space_step, _each_body, _set_mass = _batch.lib.cpSpaceStep, _batch.lib.cpSpaceEachBody, _batch.lib.cpBodySetMass
-_add_body, _add_shape = _batch.lib.cpSpaceAddBody, _batch.lib.cpSpaceAddShape
-_remove_body, _remove_shape = _batch.lib.cpSpaceRemoveBody, _batch.lib.cpSpaceRemoveShape
-_READ_BODY = _batch.ffi.addressof(_batch.lib, "pmSpaceBodyGetIteratorFuncBatched")
-_WRITE_BODY = _batch.ffi.addressof(_batch.lib, "pmSpaceBodySetIteratorFuncBatched")
 
 
 _NO_ROBOT = np.empty(0)  # what humans see of an invisible robot
@@ -118,49 +111,6 @@ def _clearance(state, radii, x, y, robot_radius):
     return gap
 
 
-def _space_add(space: pymunk.Space, objects) -> None:
-    """``space.add(*objects)`` for bodies and shapes new to it, in the same order (bodies first), with
-    pymunk's bookkeeping mirrored but without its per-object checks and property layers: adding
-    and removing were a fifth of a reset. Nothing is added while the space steps."""
-    ref, c_space = weakref.ref(space), space._space
-    for body in objects:
-        if isinstance(body, pymunk.Body):
-            object.__setattr__(body, "_space", ref)
-            space._bodies[body] = None
-            space._bodies_to_check.add(body)
-            _add_body(c_space, body._body)
-    for shape in objects:
-        if not isinstance(shape, pymunk.Body):
-            object.__setattr__(shape, "_space", ref)
-            space._shapes[shape] = None
-            _add_shape(c_space, shape._shape)
-
-
-def _space_remove(space: pymunk.Space, objects) -> None:
-    """``space.remove(*objects)`` (in order) for objects in the space, as :func:`_space_add` adds them."""
-    c_space = space._space
-    for o in objects:
-        object.__setattr__(o, "_space", _dead_ref)
-        if isinstance(o, pymunk.Body):
-            space._bodies_to_check.discard(o)
-            _remove_body(c_space, o._body)
-            del space._bodies[o]
-        else:
-            space._removed_shapes[o] = None
-            _remove_shape(c_space, o._shape)
-            del space._shapes[o]
-
-
-class _BatchBuffer(pymunk.batch.Buffer):
-    """``pymunk.batch.Buffer`` that frees its C arrays when collected (pymunk 7.3's never does: a new
-    one per reset leaked 0.5 KiB each)."""
-
-    def __del__(self, _free_floats=_batch.lib.pmFloatArrayFree, _free_ints=_batch.lib.pmIntArrayFree):
-        # the functions are bound here: at interpreter exit the module's globals may be gone
-        _free_floats(self._float_arr)
-        _free_ints(self._int_arr)
-
-
 class World:
     """One episode's simulation: a new pymunk space built from a :class:`Scenario` at every reset.
 
@@ -198,13 +148,13 @@ class World:
         walls = recycle._release_walls(scenario.bounds) if recycle is not None else None
         self._walls = walls if walls is not None else self._make_walls(scenario.bounds, thickness=max(scenario.arena_diagonal, 1.0))
         self._walls_bounds = scenario.bounds
-        _space_add(self.space, self._walls)
+        space_add(self.space, self._walls)
         spare = recycle._release_moving_obstacles() if recycle is not None else []
         objects, self._moving = [], []
         for r, speed in zip(self.radii.tolist(), top_speeds.tolist()):  # a goal-directed obstacle is dynamic even at rest
             if speed > 0 and spare:
                 body, shape = spare.pop()
-                _set_mass(body._body, r * r)  # Body.mass's own C call, without its Python property layers
+                set_mass(body._body, r * r)  # Body.mass's own C call, without its Python property layers
                 shape.unsafe_set_radius(r)
             else:
                 if speed > 0:
@@ -216,9 +166,9 @@ class World:
             objects += (body, shape)
             self._moving.append(speed > 0)
         self._objects = objects
-        _space_add(self.space, objects)
+        space_add(self.space, objects)
         # positions and velocities in one batch write; the obstacles are the space's first bodies
-        self._buffer = _BatchBuffer()
+        self._buffer = BatchBuffer()
         self._attach_state_view()
         self._pymunk_state[:, :2] = data["positions"]
         self._pymunk_state[:, 2:] = data["velocities"]
@@ -265,11 +215,11 @@ class World:
           space's spatial index at the origin as new bodies do (the index's structure decides the
           order of contacts, which decides the last bits of every bounce).
         """
-        _space_remove(self.space, self._objects[1::2])
-        _space_step(self.space._space, 1e-9)  # (the walls left already, or stay for the old space's end)
+        space_remove(self.space, self._objects[1::2])
+        space_step(self.space._space, 1e-9)  # (the walls left already, or stay for the old space's end)
         self._pymunk_state[:] = 0.0
         self._write_bodies()
-        _space_remove(self.space, self._objects[0::2])
+        space_remove(self.space, self._objects[0::2])
         pairs = [(self._objects[2 * i], self._objects[2 * i + 1]) for i, moving in enumerate(self._moving) if moving]
         self._objects, self._moving = [], []
         return pairs
@@ -299,7 +249,7 @@ class World:
         sixth of a reset)."""
         if self._walls_bounds != tuple(bounds):
             return None
-        _space_remove(self.space, self._walls)
+        space_remove(self.space, self._walls)
         walls, self._walls = self._walls, ()
         return walls
 
@@ -313,7 +263,7 @@ class World:
         The per-substep read calls the C iterator behind ``pymunk.batch.get_space_bodies`` with a
         request struct built once here: the wrapper's per-call set-up cost more than the read itself.
         """
-        self._request = _batch.ffi.new("pmBatchedData *")
+        self._request = ffi.new("pmBatchedData *")
         self._request.fields = _STATE_FIELDS.value
         self._request.floatArray = self._buffer._float_arr
         self._request.intArray = self._buffer._int_arr
@@ -325,13 +275,13 @@ class World:
     def _read_bodies(self) -> None:
         """``pymunk.batch.get_space_bodies`` into the view."""
         self._buffer._float_arr.num = 0  # Buffer.clear() for the float array, the only one we use
-        _each_body(self.space._space, _READ_BODY, self._request)
+        each_body(self.space._space, READ_BODY, self._request)
 
     def _write_bodies(self) -> None:
         """``pymunk.batch.set_space_bodies`` from the view (it reads the array from its start)."""
         array = self._buffer._float_arr
         filled, array.num = array.num, 0
-        _each_body(self.space._space, _WRITE_BODY, self._request)
+        each_body(self.space._space, WRITE_BODY, self._request)
         array.num = filled
 
     # -- stepping ------------------------------------------------------------------------------
@@ -367,9 +317,9 @@ class World:
             # Chipmunk's step itself: Space.step's extra work (deferred adds and removals, post-step
             # callbacks, mass checks of new bodies) never applies here: nothing is added or removed
             # after construction, and every dynamic body has mass r^2 > 0 and infinite moment
-            _space_step(space, dt / n)
+            space_step(space, dt / n)
             array.num = 0  # _read_bodies, inlined on the hot path
-            _each_body(space, _READ_BODY, request)
+            each_body(space, READ_BODY, request)
             if moving:
                 bx, by = (x0 + dx, y0 + dy) if k == n else (x0 + (k / n) * dx, y0 + (k / n) * dy)
                 if k == goal_substep:  # the gap counts up to the goal only (before the states move on)
@@ -417,9 +367,9 @@ class World:
         for s in range(1, n_steps * n + 1):  # World.step's obstacle half, substep for substep
             if self._drivers and (s - 1) % n == 0:
                 self._steer()  # (a visible robot is seen resting where it is)
-            _space_step(space, dt / n)
+            space_step(space, dt / n)
             array.num = 0
-            _each_body(space, _READ_BODY, request)
+            each_body(space, READ_BODY, request)
             _, _, restored = _finish_substep(self.obstacle_state, self._pymunk_state, 0.0, 0.0, 0.0, 0.0, 0.0, self.radii, self._speeds)
             if restored:
                 self._write_bodies()
@@ -443,5 +393,5 @@ class World:
 
     def __setstate__(self, state):
         self.__dict__.update(state)
-        self._buffer = _BatchBuffer()
+        self._buffer = BatchBuffer()
         self._attach_state_view()

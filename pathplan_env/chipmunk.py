@@ -1,0 +1,63 @@
+"""pymunk driven through Chipmunk directly, where pymunk's Python layers cost a reset or a step
+too much: bodies and shapes added and removed with pymunk's bookkeeping mirrored, a batch buffer
+that frees its C arrays, and the C functions the world calls every substep. Tested against pymunk's
+own views (``tests/test_sturdy.py``: recycled worlds keep pymunk's bookkeeping)."""
+
+from __future__ import annotations
+
+import weakref
+
+import pymunk
+import pymunk.batch
+from pymunk._util import _dead_ref
+
+_batch = pymunk.batch  # its ffi and lib
+space_step, each_body, set_mass = _batch.lib.cpSpaceStep, _batch.lib.cpSpaceEachBody, _batch.lib.cpBodySetMass
+add_body, add_shape = _batch.lib.cpSpaceAddBody, _batch.lib.cpSpaceAddShape
+remove_body, remove_shape = _batch.lib.cpSpaceRemoveBody, _batch.lib.cpSpaceRemoveShape
+READ_BODY = _batch.ffi.addressof(_batch.lib, "pmSpaceBodyGetIteratorFuncBatched")
+WRITE_BODY = _batch.ffi.addressof(_batch.lib, "pmSpaceBodySetIteratorFuncBatched")
+ffi = _batch.ffi
+
+
+def space_add(space: pymunk.Space, objects) -> None:
+    """``space.add(*objects)`` for bodies and shapes new to it, in the same order (bodies first), with
+    pymunk's bookkeeping mirrored but without its per-object checks and property layers: adding
+    and removing were a fifth of a reset. Nothing is added while the space steps."""
+    ref, c_space = weakref.ref(space), space._space
+    for body in objects:
+        if isinstance(body, pymunk.Body):
+            object.__setattr__(body, "_space", ref)
+            space._bodies[body] = None
+            space._bodies_to_check.add(body)
+            add_body(c_space, body._body)
+    for shape in objects:
+        if not isinstance(shape, pymunk.Body):
+            object.__setattr__(shape, "_space", ref)
+            space._shapes[shape] = None
+            add_shape(c_space, shape._shape)
+
+
+def space_remove(space: pymunk.Space, objects) -> None:
+    """``space.remove(*objects)`` (in order) for objects in the space, as :func:`space_add` adds them."""
+    c_space = space._space
+    for o in objects:
+        object.__setattr__(o, "_space", _dead_ref)
+        if isinstance(o, pymunk.Body):
+            space._bodies_to_check.discard(o)
+            remove_body(c_space, o._body)
+            del space._bodies[o]
+        else:
+            space._removed_shapes[o] = None
+            remove_shape(c_space, o._shape)
+            del space._shapes[o]
+
+
+class BatchBuffer(pymunk.batch.Buffer):
+    """``pymunk.batch.Buffer`` that frees its C arrays when collected (pymunk 7.3's never does: a new
+    one per reset leaked 0.5 KiB each)."""
+
+    def __del__(self, _free_floats=_batch.lib.pmFloatArrayFree, _free_ints=_batch.lib.pmIntArrayFree):
+        # the functions are bound here: at interpreter exit the module's globals may be gone
+        _free_floats(self._float_arr)
+        _free_ints(self._int_arr)

@@ -7,7 +7,9 @@ Compares every ``summary.json`` cell and every ``episodes.csv`` row of two ``eva
 path length, clearance, seeds, counts and the rates and means of them) exactly; the floats computed
 from the exact static shortest path (shortest_path, path_length_ratio, spl, common_length_ratio),
 whose last bits differ between CPUs, within a relative tolerance (--rtol); the planning times not
-at all. A field the harness has gained since is compared exactly and named in the output.
+at all. A field the harness has gained since is compared exactly and named in the output. A run
+kept without its episodes.csv (reproduce_paper's tables) is compared cell by cell, and the output
+says so.
 """
 
 from __future__ import annotations

@@ -217,3 +217,18 @@ def test_the_library_refuses_a_bad_run_before_touching_a_recorded_one(tmp_path, 
     with pytest.raises(ValueError, match=named):
         evaluate_library(**run)
     assert (tmp_path / "episodes.jsonl").read_text() == "a finished run\n"
+
+
+def test_compare_runs_compares_a_run_kept_without_episodes_cell_by_cell_and_says_so(tiny_run, tmp_path, capsys):
+    """reproduce_paper's committed tables keep summary.json only: cells are compared, and the output says episodes were not."""
+    import compare_runs
+
+    (tmp_path / "summary.json").write_text((tiny_run / "summary.json").read_text())
+    assert compare_runs.main([str(tiny_run), str(tmp_path)]) == 0
+    assert "episodes not compared: no episodes.csv in" in capsys.readouterr().out
+    summary = json.loads((tiny_run / "summary.json").read_text())
+    summary["results"][0]["success_rate"] += 0.25
+    (tmp_path / "summary.json").write_text(json.dumps(summary))
+    assert compare_runs.main([str(tiny_run), str(tmp_path)]) == 1
+    with pytest.raises(SystemExit, match="no summary.json"):
+        compare_runs.main([str(tiny_run), str(tmp_path / "nowhere")])

@@ -52,6 +52,7 @@ class RunDiff:
     largest_rel: float = 0.0  # the largest relative difference of a derived float found within rtol
     differing: int = 0  # cells and episodes missing from one run or differing in a field
     differences: list[str] = field(default_factory=list)  # the first of them, one line each
+    cells_only: str = ""  # why episodes were not compared (a run without episodes.csv), or ""
 
     @property
     def equal(self) -> bool:
@@ -65,7 +66,7 @@ class RunDiff:
                                                    f"{self.largest_rel:.2g}), " if derived else "") + "timings ignored"
         text += "".join(f"; {', '.join(names)} {what}" for names, what in (
             (self.unclassified, "compared exactly (unclassified)"), (self.ignored, "ignored as asked")) if names)  # fmt: skip
-        return text
+        return text + (f"; episodes not compared: {self.cells_only}" if self.cells_only else "")
 
 
 def _nan(x) -> bool:
@@ -132,18 +133,20 @@ def diff_runs(first, second, ignore=(), limit: int = 20, rtol: float = RTOL) -> 
     if not (0 <= rtol < 1):  # also refuses NaN
         raise ValueError(f"rtol: {rtol} is not a relative tolerance in [0, 1)")
     for run in (first, second):
-        for name in ("summary.json", "episodes.csv"):
-            if not (run / name).is_file():
-                raise ValueError(f"{run}: no {name} (an evaluate() output directory holds both)")
+        if not (run / "summary.json").is_file():
+            raise ValueError(f"{run}: no summary.json (not an evaluate() output directory)")
+    # a run committed without its episodes (reproduce_paper's tables keep summary.json only): cells only, said
+    without = [str(run) for run in (first, second) if not (run / "episodes.csv").is_file()]
     cells = _read_cells(first), _read_cells(second)
-    episodes = _read_episodes(first), _read_episodes(second)
+    episodes = ({}, {}) if without else (_read_episodes(first), _read_episodes(second))
     names = {k for rows in cells + episodes for row in rows.values() for k in row}
     unknown = sorted(set(ignore) - names)
     if unknown:  # a typo would otherwise leave the field compared
         raise ValueError(f"ignore: no field named {', '.join(unknown)} in {first} or {second}")
     skip = set(TIMING_FIELDS) | set(ignore)
     unclassified = sorted(names - skip - set(EXACT_FIELDS) - set(DERIVED_FIELDS))
-    diff = RunDiff(len(cells[0]), len(episodes[0]), rtol=rtol, ignored=tuple(ignore), unclassified=tuple(unclassified))
+    diff = RunDiff(len(cells[0]), len(episodes[0]), rtol=rtol, ignored=tuple(ignore), unclassified=tuple(unclassified),
+                   cells_only=f"no episodes.csv in {' and '.join(without)}" if without else "")  # fmt: skip
     differences = _compare("cell", *cells, skip, rtol, diff) + _compare("episode", *episodes, skip, rtol, diff)
     diff.differing, diff.differences = len(differences), differences[:limit]
     return diff

@@ -242,8 +242,8 @@ class DynamicObstacleEnv(gym.Env):
         if options:  # validated in full before anything changes: a rejected reset leaves the env as it was
             spec, delta_d, n_obstacles = self._parse_options(options)
             self._check_fits(self._make_scenario(spec, np.random.default_rng(0), n_obstacles, delta_d), physics=True)
-        generator = self._np_random
-        saved = (generator, self._np_random_seed, None if generator is None else generator.bit_generator.state)
+        generator = self._np_random  # a seed replaces it; without one the draws below advance it
+        saved = (generator, self._np_random_seed, generator.bit_generator.state if seed is None and generator is not None else None)
         super().reset(seed=seed)
         try:  # a draw can still fail (a random scene that does not fit): then the generator is put back
             scenario = self._make_scenario(spec, self.np_random, n_obstacles, delta_d)
@@ -251,7 +251,7 @@ class DynamicObstacleEnv(gym.Env):
             world = World(scenario, recycle=self._world)  # checks the substeps before it touches the old world
         except ValueError:
             self._np_random, self._np_random_seed = saved[0], saved[1]
-            if generator is not None:
+            if saved[2] is not None:
                 generator.bit_generator.state = saved[2]
             raise
         self._scenario_spec, self._delta_d, self._n_obstacles = spec, delta_d, n_obstacles
@@ -264,7 +264,7 @@ class DynamicObstacleEnv(gym.Env):
         self._path_length = 0.0
         self.action_type.reset(world, self.arena)
         # a stream of its own, spawned from the episode's seed: a noisy sensor never shifts the scenes
-        self.observation_type.reset(world, self.np_random.spawn(1)[0])
+        self.observation_type.reset(world, self.np_random.spawn(1)[0] if self.observation_type.draws else None)
         self.waypoint = None
         self.trail = [scenario.start]
         self._moves = []  # what a copy of this env replays

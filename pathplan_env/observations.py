@@ -29,6 +29,8 @@ class ObservationType:
 
     #: The name ``observation=`` takes (:data:`OBSERVATION_TYPES`).
     name = ""
+    #: Whether ``reset`` needs a random stream (a noisy sensor does): spawning one costs ~40 µs a reset.
+    draws = False
 
     def __init__(self, arena: Arena, dt: float, max_obstacles: int):
         self.arena, self.dt, self.max_obstacles = arena, float(dt), int(max_obstacles)
@@ -37,10 +39,10 @@ class ObservationType:
         """The observation space (built once, when the env is made)."""
         raise NotImplementedError
 
-    def reset(self, world, rng: np.random.Generator) -> None:
+    def reset(self, world, rng: np.random.Generator | None) -> None:
         """Called on every reset, after the episode's world is built and before its first observation
-        (``rng``: a stream of the type's own, spawned from the env's seed, for types that draw, e.g. a
-        noisy sensor; drawing from it never changes the episode. The state observation draws nothing)."""
+        (``rng``: for types with ``draws``, e.g. a noisy sensor, a stream of the type's own spawned
+        from the env's seed, so drawing from it never changes the episode; ``None`` for the others)."""
 
     def observe(self, world) -> Any:
         """The observation of the world as it is now (an element of :meth:`space`)."""
@@ -130,7 +132,7 @@ class StateObservation(ObservationType):
             }
         )
 
-    def reset(self, world, rng: np.random.Generator) -> None:
+    def reset(self, world, rng: np.random.Generator | None) -> None:
         """The episode's template: its goal and radii, padding rows at the arena's lower corner."""
         gx, gy = world.scenario.goal
         _fill_template(self._template, gx, gy, self.arena.low, world.radii, self.max_obstacles)

@@ -72,6 +72,33 @@ def test_a_registered_observation_type_needs_no_change_to_step(monkeypatch):
         check_env(env.unwrapped)
 
 
+class NoisyRobotObservation(RobotOnlyObservation):
+    """A test type that draws: the robot's position with noise from its own stream."""
+
+    name = "noisy-robot"
+    draws = True
+
+    def reset(self, world, rng):
+        assert isinstance(rng, np.random.Generator)
+        self.goal, self.rng = world.scenario.goal, rng
+
+    def observe(self, world):
+        return (np.array([*world.robot_xy, *self.goal]) + self.rng.normal(0.0, 0.01, 4)).astype(np.float32)
+
+
+def test_a_sensor_that_draws_never_changes_the_episode(monkeypatch):
+    """Its stream is spawned from the env's seed: the scenes and the physics stay the state env's,
+    and its noise repeats with the seed."""
+    monkeypatch.setitem(OBSERVATION_TYPES, NoisyRobotObservation.name, NoisyRobotObservation)
+    noisy, state = gym.make("DynamicObstacle-v0", observation="noisy-robot"), gym.make("DynamicObstacle-v0")
+    for seed in (1, None, None):  # a reset without a seed continues the env's stream in both
+        first, _ = noisy.reset(seed=seed)
+        state.reset(seed=seed)
+        assert noisy.unwrapped.scenario == state.unwrapped.scenario
+    again = gym.make("DynamicObstacle-v0", observation="noisy-robot")
+    np.testing.assert_array_equal(again.reset(seed=1)[0], noisy.reset(seed=1)[0])
+
+
 # -- the state observation's layout -------------------------------------------------------------
 @pytest.mark.parametrize("n_max", [1, 16])
 def test_the_state_layout_fits_the_space_and_every_entry_is_a_view_of_one_block(n_max):

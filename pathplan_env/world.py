@@ -123,6 +123,7 @@ class World:
         emptied) lends its moving obstacles' pymunk bodies and shapes, since creating them was the
         largest cost of a reset. The episode is the same bit for bit either way (tested)."""
         self.scenario = scenario
+        self._diagonal = scenario.arena_diagonal  # the widest gap there is, read every step
         data = scenario.arrays()
         self.radii = data["radii"]
         self.n_obstacles = len(self.radii)
@@ -308,7 +309,7 @@ class World:
         if self._drivers:
             self._steer()
         x0, y0 = self.robot_xy
-        min_gap, first_contact = self.scenario.arena_diagonal, NO_CONTACT  # no gap is wider: finite with no obstacles
+        min_gap, first_contact = self._diagonal, NO_CONTACT  # no gap is wider: finite with no obstacles
         ax, ay = x0, y0
         moving = True
         goal_substep = min(n, max(1, math.ceil(goal_fraction * n))) if goal_fraction <= 1.0 else 0

@@ -250,3 +250,10 @@ def test_crowdnav_scenes_pass_the_validating_constructor_unchanged(name):
         assert checked == fast
         for key, array in fast.arrays().items():
             assert np.array_equal(array, checked.arrays()[key])
+
+
+def test_the_orca_agent_validates_its_settings_as_the_humans_do():
+    env = gym.make("DynamicObstacle-v0", scenario="crowdnav-circle-crossing")
+    for bad, field in (({"time_horizon": 0}, "time_horizon"), ({"max_neighbors": 0}, "max_neighbors"), ({"neighbor_dist": -1}, "neighbor_dist")):
+        with pytest.raises(ValueError, match=field):
+            agents.make("orca", env, **bad)

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from pathplan_env.behaviours import SLOW_DOWN_TIME
-from pathplan_env.orca import ORCAAgentState, ORCAParams, orca_velocity, preferred_velocity
+from pathplan_env.behaviours import ORCA, SLOW_DOWN_TIME
+from pathplan_env.orca import ORCAAgentState, orca_velocity, preferred_velocity
 
 from ..base import Agent, real_obstacles
 
@@ -23,8 +23,9 @@ class ORCAAgent(Agent):
     def __init__(self, env, seed=None, *, neighbor_dist: float = 10.0, max_neighbors: int = 10, time_horizon: float = 5.0,
                  safety_space: float = 0.0, radius_padding: float = 0.01):  # fmt: skip
         super().__init__(env, seed)
-        self.neighbor_dist, self.max_neighbors, self.time_horizon = float(neighbor_dist), int(max_neighbors), float(time_horizon)
-        self.padding = float(radius_padding) + float(safety_space)
+        # the humans' ORCA settings record: validated (a ValueError naming the field), its params built once
+        self.orca = ORCA(neighbor_dist, max_neighbors, time_horizon, safety_space, radius_padding)
+        self.padding = self.orca.radius_padding + self.orca.safety_space
 
     def plan(self, obs, memory):
         x, y = (float(v) for v in obs["robot_position"])
@@ -34,7 +35,6 @@ class ORCAAgent(Agent):
         speed = self.facts.robot_speed
         pref_x, pref_y = preferred_velocity(x, y, gx, gy, min(speed, np.hypot(gx - x, gy - y) / self.facts.dt), SLOW_DOWN_TIME)
         robot = ORCAAgentState(x, y, vx, vy, self.facts.robot_radius + self.padding, speed, pref_x, pref_y)
-        params = ORCAParams(self.neighbor_dist, self.max_neighbors, self.time_horizon)
-        new_vx, new_vy = orca_velocity(robot, -1, centers, velocities, radii + self.padding, params, self.facts.dt)
+        new_vx, new_vy = orca_velocity(robot, -1, centers, velocities, radii + self.padding, self.orca.params, self.facts.dt)
         self.last_plan = np.array([[x, y], [x + new_vx * self.facts.dt, y + new_vy * self.facts.dt]])
         return self.last_plan[1]

@@ -175,6 +175,10 @@ class World:
         self._pymunk_state[:, 2:] = data["velocities"]
         self._write_bodies()
         self.obstacle_state = self._pymunk_state.copy()  # (N, 4): x, y, vx, vy
+        #: The scene's static geometry inside the arena as capsules, one row ``(x0, y0, x1, y1,
+        #: half_thickness)`` each (a wall; a polygon's edges with half-thickness 0). The arena's own
+        #: edges are not rows: they are ``scenario.bounds``. Read by sensors and planners.
+        self.static_segments = np.empty((0, 5))
 
     @staticmethod
     def _group_drivers(scenario: Scenario) -> list:

@@ -29,7 +29,8 @@ malformed file is a ``ValueError`` naming the file and the field.
 The occupied cells become polygons as ``Scenario.polygons`` takes them (simple, no holes, vertices
 counter-clockwise, the first not repeated): the union of the cells' row runs (shapely, exact), then
 shapely's topology-preserving simplification (so the boundary stays within ``tolerance`` cells of the
-pixels' edges), then each region with holes is cut open (see :func:`occupancy_polygons`).
+pixels' edges: half a cell by default), then each region with holes is cut open (see
+:func:`occupancy_polygons`).
 """
 
 from __future__ import annotations
@@ -61,6 +62,10 @@ UNKNOWN_AS = ("occupied", "free")
 #: Image formats opened (Pillow plugin names): PGM/PPM and PNG, nothing else.
 IMAGE_FORMATS = ("PPM", "PNG")
 
+#: Simplification (cells): half a cell keeps a lone pixel a square and every cell centre on its side of
+#: the boundary, and still straightens the one-pixel staircases of a SLAM map's slanted walls.
+DEFAULT_TOLERANCE = 0.5
+
 Polygon2 = tuple[tuple[float, float], ...]
 
 
@@ -72,7 +77,7 @@ class OccupancyMap:
     ``x in [x0 + j r, x0 + (j + 1) r]``, ``y in [y0 + i r, y0 + (i + 1) r]`` with ``r = resolution``
     and ``(x0, y0) = origin``; it holds the unknown cells too when they count as occupied. ``unknown``
     marks the cells that were neither free nor occupied in the image. ``polygons`` is the occupied
-    region as hole-free simple polygons (within one cell of the grid at the default tolerance).
+    region as hole-free simple polygons (within half a cell of the grid at the default tolerance).
     """
 
     name: str
@@ -155,7 +160,7 @@ class OccupancyMap:
         return np.zeros((0, 2))
 
 
-def occupancy_polygons(occupied, *, resolution: float = 1.0, origin=(0.0, 0.0), tolerance: float = 1.0) -> tuple[Polygon2, ...]:
+def occupancy_polygons(occupied, *, resolution: float = 1.0, origin=(0.0, 0.0), tolerance: float = DEFAULT_TOLERANCE) -> tuple[Polygon2, ...]:
     """The occupied cells of a grid (row 0 the lowest y) as hole-free simple polygons in world coordinates.
 
     The cells' row runs are unioned (shapely, in integer cell units: exact), simplified with
@@ -314,7 +319,7 @@ def _classify(pixels: np.ndarray, has_alpha: bool, spec: dict) -> tuple[np.ndarr
     return occupied, ~(occupied | free)
 
 
-def load_ros_map(path: str | Path, *, max_pixels: int = MAX_PIXELS, unknown: str = "occupied", tolerance: float = 1.0) -> OccupancyMap:
+def load_ros_map(path: str | Path, *, max_pixels: int = MAX_PIXELS, unknown: str = "occupied", tolerance: float = DEFAULT_TOLERANCE) -> OccupancyMap:
     """The :class:`OccupancyMap` a map_server YAML (and its PGM or PNG) describes.
 
     :param max_pixels: largest image (width x height) read; a larger one is refused from its header.

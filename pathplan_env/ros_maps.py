@@ -140,13 +140,15 @@ class OccupancyMap:
         for label, value in (("clearance", clearance), ("min_separation", min_separation)):
             if not (isinstance(value, (int, float, np.floating)) and math.isfinite(value) and value >= 0):
                 raise ValueError(f"sample_free: {label} must be a finite number >= 0, got {value!r}")
-        # a point in a cell is at most half a diagonal from its centre, and the simplified polygons
-        # may reach a cell further: cells beyond that margin cannot hold a valid point
+        if n == 0:
+            return np.zeros((0, 2))
+        # a point is within 0.71 cell of its cell's centre and the polygons within (tolerance - 0.5) cell
+        # of an occupied centre: with tolerance <= 1.5 cells no valid point lies in a cell left out here
         cells = np.flatnonzero(self._free_distance.ravel() >= clearance - 2.0 * self.resolution)
         avoid = [(np.asarray(p, dtype=float), float(d)) for p, d in avoid]
         chosen: list[np.ndarray] = []
         cols = self.occupied.shape[1]
-        for _ in range(max_batches if len(cells) and n else 0):
+        for _ in range(max_batches if len(cells) else 0):
             picks = cells[rng.integers(len(cells), size=64)]
             offsets = rng.random((64, 2))
             pts = np.column_stack([picks % cols + offsets[:, 0], picks // cols + offsets[:, 1]]) * self.resolution + self.origin
@@ -155,9 +157,7 @@ class OccupancyMap:
                     chosen.append(p)
                     if len(chosen) == n:
                         return np.array(chosen)
-        if len(chosen) < n:
-            raise ValueError(f"map {self.name!r}: found {len(chosen)} of {n} free points with clearance {clearance:g} m")
-        return np.zeros((0, 2))
+        raise ValueError(f"map {self.name!r}: found {len(chosen)} of {n} free points with clearance {clearance:g} m")
 
 
 def occupancy_polygons(occupied, *, resolution: float = 1.0, origin=(0.0, 0.0), tolerance: float = DEFAULT_TOLERANCE) -> tuple[Polygon2, ...]:

@@ -4,6 +4,10 @@
     kwargs = scenario_kwargs(occupancy, np.random.default_rng(seed), n_obstacles=8, obstacle_radius=0.3)
     Scenario(**kwargs, name="maze")                      # once Scenario has ``polygons``
 
+A ``maze`` preset is meant to be built so: load the shipped map once (a load takes ~0.1 s; the
+record is immutable, so a module-level cache is safe), then per seed draw ``scenario_kwargs`` from
+the seeded generator and set the obstacles' speed from Δd as the other presets do.
+
 The YAML holds ``image`` (absolute, or relative to the YAML), ``resolution`` (m per cell),
 ``origin`` (``[x, y, yaw]``: the lower-left corner of the lower-left cell), ``occupied_thresh``,
 ``free_thresh``, ``negate`` and optionally ``mode``; a map made with a SLAM package (map_saver's
@@ -15,9 +19,9 @@ y. Choices of ours, each documented where it is made:
 
 * **unknown** cells count as occupied (``unknown="occupied"``, the safe choice: a robot never plans
   through space nobody saw); ``unknown="free"`` is there for maps drawn with grey floors.
-* **mode** ``trinary`` (the default) and ``scale`` give the same geometry: scale's graded cells
-  (map_server's 1-99) count as unknown. ``raw`` is refused: its pixels are occupancy numbers with no
-  thresholds, so it has no free/occupied split.
+* **mode** ``trinary`` (the default) or ``scale``: they differ only in the alpha rule above, since
+  scale's graded cells (map_server's 1-99) count as unknown here. ``raw`` is refused: its pixels are
+  occupancy numbers with no thresholds, so it has no free/occupied split.
 * **yaw** must be 0 (a ``ValueError`` otherwise): map_server's own docs say most of ROS ignores it.
 * **palette images** are read as their colours (map_server would average the palette indices).
 

@@ -21,6 +21,8 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
+from pathplan_env.ros_maps import load_ros_map
+
 OCCUPIED, FREE, UNKNOWN = 0, 254, 205
 RESOLUTION = 0.05
 ROOT = Path(__file__).resolve().parents[1]
@@ -123,6 +125,14 @@ def main(argv=None) -> None:
     draw_maze(args.out)
     draw_office(args.out)
     print(f"wrote {', '.join(sorted(p.name for p in args.out.iterdir()))} in {args.out}")
+    for name in ("maze", "office"):  # what the loader makes of them (the simulator checks every edge)
+        occupancy = load_ros_map(args.out / f"{name}.yaml")
+        xmin, ymin, xmax, ymax = occupancy.bounds
+        rows, cols = occupancy.occupied.shape
+        print(
+            f"{name}: {xmax - xmin:.1f} x {ymax - ymin:.1f} m, {cols} x {rows} cells, "
+            f"{len(occupancy.polygons)} polygons, {sum(map(len, occupancy.polygons))} vertices"
+        )
 
 
 if __name__ == "__main__":

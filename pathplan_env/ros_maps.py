@@ -195,7 +195,7 @@ def occupancy_polygons(occupied, *, resolution: float = 1.0, origin=(0.0, 0.0), 
     out = []
     for piece in pieces:
         ring = orient(piece, 1.0).exterior.coords[:-1]  # counter-clockwise, the closing vertex dropped
-        out.append(tuple((x0 + x * resolution, y0 + y * resolution) for x, y in ring))
+        out.append(tuple((round(x0 + x * resolution, 9), round(y0 + y * resolution, 9)) for x, y in ring))  # 0.15, not 0.15000000000000002
     return tuple(out)
 
 
@@ -274,15 +274,8 @@ def _parse_meta(meta: dict, path: Path) -> dict:
     mode = meta.get("mode", "trinary")
     if mode not in MODES:
         raise _fail(path, "mode", f"must be one of {MODES} ('raw' has no free/occupied thresholds), got {mode!r}")
-    return {
-        "image": meta["image"],
-        "resolution": resolution,
-        "origin": (origin[0], origin[1]),
-        "occupied_thresh": occupied_thresh,
-        "free_thresh": free_thresh,
-        "negate": bool(negate),
-        "mode": mode,
-    }
+    fields = {"image": meta["image"], "resolution": resolution, "origin": (origin[0], origin[1]), "mode": mode, "negate": bool(negate)}
+    return {**fields, "occupied_thresh": occupied_thresh, "free_thresh": free_thresh}
 
 
 def _read_pixels(path: Path, image_path: Path, max_pixels: int) -> tuple[np.ndarray, bool]:
@@ -366,15 +359,8 @@ def load_shipped_map(name: str, **kwargs) -> OccupancyMap:
 
 
 def scenario_kwargs(
-    occupancy: OccupancyMap,
-    rng: np.random.Generator,
-    *,
-    n_obstacles: int = 0,
-    obstacle_radius: float = 0.3,
-    obstacle_speed: float = 0.0,
-    robot_radius: float = 0.2,
-    margin: float = 0.1,
-    min_start_goal_distance: float | None = None,
+    occupancy: OccupancyMap, rng: np.random.Generator, *, n_obstacles: int = 0, obstacle_radius: float = 0.3, obstacle_speed: float = 0.0,
+    robot_radius: float = 0.2, margin: float = 0.1, min_start_goal_distance: float | None = None,
 ) -> dict:
     """The keyword arguments of a ``Scenario`` on this map: ``bounds``, ``polygons``, ``start``, ``goal``
     and ``obstacles``, drawn from ``rng`` (deterministic for its state).
@@ -401,18 +387,10 @@ def scenario_kwargs(
     else:
         raise ValueError(f"scenario_kwargs: no start and goal {min_start_goal_distance:g} m apart on map {occupancy.name!r}")
     keep = robot_radius + obstacle_radius + margin
-    centres = occupancy.sample_free(
-        rng, n_obstacles, obstacle_radius + margin, avoid=[(start, keep), (goal, keep)], min_separation=2 * obstacle_radius + margin
-    )
+    avoid = [(start, keep), (goal, keep)]
+    centres = occupancy.sample_free(rng, n_obstacles, obstacle_radius + margin, avoid=avoid, min_separation=2 * obstacle_radius + margin)
     headings = rng.uniform(0.0, 2.0 * math.pi, size=n_obstacles)
-    obstacles = tuple(
-        Obstacle(center=(float(x), float(y)), radius=obstacle_radius, velocity=(obstacle_speed * math.cos(a), obstacle_speed * math.sin(a)))
-        for (x, y), a in zip(centres, headings)
-    )
-    return {
-        "bounds": occupancy.bounds,
-        "polygons": occupancy.polygons,
-        "start": (float(start[0]), float(start[1])),
-        "goal": (float(goal[0]), float(goal[1])),
-        "obstacles": obstacles,
-    }
+    velocities = obstacle_speed * np.column_stack([np.cos(headings), np.sin(headings)]) + 0.0  # + 0.0: no -0.0 at rest
+    obstacles = tuple(Obstacle(center=tuple(map(float, c)), radius=obstacle_radius, velocity=tuple(map(float, v))) for c, v in zip(centres, velocities))
+    start, goal = tuple(map(float, start)), tuple(map(float, goal))
+    return {"bounds": occupancy.bounds, "polygons": occupancy.polygons, "start": start, "goal": goal, "obstacles": obstacles}

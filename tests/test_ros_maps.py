@@ -69,7 +69,9 @@ def test_shipped_maps_load_as_few_exact_hole_free_polygons(name):
     check_polygons(occupancy.polygons)
     assert 1 <= len(occupancy.polygons) <= 30 and sum(map(len, occupancy.polygons)) <= 300  # the simulator checks every edge
     # drawn with rectangles: simplification changes nothing, the polygons are the cells exactly
-    assert union(occupancy).area == pytest.approx(occupancy.occupied.sum() * occupancy.resolution**2, rel=1e-9)
+    cells_area = occupancy.occupied.sum() * occupancy.resolution**2
+    assert union(occupancy).area == pytest.approx(cells_area, rel=1e-9)
+    assert sum(shapely.Polygon(p).area for p in occupancy.polygons) == pytest.approx(cells_area, rel=1e-9)  # no overlaps
     check_within(occupancy, 0.0)  # exact: every centre on its side
     xmin, ymin, xmax, ymax = occupancy.bounds
     assert xmax - xmin >= 9 and ymax - ymin >= 8

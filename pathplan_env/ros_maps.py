@@ -73,6 +73,10 @@ DEFAULT_TOLERANCE = 0.5
 Polygon2 = tuple[tuple[float, float], ...]
 
 
+class MapFileError(ValueError):
+    """A malformed map file: the message names the file and the field."""
+
+
 @dataclass(frozen=True, eq=False)
 class OccupancyMap:
     """A loaded map: the occupancy grid and its polygons, in world coordinates (m).
@@ -176,8 +180,7 @@ def occupancy_polygons(occupied, *, resolution: float = 1.0, origin=(0.0, 0.0), 
     occ = np.asarray(occupied, dtype=bool)
     if occ.ndim != 2:
         raise ValueError(f"occupancy_polygons: occupied must be a 2-D grid, got shape {occ.shape}")
-    if not (math.isfinite(tolerance) and tolerance >= 0):
-        raise ValueError(f"occupancy_polygons: tolerance must be a finite number of cells >= 0, got {tolerance!r}")
+    _check_tolerance(tolerance)
     padded = np.zeros((occ.shape[0], occ.shape[1] + 2), dtype=np.int8)
     padded[:, 1:-1] = occ
     steps = np.diff(padded, axis=1)
@@ -199,6 +202,11 @@ def occupancy_polygons(occupied, *, resolution: float = 1.0, origin=(0.0, 0.0), 
     return tuple(out)
 
 
+def _check_tolerance(tolerance) -> None:
+    if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float)) or not (math.isfinite(tolerance) and tolerance >= 0):
+        raise ValueError(f"tolerance must be a finite number of cells >= 0, got {tolerance!r}")
+
+
 def _cut_holes(polygon: Polygon) -> list[Polygon]:
     pieces, stack = [], [polygon]
     while stack:
@@ -218,8 +226,8 @@ def _cut_holes(polygon: Polygon) -> list[Polygon]:
 # --- reading the files --------------------------------------------------------------------------
 
 
-def _fail(path: Path, field: str, message: str) -> ValueError:
-    return ValueError(f"ROS map {path}: field {field!r} {message}")
+def _fail(path: Path, field: str, message: str) -> MapFileError:
+    return MapFileError(f"ROS map {path}: field {field!r} {message}")
 
 
 def _number(meta: dict, path: Path, field: str) -> float:
@@ -234,16 +242,16 @@ def _read_yaml(path: Path) -> dict:
 
     try:
         if path.stat().st_size > MAX_YAML_BYTES:
-            raise ValueError(f"ROS map {path}: larger than {MAX_YAML_BYTES} bytes; a map's YAML is a few lines")
+            raise MapFileError(f"ROS map {path}: larger than {MAX_YAML_BYTES} bytes; a map's YAML is a few lines")
         text = path.read_text()
     except (OSError, UnicodeDecodeError) as error:
-        raise ValueError(f"ROS map {path}: cannot be read ({getattr(error, 'strerror', None) or error})") from None
+        raise MapFileError(f"ROS map {path}: cannot be read ({getattr(error, 'strerror', None) or error})") from None
     try:
         meta = yaml.safe_load(text)  # no tags that build Python objects: a map file cannot run code
     except yaml.YAMLError as error:
-        raise ValueError(f"ROS map {path}: not valid YAML (or a tag safe_load refuses): {error}") from None
+        raise MapFileError(f"ROS map {path}: not valid YAML (or a tag safe_load refuses): {error}") from None
     if not isinstance(meta, dict):
-        raise ValueError(f"ROS map {path}: expected a mapping of map_server fields, got {type(meta).__name__}")
+        raise MapFileError(f"ROS map {path}: expected a mapping of map_server fields, got {type(meta).__name__}")
     return meta
 
 
@@ -296,9 +304,10 @@ def _read_pixels(path: Path, image_path: Path, max_pixels: int) -> tuple[np.ndar
                 elif image.mode not in ("L", "RGB", "RGBA"):
                     raise _fail(path, "image", f"{image_path.name} has mode {image.mode}: 8-bit grey, RGB or RGBA only")
                 pixels = np.asarray(image)
-    except ValueError:
+    except MapFileError:
         raise
-    except (OSError, SyntaxError, Image.DecompressionBombError, Image.DecompressionBombWarning) as error:
+    # what Pillow raises on a broken or hostile file (UnidentifiedImageError is an OSError)
+    except (OSError, SyntaxError, ValueError, EOFError, Image.DecompressionBombError, Image.DecompressionBombWarning) as error:
         raise _fail(path, "image", f"{image_path} cannot be read as a PGM or PNG ({error})") from None
     pixels = pixels.reshape(height, width, -1)
     return pixels, pixels.shape[2] in (2, 4)
@@ -329,6 +338,7 @@ def load_ros_map(path: str | Path, *, max_pixels: int = MAX_PIXELS, unknown: str
         raise ValueError(f"load_ros_map: unknown must be one of {UNKNOWN_AS}, got {unknown!r}")
     if isinstance(max_pixels, bool) or not isinstance(max_pixels, (int, np.integer)) or max_pixels < 1:
         raise ValueError(f"load_ros_map: max_pixels must be an integer >= 1, got {max_pixels!r}")
+    _check_tolerance(tolerance)
     spec = _parse_meta(_read_yaml(path), path)
     image_path = Path(spec["image"])
     if not image_path.is_absolute():
@@ -337,7 +347,7 @@ def load_ros_map(path: str | Path, *, max_pixels: int = MAX_PIXELS, unknown: str
         raise _fail(path, "image", f"names {image_path}, which is not a file")
     pixels, has_alpha = _read_pixels(path, image_path, max_pixels)
     occupied, unknown_cells = _classify(pixels, has_alpha, spec)
-    occupied, unknown_cells = occupied[::-1], unknown_cells[::-1]  # the image's top row is the map's largest y
+    occupied, unknown_cells = np.flipud(occupied).copy(), np.flipud(unknown_cells).copy()  # the image's top row is the largest y
     if unknown == "occupied":
         occupied = occupied | unknown_cells
     occupied.setflags(write=False)

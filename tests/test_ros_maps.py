@@ -12,6 +12,7 @@ from PIL import Image, ImageFile
 from pathplan_env import Scenario
 from pathplan_env.ros_maps import (
     SHIPPED_MAPS,
+    MapFileError,
     load_ros_map,
     load_shipped_map,
     occupancy_polygons,
@@ -267,3 +268,33 @@ def test_scenario_kwargs_draw_a_valid_scene_on_the_maze():
     # what Scenario takes today (polygons come with the static-geometry work) validates the rest
     scenario = Scenario(**{k: v for k, v in kwargs.items() if k != "polygons"}, name="maze")
     assert len(scenario.obstacles) == 6
+
+
+def test_truncated_or_corrupted_images_are_value_errors_naming_the_image(tmp_path):
+    """Seeded fuzzing: whatever Pillow raises on a broken PGM or PNG comes out as a MapFileError naming 'image'."""
+    rng = np.random.default_rng(0)
+    sources = {}
+    blocks = np.kron(rng.integers(0, 2, (3, 4)) * 254, np.ones((10, 10)))  # a few walls: the polygons stay cheap
+    for suffix, mode in ((".pgm", "L"), (".png", "L"), (".png", "RGBA"), (".png", "P")):
+        write_map(tmp_path, blocks, name="src")
+        image = Image.open(tmp_path / "src.pgm").convert(mode)
+        image.save(tmp_path / f"src{suffix}")
+        sources[(suffix, mode)] = (tmp_path / f"src{suffix}").read_bytes()
+    yamls = {suffix: write_map(tmp_path, blocks, name=f"fuzz{suffix[1:]}", image=f"x{suffix}") for suffix in (".pgm", ".png")}
+    outcomes = {"loaded": 0, "refused": 0}
+    for k in range(200):
+        suffix, data = list(sources)[k % 4][0], bytearray(list(sources.values())[k % 4])
+        if k % 3 == 0:
+            data = data[: rng.integers(len(data))]
+        else:  # flip bytes, in the header (k % 3 == 1) or anywhere
+            for _ in range(rng.integers(1, 8)):
+                data[rng.integers(min(len(data), 120) if k % 3 == 1 else len(data))] = rng.integers(256)
+        (tmp_path / f"x{suffix}").write_bytes(bytes(data))
+        path = yamls[suffix]
+        try:
+            load_ros_map(path, max_pixels=100_000)
+            outcomes["loaded"] += 1
+        except MapFileError as error:
+            assert "'image'" in str(error) and str(path) in str(error)
+            outcomes["refused"] += 1
+    assert outcomes["refused"] > 100 and outcomes["loaded"] > 10, outcomes  # both paths were exercised

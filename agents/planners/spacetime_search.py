@@ -83,26 +83,89 @@ def _to_action(tx, ty, box):
     return a
 
 
+@numba.njit(cache=True, inline="always")
+def _segment_distance(ax, ay, bx, by, px, py, qx, qy):
+    """Distance between the segments ``ab`` and ``pq`` (closest points clamped to both, as in
+    Ericson's *Real-Time Collision Detection*, 5.1.9)."""
+    ux, uy, vx, vy, wx, wy = bx - ax, by - ay, qx - px, qy - py, ax - px, ay - py
+    a, e, f = ux * ux + uy * uy, vx * vx + vy * vy, vx * wx + vy * wy
+    if a <= 0.0 and e <= 0.0:
+        return math.hypot(wx, wy)
+    if a <= 0.0:
+        s, t = 0.0, min(max(f / e, 0.0), 1.0)
+    else:
+        c = ux * wx + uy * wy
+        if e <= 0.0:
+            s, t = min(max(-c / a, 0.0), 1.0), 0.0
+        else:
+            b = ux * vx + uy * vy
+            denom = a * e - b * b
+            s = min(max((b * f - c * e) / denom, 0.0), 1.0) if denom > 0.0 else 0.0
+            t = (b * s + f) / e
+            if t < 0.0:
+                s, t = min(max(-c / a, 0.0), 1.0), 0.0
+            elif t > 1.0:
+                s, t = min(max((b - c) / a, 0.0), 1.0), 1.0
+    return math.hypot(wx + s * ux - t * vx, wy + s * uy - t * vy)
+
+
+class StepPaths(NamedTuple):
+    """Each obstacle's path in each step, summarised for the searches' broad phases (built once a
+    problem by :func:`step_paths`)."""
+
+    ends: np.ndarray  # (S, N, 4): the step's first and last centre
+    deviation: np.ndarray  # (S, N): farthest substep centre from the segment between those two
+
+
 @numba.njit(cache=True)
-def _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, gx, gy, goal_radius):
+def step_paths(traj, n):
+    """:class:`StepPaths` of a trajectory with ``n`` substeps a step."""
+    steps, count = (traj.shape[0] - 1) // n, traj.shape[1]
+    ends = np.empty((steps, count, 4))
+    deviation = np.zeros((steps, count))
+    for k in range(steps):
+        first = k * n
+        for o in range(count):
+            px, py, qx, qy = traj[first, o, 0], traj[first, o, 1], traj[first + n, o, 0], traj[first + n, o, 1]
+            ends[k, o, 0], ends[k, o, 1], ends[k, o, 2], ends[k, o, 3] = px, py, qx, qy
+            for j in range(1, n):
+                cx, cy = traj[first + j, o, 0], traj[first + j, o, 1]
+                deviation[k, o] = max(deviation[k, o], _segment_distance(cx, cy, cx, cy, px, py, qx, qy))
+    return StepPaths(ends, deviation)
+
+
+@numba.njit(cache=True)
+def _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, gx, gy, goal_radius, ends, deviation, close):
     """One step from ``(x, y)`` by ``(dx, dy)`` starting at substep ``first``: 1 goal, 0 free, -1 contact.
 
-    Only the obstacles ``near[:n_near]`` are tested (the others cannot reach the robot this step);
-    for those the test is the env's ``swept_contact``, pair by pair."""
+    Only the obstacles ``near[:n_near]`` are tested (the others cannot reach the robot this step),
+    and of those only the ones whose path this step (``ends``: its first and last centre; every
+    substep centre within ``deviation`` of that segment, hence every point between them too) comes
+    within the contact distance of the robot's straight move: the rest could not touch at any
+    instant, let alone at the same one. For the pairs left (written to ``close``) the test is the
+    env's ``swept_contact``, substep by substep."""
+    slack = 1e-9 * (1.0 + abs(x) + abs(y) + abs(dx) + abs(dy))  # far above rounding, far below a miss
+    pairs = 0
+    for q in range(n_near):
+        o = near[q]
+        if _segment_distance(x, y, x + dx, y + dy, ends[o, 0], ends[o, 1], ends[o, 2], ends[o, 3]) <= robot_radius + radii[o] + deviation[o] + slack:
+            close[pairs] = o
+            pairs += 1
     contact = 2.0
-    ax, ay = x, y
-    for j in range(1, n + 1):
-        bx, by = substep_point(x, dx, j, n), substep_point(y, dy, j, n)
-        a, b = traj[first + j - 1], traj[first + j]
-        t = 2.0
-        for q in range(n_near):
-            o = near[q]
-            _, t_hit = swept_pair(ax, ay, bx, by, robot_radius, a[o, 0], a[o, 1], b[o, 0], b[o, 1], radii[o])
-            t = min(t, t_hit)
-        if t <= 1.0:
-            contact = (j - 1 + t) / n
-            break
-        ax, ay = bx, by
+    if pairs > 0:
+        ax, ay = x, y
+        for j in range(1, n + 1):
+            bx, by = substep_point(x, dx, j, n), substep_point(y, dy, j, n)
+            a, b = traj[first + j - 1], traj[first + j]
+            t = 2.0
+            for q in range(pairs):
+                o = close[q]
+                _, t_hit = swept_pair(ax, ay, bx, by, robot_radius, a[o, 0], a[o, 1], b[o, 0], b[o, 1], radii[o])
+                t = min(t, t_hit)
+            if t <= 1.0:
+                contact = (j - 1 + t) / n
+                break
+            ax, ay = bx, by
     goal = reach_fraction(x, y, dx, dy, gx, gy, goal_radius)
     if contact <= 1.0 and contact <= goal:
         return -1
@@ -137,6 +200,8 @@ def search(problem, settings):
     node_ty = np.empty(cap)
     seen = numba.typed.Dict.empty(numba.types.int64, numba.types.int64)
     near = np.empty(radii.shape[0], np.int64)
+    close = np.empty(radii.shape[0], np.int64)
+    paths = step_paths(traj, n)
 
     def h(x, y):
         d = math.hypot(x - goal[0], y - goal[1]) - goal_radius
@@ -161,14 +226,14 @@ def search(problem, settings):
         expansions += 1
         x, y = node_x[i], node_y[i]
         first = k * n
-        # broad phase: an obstacle farther than the robot's step plus its own path this step is out of reach
+        # broad phase: every move stays within ``reach`` of (x, y), every obstacle within its
+        # deviation of its step's segment; one farther than both plus the contact distance is out of reach
         n_near = 0
+        ends, deviation = paths.ends[k], paths.deviation[k]
+        slack = 1e-9 * (1.0 + abs(x) + abs(y) + reach)
         for o in range(radii.shape[0]):
-            travel = 0.0
-            for j in range(1, n + 1):
-                travel += math.hypot(traj[first + j, o, 0] - traj[first + j - 1, o, 0], traj[first + j, o, 1] - traj[first + j - 1, o, 1])
-            gap = math.hypot(x - traj[first, o, 0], y - traj[first, o, 1]) - robot_radius - radii[o]
-            if gap <= reach + travel + 1e-9 * (1.0 + travel):
+            gap = _segment_distance(x, y, x, y, ends[o, 0], ends[o, 1], ends[o, 2], ends[o, 3]) - robot_radius - radii[o]
+            if gap <= reach + deviation[o] + slack:
                 near[n_near] = o
                 n_near += 1
         m_total = moves.shape[0] + 2
@@ -182,7 +247,8 @@ def search(problem, settings):
                 tx, ty = goal[0], goal[1]
             action = _to_action(tx, ty, box)
             _, _, _, dx, dy = robot_move(action, box, x, y, reach)
-            result = _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, goal[0], goal[1], goal_radius)
+            result = _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, goal[0], goal[1], goal_radius,
+                          ends, deviation, close)  # fmt: skip
             if result < 0:
                 continue
             nx, ny = x + dx, y + dy
@@ -227,10 +293,13 @@ def replay(problem, targets):
     x, y = start[0], start[1]
     steps = min(targets.shape[0], (traj.shape[0] - 1) // n)
     near = np.arange(radii.shape[0])
+    close = np.empty(radii.shape[0], np.int64)
+    paths = step_paths(traj, n)
     for k in range(steps):
         action = _to_action(targets[k, 0], targets[k, 1], box)
         _, _, _, dx, dy = robot_move(action, box, x, y, reach)
-        result = _fly(traj, k * n, n, x, y, dx, dy, robot_radius, radii, near, radii.shape[0], goal[0], goal[1], goal_radius)
+        result = _fly(traj, k * n, n, x, y, dx, dy, robot_radius, radii, near, radii.shape[0], goal[0], goal[1], goal_radius,
+                      paths.ends[k], paths.deviation[k], close)  # fmt: skip
         if result < 0:
             return k, False
         if result == 1:

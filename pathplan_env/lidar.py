@@ -23,12 +23,13 @@ stream is spawned.
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 from gymnasium import spaces
 
 from .arena import Arena
 from .observations import ObservationType, StateObservation, register_observation_type, state_layout
-from .raycast import beam_directions, scan_beams
+from .raycast import Beams, Scene, beam_directions, cast, scan_beams
 from .sensor_params import SensorParams
 
 _NO_SEGMENTS = np.empty((0, 5))
@@ -70,6 +71,8 @@ class LidarObservation(ObservationType):
         self._template = np.zeros(at.size + p.lidar_beams, np.float32)
         self._goal_at, self._scan_at = at.goal, at.size
         self._bounds = np.array(arena.bounds, np.float64)
+        #: What the fused kernel reads: the scan's start angle, step and range, then the arena's bounds.
+        self._sensor = np.zeros(7)
         self._ranges, self._hits = np.empty(p.lidar_beams), np.empty(p.lidar_beams, np.int64)
         self._heading, self._directions = None, None
         self._rng: np.random.Generator | None = None
@@ -88,17 +91,24 @@ class LidarObservation(ObservationType):
     def reset(self, world, rng: np.random.Generator | None) -> None:
         self._template[self._goal_at : self._goal_at + 2] = world.scenario.goal
         self._bounds[:] = world.scenario.bounds
+        self._sensor[3:] = self._bounds
         self._rng = rng
+
+    def _aim(self, world) -> None:
+        """The beams' directions, computed once per heading (today: once)."""
+        heading = robot_heading(world)
+        if heading != self._heading:
+            p = self.params
+            self._heading, self._directions = heading, beam_directions(heading, p.lidar_fov, p.lidar_beams)
+            self._sensor[:3] = heading - 0.5 * p.lidar_fov, p.lidar_fov / p.lidar_beams, p.lidar_range
 
     def scan(self, world) -> np.ndarray:
         """The exact ranges (float64, before noise and the float32 cast) of the world as it is now;
         ``self.hits`` then says what each beam hit (``pathplan_env.raycast.cast``)."""
-        p, heading = self.params, robot_heading(world)
-        if heading != self._heading:  # computed once per heading (today: once)
-            self._heading, self._directions = heading, beam_directions(heading, p.lidar_fov, p.lidar_beams)
-        (x, y), step = world.robot_xy, p.lidar_fov / p.lidar_beams
-        scan_beams(x, y, heading - 0.5 * p.lidar_fov, step, p.lidar_range, self._directions, world.obstacle_state, world.radii,
-              static_segments(world), self._bounds, self._ranges, self._hits)  # fmt: skip
+        self._aim(world)
+        (x, y), (start, step, reach) = world.robot_xy, self._sensor[:3].tolist()
+        scan_beams(x, y, start, step, reach, self._directions, world.obstacle_state, world.radii, static_segments(world), self._bounds,
+                   self._ranges, self._hits)  # fmt: skip
         return self._ranges
 
     @property
@@ -108,15 +118,16 @@ class LidarObservation(ObservationType):
         return self._hits
 
     def observe(self, world) -> dict[str, np.ndarray]:
-        ranges = self.scan(world)
-        block = self._template.copy()
         (x, y), (vx, vy) = world.robot_xy, world.robot_velocity_xy
-        block[0], block[1], block[2], block[3] = x, y, vx, vy
-        lidar = block[self._scan_at :]
         if self.draws:
-            lidar[:] = self._noisy(ranges)
-        else:
-            lidar[:] = ranges
+            block = self._template.copy()
+            block[0], block[1], block[2], block[3] = x, y, vx, vy
+            block[self._scan_at :] = self._noisy(self.scan(world))
+        else:  # one compiled call: the scan cast into a copy of the template, the robot's state written in
+            self._aim(world)
+            block = _exact_block(self._template, x, y, vx, vy, self._sensor, self._directions, world.obstacle_state, world.radii,
+                                 static_segments(world), self._hits)  # fmt: skip
+        lidar = block[self._scan_at :]
         position, velocity, goal = self._slices
         return {"robot_position": block[position], "robot_velocity": block[velocity], "goal": block[goal], "lidar": lidar}
 
@@ -127,6 +138,22 @@ class LidarObservation(ObservationType):
         if p.lidar_dropout > 0.0:
             ranges = np.where(rng.random(ranges.shape[0]) < p.lidar_dropout, p.lidar_range, ranges)
         return ranges
+
+
+@numba.njit(cache=True)
+def _exact_block(template, x, y, vx, vy, sensor, directions, centres, radii, segments, hits):
+    """A copy of the template with the robot's position and velocity (its first four entries) and
+    the scan (its last ``beams`` entries, float32) written in. ``sensor``: start, step, range, bounds."""
+    block = template.copy()
+    block[0], block[1], block[2], block[3] = x, y, vx, vy
+    count = directions.shape[0]
+    ranges = np.empty(count)
+    beams = Beams(x, y, sensor[0], sensor[1], sensor[2], directions)
+    cast(beams, Scene(centres, radii, segments, sensor[3], sensor[4], sensor[5], sensor[6]), ranges, hits)
+    offset = block.shape[0] - count
+    for i in range(count):
+        block[offset + i] = ranges[i]
+    return block
 
 
 __all__ = ["LidarObservation", "beam_endpoints", "robot_heading", "static_segments"]

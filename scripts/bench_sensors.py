@@ -10,7 +10,11 @@ the ``bench`` extra (``pip install ir-sim``); without it, its rows are skipped.
 Also: our 1,080-beam scan against our 360-beam one, and the env's steps/s with the 360-beam
 ``"lidar"`` observation and 5 obstacles beside CartPole-v1 (``scripts/bench_env.py``'s paired runs).
 
-    python scripts/bench_sensors.py [--repeats 7] [--steps 20000]
+``--planning N``: what partial observability costs a planner: success rates over N random scenes at
+Δd 0.5 (test seeds) on ``"state"`` and on ``"visible-state"`` (360° at 10 m, and at 3 m), beside the
+clairvoyant limit (``--limit``).
+
+    python scripts/bench_sensors.py [--repeats 7] [--steps 20000] [--planning 40 --agents astar-spacetime --limit]
 """
 
 from __future__ import annotations
@@ -27,6 +31,7 @@ from bench_env import best_of, paired_ratio
 
 import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
 from pathplan_env.raycast import beam_directions, scan_beams
+from pathplan_env.visibility import visible_obstacles
 
 SIZE, RANGE, BEAMS, ROBOT = 20.0, 10.0, 360, (10.0, 10.0)
 
@@ -113,8 +118,18 @@ def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--repeats", type=int, default=7)
     parser.add_argument("--steps", type=int, default=20000, help="env steps per timed run")
+    parser.add_argument("--planning", type=int, default=0, metavar="N", help="also run planners on N episodes per observation")
+    parser.add_argument("--agents", default="astar-spacetime", help="comma-separated planners for --planning")
+    parser.add_argument("--limit", action="store_true", help="with --planning: the clairvoyant oracle's success too")
+    parser.add_argument("--skip-timing", action="store_true", help="only --planning")
     args = parser.parse_args(argv)
+    if not args.skip_timing:
+        timing(args)
+    if args.planning:
+        planning(args.planning, args.agents.split(","), args.limit)
 
+
+def timing(args) -> None:
     scene = make_scene()
     ours = per_call_us(OurScan(scene, BEAMS), 500, args.repeats)
     print(f"Scene: 50 discs, 100 wall segments, {BEAMS} beams over 360°, {RANGE:g} m range (seed 0)\n")
@@ -136,6 +151,9 @@ def main(argv=None) -> None:
                   f"95th percentile {np.percentile(gap, 95):.2g} m, max {gap.max():.2g} m (its circles are 64-gons)")  # fmt: skip
     many = per_call_us(OurScan(scene, 3 * BEAMS), 500, args.repeats)
     print(f"\n| ours, {3 * BEAMS} beams | {many:.1f} | {many / ours:.2f}x our {BEAMS}-beam time (target < 3x) |")
+    visible, witness = np.zeros(len(scene[1]), np.bool_), np.zeros(len(scene[1]))
+    exact = per_call_us(lambda: visible_obstacles(*ROBOT, 0.0, 2 * math.pi, RANGE, *scene, visible, witness), 20, args.repeats)
+    print(f"| \"visible-state\"'s exact visibility, same scene ({visible.sum()} of 50 discs visible) | {exact:.0f} | |")
 
     reference = gym.make("CartPole-v1")
     cartpole = best_of(lambda: reference, args.steps, 3)
@@ -148,6 +166,30 @@ def main(argv=None) -> None:
     print("|---|---:|---:|---:|")
     print(f"| observation=\"lidar\", {BEAMS} beams | {rate:.0f} | {ratio:.3f}x | >= 0.35x |")
     print(f"| observation=\"state\" | {state_rate:.0f} | {state_ratio:.3f}x | |")
+
+
+def planning(episodes: int, names: list[str], limit: bool) -> None:
+    """Success rates on "state" and "visible-state" over the same test-split episodes."""
+    import agents
+    from pathplan_env.splits import heldout_seeds
+
+    seeds = heldout_seeds(0, episodes)
+    sensors = [("state", None), ("visible-state", 10.0), ("visible-state", 3.0)]  # (observation, a 360° sensor's range)
+    rates = {}
+    for name in (["oracle-clairvoyant"] if limit else []) + names:
+        for observation, reach in sensors if name != "oracle-clairvoyant" else sensors[:1]:
+            params = None if reach is None else {"lidar_range": reach}
+            env = gym.make("DynamicObstacle-v0", scenario="random", delta_d=0.5, observation=observation, observation_params=params)
+            agent = agents.make(name, env, seed=0)
+            rates[name, observation, reach] = np.mean([agents.rollout(agent, env, seed=seed)["is_success"] for seed in seeds])
+    top = rates.get(("oracle-clairvoyant", "state", None))
+    print(f"\nPlanning on what is seen: random scenes, Δd 0.5, {episodes} test episodes (seeds {seeds[0]}..{seeds[-1]})")
+    print("| agent | observation | success | ÷ clairvoyant limit |")
+    print("|---|---|---:|---:|")
+    for (name, observation, reach), rate in rates.items():
+        sensor = "" if reach is None else f" (360°, {reach:g} m)"
+        share = f"{rate / top:.3f}" if top else ""
+        print(f"| {name} | {observation}{sensor} | {rate:.3f} | {share} |")
 
 
 def _irsim_version() -> str:

@@ -356,3 +356,17 @@ def test_planners_run_unchanged_on_what_they_see():
         assert env.observation_space.contains(obs)
         if terminated or truncated:
             break
+
+
+@pytest.mark.parametrize("kwargs", [dict(observation="lidar", observation_params={"lidar_noise": 0.1}), dict(observation="visible-state")])
+def test_a_pickled_sensing_env_observes_as_the_original(kwargs):
+    import pickle
+
+    env = gym.make("DynamicObstacle-v0", delta_d=0.5, **kwargs).unwrapped
+    env.reset(seed=1)
+    for _ in range(5):
+        env.step(np.float32([0.3, 0.2]))
+    copy = pickle.loads(pickle.dumps(env))
+    a, b = env.step(np.float32([0.1, 0.9]))[0], copy.step(np.float32([0.1, 0.9]))[0]
+    for key in a:
+        np.testing.assert_array_equal(a[key], b[key])

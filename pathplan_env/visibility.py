@@ -138,24 +138,26 @@ def _seen_along(j, angle, x, y, max_range, others, n_others, centres, radii, seg
 
 
 @numba.njit(cache=True)
-def _pieces(alpha, w, heading, fov):
-    """The parts of ``[-w, w]`` (offsets from ``alpha``) inside the field of view: up to two intervals."""
-    out = np.empty((2, 2))
+def _pieces(alpha, w, heading, fov, out):
+    """The parts of ``[-w, w]`` (offsets from ``alpha``) inside the field of view, into ``out``
+    (up to two intervals); returns how many."""
     if fov >= TWO_PI:
         out[0, 0], out[0, 1] = -w, w
-        return out, 1
+        return 1
     centre, half, count = wrap(alpha - heading), 0.5 * fov, 0
     for turn in (-TWO_PI, 0.0, TWO_PI):
         lo, hi = max(-w, -half - centre + turn), min(w, half - centre + turn)
         if lo <= hi and count < 2:
             out[count, 0], out[count, 1] = lo, hi
             count += 1
-    return out, count
+    return count
 
 
 @numba.njit(cache=True)
-def _visible_disc(j, x, y, heading, fov, max_range, alpha, half, inside, near, centres, radii, segments):
-    """``(visible, a direction that sees it)`` for disc ``j``, the robot outside it."""
+def _visible_disc(j, x, y, heading, fov, max_range, spans, centres, radii, segments, others, pieces, angles):
+    """``(visible, a direction that sees it)`` for disc ``j``, the robot outside it (``others``,
+    ``pieces``, ``angles``: scratch space)."""
+    alpha, half, inside, near = spans
     d = math.hypot(centres[j, 0] - x, centres[j, 1] - y)
     r = radii[j]
     if d - r > max_range:
@@ -164,17 +166,19 @@ def _visible_disc(j, x, y, heading, fov, max_range, alpha, half, inside, near, c
     w = half[j]
     if tangent > max_range:  # only the part of its near side within range: up to where the circles meet
         w = math.acos(min(1.0, max(-1.0, (d * d + max_range * max_range - r * r) / (2.0 * d * max_range))))
+    n_pieces = _pieces(alpha[j], w, heading, fov, pieces)
+    if n_pieces == 0:
+        return False, 0.0
     far = min(max_range, tangent)  # no entry point of j lies farther
-    others = np.empty(alpha.shape[0], np.int64)
     n_others = 0
     for k in range(alpha.shape[0]):
         if k != j and near[k] < far and (inside[k] or abs(wrap(alpha[k] - alpha[j])) <= w + half[k] + 1e-9):
             others[n_others] = k
             n_others += 1
-    pieces, n_pieces = _pieces(alpha[j], w, heading, fov)
+    if n_others == 0:  # nothing can stand in front of it: the middle of its first piece in view sees it
+        return True, alpha[j] + 0.5 * (pieces[0, 0] + pieces[0, 1])
     for p in range(n_pieces):
         lo, hi = pieces[p, 0], pieces[p, 1]
-        angles = np.empty(2 + 10 * n_others)
         angles[0], angles[1], count = lo, hi, 2
         for i in range(n_others):
             k = others[i]
@@ -185,14 +189,14 @@ def _visible_disc(j, x, y, heading, fov, max_range, alpha, half, inside, near, c
                         angles[count] = u
                         count += 1
             count = _crossings(j, k, x, y, alpha[j], lo, hi, centres, radii, segments, angles, count)
-        angles = np.sort(angles[:count])
+        events = np.sort(angles[:count])
         for i in range(count - 1):  # between events first (robust), then the events themselves
-            u = 0.5 * (angles[i] + angles[i + 1])
+            u = 0.5 * (events[i] + events[i + 1])
             if _seen_along(j, alpha[j] + u, x, y, max_range, others, n_others, centres, radii, segments):
                 return True, alpha[j] + u
         for i in range(count):
-            if _seen_along(j, alpha[j] + angles[i], x, y, max_range, others, n_others, centres, radii, segments):
-                return True, alpha[j] + angles[i]
+            if _seen_along(j, alpha[j] + events[i], x, y, max_range, others, n_others, centres, radii, segments):
+                return True, alpha[j] + events[i]
     return False, 0.0
 
 
@@ -200,12 +204,14 @@ def _visible_disc(j, x, y, heading, fov, max_range, alpha, half, inside, near, c
 def visible_obstacles(x, y, heading, fov, max_range, centres, radii, segments, visible, witness):
     """Fill ``visible`` (bool, per disc; the module's definition) and ``witness`` (a ray direction
     that sees each visible disc, rad; 0 for the others)."""
-    alpha, half, inside, near = _spans(x, y, centres, radii, segments)
+    spans = _spans(x, y, centres, radii, segments)
+    shapes = spans[0].shape[0]
+    others, pieces, angles = np.empty(shapes, np.int64), np.empty((2, 2)), np.empty(2 + 10 * shapes)
     for j in range(radii.shape[0]):
-        if inside[j]:
+        if spans[2][j]:
             visible[j], witness[j] = True, heading
         else:
-            visible[j], witness[j] = _visible_disc(j, x, y, heading, fov, max_range, alpha, half, inside, near, centres, radii, segments)
+            visible[j], witness[j] = _visible_disc(j, x, y, heading, fov, max_range, spans, centres, radii, segments, others, pieces, angles)
 
 
 @numba.njit(cache=True)

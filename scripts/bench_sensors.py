@@ -161,11 +161,14 @@ def timing(args) -> None:
     make = lambda: gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=5, delta_d=0.25, **lidar)
     rate, ratio = paired_ratio(make, reference, args.steps, 5)
     state_rate, state_ratio = paired_ratio(lambda: gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=5, delta_d=0.25), reference, args.steps, 5)
+    seen = lambda: gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=5, delta_d=0.25, observation="visible-state")
+    seen_rate, seen_ratio = paired_ratio(seen, reference, args.steps, 5)
     print(f"\nCartPole-v1: {cartpole:.0f} steps/s (reference; ratios are medians of 5 paired runs)")
     print("| env, 5 obstacles | steps/s | ratio to CartPole-v1 | target |")
     print("|---|---:|---:|---:|")
     print(f"| observation=\"lidar\", {BEAMS} beams | {rate:.0f} | {ratio:.3f}x | >= 0.35x |")
     print(f"| observation=\"state\" | {state_rate:.0f} | {state_ratio:.3f}x | |")
+    print(f"| observation=\"visible-state\" (360°, 10 m) | {seen_rate:.0f} | {seen_ratio:.3f}x | |")
 
 
 def planning(episodes: int, names: list[str], limit: bool) -> None:

@@ -24,6 +24,7 @@ only the shapes whose spans overlap ``j``'s. Deterministic: no randomness at all
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -38,10 +39,46 @@ from .sensor_params import SensorParams
 _RANGE_SLACK = 1e-12
 
 
+class Sensor(NamedTuple):
+    """Where the robot looks from and how far: its centre, heading, field of view (rad), range (m)."""
+
+    x: float
+    y: float
+    heading: float
+    fov: float
+    max_range: float
+
+
+class Shapes(NamedTuple):
+    """What can be seen or stand in the way: discs (centres in the first two columns, radii), then
+    capsules (``(M, 5)`` rows as ``World.static_segments``); shape ``k >= N`` is capsule ``k - N``."""
+
+    centres: np.ndarray
+    radii: np.ndarray
+    segments: np.ndarray
+
+
+class Spans(NamedTuple):
+    """Each shape's directions from the robot: centre angle, half width, whether the robot is inside
+    it (then every direction), and its nearest distance."""
+
+    alpha: np.ndarray
+    half: np.ndarray
+    inside: np.ndarray
+    near: np.ndarray
+
+
+class Window(NamedTuple):
+    """The directions being searched: offsets in (lo, hi) from the angle ``alpha``."""
+
+    alpha: float
+    lo: float
+    hi: float
+
+
 @numba.njit(cache=True)
-def _spans(x, y, centres, radii, segments):
-    """Each shape's span from the robot (discs first, then capsules): centre angle, half width,
-    whether the robot is inside it, and its nearest distance."""
+def _spans(sensor, shapes):
+    x, y, centres, radii, segments = sensor.x, sensor.y, shapes.centres, shapes.radii, shapes.segments
     n, m = radii.shape[0], segments.shape[0]
     alpha, half, near = np.empty(n + m), np.empty(n + m), np.empty(n + m)
     inside = np.zeros(n + m, np.bool_)
@@ -52,31 +89,31 @@ def _spans(x, y, centres, radii, segments):
         s = segments[i]
         alpha[n + i], half[n + i], inside[n + i] = capsule_span(x, y, s[0], s[1], s[2], s[3], s[4])
         near[n + i] = max(math.sqrt(segment_distance_squared(x, y, s[0], s[1], s[2], s[3])) - s[4], 0.0)
-    return alpha, half, inside, near
+    return Spans(alpha, half, inside, near)
 
 
 @numba.njit(cache=True)
-def _entry(k, x, y, ux, uy, centres, radii, segments):
-    """Distance along the ray to shape ``k``'s boundary (0 from inside, inf if missed)."""
-    n = radii.shape[0]
+def _entry(shapes, k, sensor, ux, uy):
+    """Distance along the ray from the sensor to shape ``k``'s boundary (0 from inside, inf if missed)."""
+    n = shapes.radii.shape[0]
     if k < n:
-        return ray_disc(x, y, ux, uy, centres[k, 0], centres[k, 1], radii[k])
-    s = segments[k - n]
-    return ray_capsule(x, y, ux, uy, s[0], s[1], s[2], s[3], s[4])
+        return ray_disc(sensor.x, sensor.y, ux, uy, shapes.centres[k, 0], shapes.centres[k, 1], shapes.radii[k])
+    s = shapes.segments[k - n]
+    return ray_capsule(sensor.x, sensor.y, ux, uy, s[0], s[1], s[2], s[3], s[4])
 
 
 @numba.njit(cache=True)
-def _add_direction(px, py, x, y, alpha, lo, hi, out, count):
-    """Append the direction of point ``p`` (as an offset from ``alpha``) if it lies in (lo, hi)."""
-    u = wrap(math.atan2(py - y, px - x) - alpha)
-    if lo < u < hi:
+def _add_direction(px, py, sensor, window, out, count):
+    """Append the direction of point ``p`` (as an offset from ``window.alpha``) if it lies in the window."""
+    u = wrap(math.atan2(py - sensor.y, px - sensor.x) - window.alpha)
+    if window.lo < u < window.hi:
         out[count] = u
         count += 1
     return count
 
 
 @numba.njit(cache=True)
-def _circle_circle(cx, cy, r, qx, qy, q, x, y, alpha, lo, hi, out, count):
+def _circle_circle(cx, cy, r, qx, qy, q, sensor, window, out, count):
     """Directions of the points where circle ``(c, r)`` meets circle ``(q, q_r)``."""
     dx, dy = qx - cx, qy - cy
     d = math.hypot(dx, dy)
@@ -85,12 +122,12 @@ def _circle_circle(cx, cy, r, qx, qy, q, x, y, alpha, lo, hi, out, count):
     a = (d * d + r * r - q * q) / (2.0 * d)
     h = math.sqrt(max(r * r - a * a, 0.0))
     mx, my = cx + a * dx / d, cy + a * dy / d
-    count = _add_direction(mx - h * dy / d, my + h * dx / d, x, y, alpha, lo, hi, out, count)
-    return _add_direction(mx + h * dy / d, my - h * dx / d, x, y, alpha, lo, hi, out, count)
+    count = _add_direction(mx - h * dy / d, my + h * dx / d, sensor, window, out, count)
+    return _add_direction(mx + h * dy / d, my - h * dx / d, sensor, window, out, count)
 
 
 @numba.njit(cache=True)
-def _circle_segment(cx, cy, r, ax, ay, bx, by, x, y, alpha, lo, hi, out, count):
+def _circle_segment(cx, cy, r, ax, ay, bx, by, sensor, window, out, count):
     """Directions of the points where circle ``(c, r)`` meets the segment ``a``-``b``."""
     ex, ey = bx - ax, by - ay
     fx, fy = ax - cx, ay - cy
@@ -101,50 +138,50 @@ def _circle_segment(cx, cy, r, ax, ay, bx, by, x, y, alpha, lo, hi, out, count):
     root = math.sqrt(disc)
     for s in ((-qb - root) / qa, (-qb + root) / qa):
         if 0.0 <= s <= 1.0:
-            count = _add_direction(ax + s * ex, ay + s * ey, x, y, alpha, lo, hi, out, count)
+            count = _add_direction(ax + s * ex, ay + s * ey, sensor, window, out, count)
     return count
 
 
 @numba.njit(cache=True)
-def _crossings(j, k, x, y, alpha, lo, hi, centres, radii, segments, out, count):
-    """Directions in (lo, hi) where disc ``j``'s boundary meets shape ``k``'s."""
-    n, cx, cy, r = radii.shape[0], centres[j, 0], centres[j, 1], radii[j]
+def _crossings(shapes, j, k, sensor, window, out, count):
+    """Directions in the window where disc ``j``'s boundary meets shape ``k``'s."""
+    n, cx, cy, r = shapes.radii.shape[0], shapes.centres[j, 0], shapes.centres[j, 1], shapes.radii[j]
     if k < n:
-        return _circle_circle(cx, cy, r, centres[k, 0], centres[k, 1], radii[k], x, y, alpha, lo, hi, out, count)
-    ax, ay, bx, by, h = segments[k - n, 0], segments[k - n, 1], segments[k - n, 2], segments[k - n, 3], segments[k - n, 4]
+        return _circle_circle(cx, cy, r, shapes.centres[k, 0], shapes.centres[k, 1], shapes.radii[k], sensor, window, out, count)
+    ax, ay, bx, by, h = shapes.segments[k - n]
     if h == 0.0:
-        return _circle_segment(cx, cy, r, ax, ay, bx, by, x, y, alpha, lo, hi, out, count)
-    count = _circle_circle(cx, cy, r, ax, ay, h, x, y, alpha, lo, hi, out, count)
-    count = _circle_circle(cx, cy, r, bx, by, h, x, y, alpha, lo, hi, out, count)
+        return _circle_segment(cx, cy, r, ax, ay, bx, by, sensor, window, out, count)
+    count = _circle_circle(cx, cy, r, ax, ay, h, sensor, window, out, count)
+    count = _circle_circle(cx, cy, r, bx, by, h, sensor, window, out, count)
     length = math.hypot(bx - ax, by - ay)
     if length > 0.0:
         nx, ny = -(by - ay) * h / length, (bx - ax) * h / length
-        count = _circle_segment(cx, cy, r, ax + nx, ay + ny, bx + nx, by + ny, x, y, alpha, lo, hi, out, count)
-        count = _circle_segment(cx, cy, r, ax - nx, ay - ny, bx - nx, by - ny, x, y, alpha, lo, hi, out, count)
+        count = _circle_segment(cx, cy, r, ax + nx, ay + ny, bx + nx, by + ny, sensor, window, out, count)
+        count = _circle_segment(cx, cy, r, ax - nx, ay - ny, bx - nx, by - ny, sensor, window, out, count)
     return count
 
 
 @numba.njit(cache=True)
-def _seen_along(j, angle, x, y, max_range, others, n_others, centres, radii, segments):
-    """Whether the ray at ``angle`` reaches disc ``j`` within range before entering any other shape."""
+def _seen_along(shapes, j, angle, sensor, others, n_others):
+    """Whether the ray at ``angle`` reaches disc ``j`` within range before entering any of ``others``."""
     ux, uy = math.cos(angle), math.sin(angle)
-    t = _entry(j, x, y, ux, uy, centres, radii, segments)
-    if not t <= max_range * (1.0 + _RANGE_SLACK):
+    t = _entry(shapes, j, sensor, ux, uy)
+    if not t <= sensor.max_range * (1.0 + _RANGE_SLACK):
         return False
     for i in range(n_others):  # noqa: SIM110 (a loop: numba compiles no generator into all())
-        if _entry(others[i], x, y, ux, uy, centres, radii, segments) < t:
+        if _entry(shapes, others[i], sensor, ux, uy) < t:
             return False
     return True
 
 
 @numba.njit(cache=True)
-def _pieces(alpha, w, heading, fov, out):
+def _pieces(alpha, w, sensor, out):
     """The parts of ``[-w, w]`` (offsets from ``alpha``) inside the field of view, into ``out``
     (up to two intervals); returns how many."""
-    if fov >= TWO_PI:
+    if sensor.fov >= TWO_PI:
         out[0, 0], out[0, 1] = -w, w
         return 1
-    centre, half, count = wrap(alpha - heading), 0.5 * fov, 0
+    centre, half, count = wrap(alpha - sensor.heading), 0.5 * sensor.fov, 0
     for turn in (-TWO_PI, 0.0, TWO_PI):
         lo, hi = max(-w, -half - centre + turn), min(w, half - centre + turn)
         if lo <= hi and count < 2:
@@ -154,22 +191,22 @@ def _pieces(alpha, w, heading, fov, out):
 
 
 @numba.njit(cache=True)
-def _visible_disc(j, x, y, heading, fov, max_range, spans, centres, radii, segments, others, pieces, angles):
+def _visible_disc(shapes, j, sensor, spans, others, pieces, events):
     """``(visible, a direction that sees it)`` for disc ``j``, the robot outside it (``others``,
-    ``pieces``, ``angles``: scratch space)."""
+    ``pieces``, ``events``: scratch space)."""
     alpha, half, inside, near = spans
-    d = math.hypot(centres[j, 0] - x, centres[j, 1] - y)
-    r = radii[j]
-    if d - r > max_range:
+    d = math.hypot(shapes.centres[j, 0] - sensor.x, shapes.centres[j, 1] - sensor.y)
+    r, reach = shapes.radii[j], sensor.max_range
+    if d - r > reach:
         return False, 0.0
     tangent = math.sqrt(max(d * d - r * r, 0.0))
     w = half[j]
-    if tangent > max_range:  # only the part of its near side within range: up to where the circles meet
-        w = math.acos(min(1.0, max(-1.0, (d * d + max_range * max_range - r * r) / (2.0 * d * max_range))))
-    n_pieces = _pieces(alpha[j], w, heading, fov, pieces)
+    if tangent > reach:  # only the part of its near side within range: up to where the circles meet
+        w = math.acos(min(1.0, max(-1.0, (d * d + reach * reach - r * r) / (2.0 * d * reach))))
+    n_pieces = _pieces(alpha[j], w, sensor, pieces)
     if n_pieces == 0:
         return False, 0.0
-    far = min(max_range, tangent)  # no entry point of j lies farther
+    far = min(reach, tangent)  # no entry point of j lies farther
     n_others = 0
     for k in range(alpha.shape[0]):
         if k != j and near[k] < far and (inside[k] or abs(wrap(alpha[k] - alpha[j])) <= w + half[k] + 1e-9):
@@ -178,40 +215,42 @@ def _visible_disc(j, x, y, heading, fov, max_range, spans, centres, radii, segme
     if n_others == 0:  # nothing can stand in front of it: the middle of its first piece in view sees it
         return True, alpha[j] + 0.5 * (pieces[0, 0] + pieces[0, 1])
     for p in range(n_pieces):
-        lo, hi = pieces[p, 0], pieces[p, 1]
-        angles[0], angles[1], count = lo, hi, 2
+        window = Window(alpha[j], pieces[p, 0], pieces[p, 1])
+        events[0], events[1], count = window.lo, window.hi, 2
         for i in range(n_others):
             k = others[i]
             if not inside[k]:
                 for edge in (alpha[k] - half[k], alpha[k] + half[k]):
                     u = wrap(edge - alpha[j])
-                    if lo < u < hi:
-                        angles[count] = u
+                    if window.lo < u < window.hi:
+                        events[count] = u
                         count += 1
-            count = _crossings(j, k, x, y, alpha[j], lo, hi, centres, radii, segments, angles, count)
-        events = np.sort(angles[:count])
+            count = _crossings(shapes, j, k, sensor, window, events, count)
+        ordered = np.sort(events[:count])
         for i in range(count - 1):  # between events first (robust), then the events themselves
-            u = 0.5 * (events[i] + events[i + 1])
-            if _seen_along(j, alpha[j] + u, x, y, max_range, others, n_others, centres, radii, segments):
+            u = 0.5 * (ordered[i] + ordered[i + 1])
+            if _seen_along(shapes, j, alpha[j] + u, sensor, others, n_others):
                 return True, alpha[j] + u
         for i in range(count):
-            if _seen_along(j, alpha[j] + events[i], x, y, max_range, others, n_others, centres, radii, segments):
-                return True, alpha[j] + events[i]
+            if _seen_along(shapes, j, alpha[j] + ordered[i], sensor, others, n_others):
+                return True, alpha[j] + ordered[i]
     return False, 0.0
 
 
 @numba.njit(cache=True)
 def visible_obstacles(x, y, heading, fov, max_range, centres, radii, segments, visible, witness):
     """Fill ``visible`` (bool, per disc; the module's definition) and ``witness`` (a ray direction
-    that sees each visible disc, rad; 0 for the others)."""
-    spans = _spans(x, y, centres, radii, segments)
-    shapes = spans[0].shape[0]
-    others, pieces, angles = np.empty(shapes, np.int64), np.empty((2, 2)), np.empty(2 + 10 * shapes)
+    that sees each visible disc, rad; 0 for the others). Floats and arrays, not records: numba types
+    a NamedTuple argument in Python on every call (~10 µs), so the records are built here."""
+    sensor, shapes = Sensor(x, y, heading, fov, max_range), Shapes(centres, radii, segments)
+    spans = _spans(sensor, shapes)
+    count = spans.alpha.shape[0]
+    others, pieces, events = np.empty(count, np.int64), np.empty((2, 2)), np.empty(2 + 10 * count)
     for j in range(radii.shape[0]):
-        if spans[2][j]:
+        if spans.inside[j]:
             visible[j], witness[j] = True, heading
         else:
-            visible[j], witness[j] = _visible_disc(j, x, y, heading, fov, max_range, spans, centres, radii, segments, others, pieces, angles)
+            visible[j], witness[j] = _visible_disc(shapes, j, sensor, spans, others, pieces, events)
 
 
 @numba.njit(cache=True)

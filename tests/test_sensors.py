@@ -317,15 +317,19 @@ def _first_hit(x, y, angle, centres, radii, segments):
     return (min(t), int(np.argmin(t))) if t else (np.inf, -1)
 
 
-@pytest.mark.parametrize("fov", [2 * math.pi, 2.0])
-def test_visibility_is_exact_against_dense_rays(fov):
+@pytest.mark.parametrize("fov, scenes, rays", [
+    (2 * math.pi, 25, 4000), (2.0, 25, 4000),
+    pytest.param(2 * math.pi, 100, 20_000, marks=pytest.mark.slow), pytest.param(2.0, 100, 20_000, marks=pytest.mark.slow),
+    pytest.param(0.7, 100, 20_000, marks=pytest.mark.slow), pytest.param(5.5, 100, 20_000, marks=pytest.mark.slow),
+])  # fmt: skip
+def test_visibility_is_exact_against_dense_rays(fov, scenes, rays):
     """Every obstacle called visible has a witness ray that the reference confirms; every obstacle a
     dense fan of reference rays sees is called visible."""
     rng = np.random.default_rng(7)
     found = 0
-    for _ in range(25):
+    for _ in range(scenes):
         centres, radii, segments = random_scene(rng, 25, 8)
-        x, y, heading, max_range = *rng.uniform(2, 18, 2), rng.uniform(-4, 4), rng.uniform(3, 12)
+        x, y, heading, max_range = *rng.uniform(0, 20, 2), rng.uniform(-4, 4), rng.uniform(1, 15)
         visible, witness = np.zeros(25, np.bool_), np.zeros(25)
         visible_obstacles(x, y, heading, fov, max_range, centres, radii, segments, visible, witness)
         for j in np.flatnonzero(visible):
@@ -334,14 +338,14 @@ def test_visibility_is_exact_against_dense_rays(fov):
             assert abs((witness[j] - heading + math.pi) % (2 * math.pi) - math.pi) <= fov / 2 + 1e-9
             t, first = _first_hit(x, y, witness[j], centres, radii, segments)
             assert first == j and t <= max_range * (1 + 1e-9)
-        angles = heading - fov / 2 + (np.arange(4000) + 0.5) * fov / 4000
+        angles = heading - fov / 2 + (np.arange(rays) + 0.5) * fov / rays
         o, u = np.array([x, y]), np.column_stack([np.cos(angles), np.sin(angles)])
         table = np.column_stack([_ray_circle(o, u, c[:2], r) for c, r in zip(centres, radii)] + [_ray_capsule(o, u, row) for row in segments])
         first = np.argmin(table, axis=1)
         seen = set(first[(table[np.arange(len(first)), first] <= max_range) & (first < 25)].tolist())
         assert seen <= set(np.flatnonzero(visible).tolist())
         found += len(seen)
-    assert found > 50
+    assert found > scenes
 
 
 def test_planners_run_unchanged_on_what_they_see():

@@ -119,17 +119,16 @@ class LidarObservation(ObservationType):
 
     def observe(self, world) -> dict[str, np.ndarray]:
         (x, y), (vx, vy) = world.robot_xy, world.robot_velocity_xy
+        position, velocity, goal = self._slices
         if self.draws:
             block = self._template.copy()
-            block[0], block[1], block[2], block[3] = x, y, vx, vy
+            block[position], block[velocity] = (x, y), (vx, vy)
             block[self._scan_at :] = self._noisy(self.scan(world))
         else:  # one compiled call: the scan cast into a copy of the template, the robot's state written in
             self._aim(world)
             block = _exact_block(self._template, x, y, vx, vy, self._sensor, self._directions, world.obstacle_state, world.radii,
                                  static_segments(world), self._hits)  # fmt: skip
-        lidar = block[self._scan_at :]
-        position, velocity, goal = self._slices
-        return {"robot_position": block[position], "robot_velocity": block[velocity], "goal": block[goal], "lidar": lidar}
+        return {"robot_position": block[position], "robot_velocity": block[velocity], "goal": block[goal], "lidar": block[self._scan_at :]}
 
     def _noisy(self, ranges: np.ndarray) -> np.ndarray:
         p, rng = self.params, self._rng
@@ -142,10 +141,13 @@ class LidarObservation(ObservationType):
 
 @numba.njit(cache=True)
 def _exact_block(template, x, y, vx, vy, sensor, directions, centres, radii, segments, hits):
-    """A copy of the template with the robot's position and velocity (its first four entries) and
-    the scan (its last ``beams`` entries, float32) written in. ``sensor``: start, step, range, bounds."""
+    """A copy of the template with the robot's position and velocity (where the state layout puts
+    them) and the scan (its last ``beams`` entries, float32) written in. ``sensor``: start, step,
+    range, then the arena's bounds."""
+    at = state_layout(0)
     block = template.copy()
-    block[0], block[1], block[2], block[3] = x, y, vx, vy
+    block[at.robot_position], block[at.robot_position + 1] = x, y
+    block[at.robot_velocity], block[at.robot_velocity + 1] = vx, vy
     count = directions.shape[0]
     ranges = np.empty(count)
     beams = Beams(x, y, sensor[0], sensor[1], sensor[2], directions)

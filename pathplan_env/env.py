@@ -9,6 +9,7 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
+from . import lidar, visibility  # noqa: F401  (register the "lidar" and "visible-state" observation types)
 from .actions import make_action_type
 from .arena import Arena
 from .observations import make_observation_type
@@ -117,7 +118,7 @@ class DynamicObstacleEnv(gym.Env):
     ## Arguments
     ```python
     gym.make("DynamicObstacle-v0", scenario="random", delta_d=None, n_obstacles=None, max_obstacles=None,
-             robot_visible=None, observation="state", action="waypoint", render_mode=None)
+             robot_visible=None, observation="state", observation_params=None, action="waypoint", render_mode=None)
     ```
     - ``scenario``: a preset name, a ``pathplan_env.Scenario`` or its dict form
       (``pathplan_env.scenario_files.load_scenario`` reads one from a JSON or YAML file).
@@ -135,7 +136,9 @@ class DynamicObstacleEnv(gym.Env):
       reward weights; ``proximity_distance`` (m, default 0.5) is the surface gap below which the
       proximity penalty starts.
     - ``observation``, ``action``: the observation and action types by name
-      (``pathplan_env.observations.OBSERVATION_TYPES``, ``pathplan_env.actions.ACTION_TYPES``).
+      (``pathplan_env.observations.OBSERVATION_TYPES``, ``pathplan_env.actions.ACTION_TYPES``): also
+      ``"lidar"`` (a range scan: ``pathplan_env.lidar``) and ``"visible-state"`` (``"state"`` with only
+      the obstacles in sight: ``pathplan_env.visibility``), with their ``observation_params``.
     - ``render_mode``: ``"human"`` (a pygame window) or ``"rgb_array"`` (works with no display).
 
     ``reset(options={"scenario": ..., "delta_d": ..., "n_obstacles": ...})`` reconfigures the env from
@@ -165,6 +168,7 @@ class DynamicObstacleEnv(gym.Env):
         reward_proximity: float = 0.0,
         proximity_distance: float = 0.5,
         observation: str = "state",
+        observation_params: dict | None = None,
         action: str = "waypoint",
         render_mode: str | None = None,
     ):
@@ -190,7 +194,7 @@ class DynamicObstacleEnv(gym.Env):
         self.max_obstacles = int(max_obstacles)
         #: The arena's bounds, the box where the robot's disc fits, and the waypoint <-> action mapping.
         self.arena = Arena.of(self.scenario)
-        self.observation_type = make_observation_type(observation, self.arena, self.scenario.dt, self.max_obstacles)
+        self.observation_type = make_observation_type(observation, self.arena, self.scenario.dt, self.max_obstacles, observation_params)
         self.action_type = make_action_type(action, self.arena)
         self.observation_space = self.observation_type.space()
         self.action_space = self.action_type.space()

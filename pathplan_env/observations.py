@@ -4,7 +4,10 @@ An observation type has a ``space()``, a per-episode ``reset(world, rng)`` and `
 the env builds one from ``observation="<name>"`` (:data:`OBSERVATION_TYPES`) and never lays out an
 observation itself, so a new type (a lidar, a visible-state view) touches no ``step``.
 
-``"state"`` (:class:`StateObservation`) is the env's ``Dict`` of the world's exact state.
+``"state"`` (:class:`StateObservation`) is the env's ``Dict`` of the world's exact state; the sensing
+types register themselves from their own modules (``"lidar"``: ``pathplan_env.lidar``,
+``"visible-state"``: ``pathplan_env.visibility``) with :func:`register_observation_type`. A type with
+:attr:`ObservationType.parameters` takes them from ``observation_params`` (validated when the env is made).
 """
 
 from __future__ import annotations
@@ -31,6 +34,8 @@ class ObservationType:
     name = ""
     #: Whether ``reset`` needs a random stream (a noisy sensor does): spawning one costs ~40 µs a reset.
     draws = False
+    #: The ``observation_params`` keys the type takes (its ``__init__`` then takes them as ``params``).
+    parameters: tuple[str, ...] = ()
 
     def __init__(self, arena: Arena, dt: float, max_obstacles: int):
         self.arena, self.dt, self.max_obstacles = arena, float(dt), int(max_obstacles)
@@ -189,14 +194,40 @@ def _observation_block(template, x, y, vx, vy, obstacle_state, n_max):
 OBSERVATION_TYPES: dict[str, type[ObservationType]] = {StateObservation.name: StateObservation}
 
 
-def make_observation_type(name, arena: Arena, dt: float, max_obstacles: int) -> ObservationType:
-    """The observation type registered as ``name``.
+def register_observation_type(cls: type[ObservationType]) -> type[ObservationType]:
+    """Make ``cls`` available as ``observation=cls.name`` (usable as a class decorator)."""
+    if not isinstance(cls.name, str) or not cls.name:
+        raise ValueError(f"an observation type needs a name, got {cls.name!r}")
+    OBSERVATION_TYPES[cls.name] = cls
+    return cls
 
-    :raises ValueError: naming the ``observation`` argument and the known types.
+
+def make_observation_type(name, arena: Arena, dt: float, max_obstacles: int, params=None) -> ObservationType:
+    """The observation type registered as ``name``, with its ``params`` (``observation_params``).
+
+    :raises ValueError: naming the ``observation`` argument and the known types, or
+        ``observation_params`` (not a dict, or a key the type does not take), or a parameter's field.
     """
     if not isinstance(name, str) or name not in OBSERVATION_TYPES:
         raise ValueError(f"observation must be one of {sorted(OBSERVATION_TYPES)}, got {name!r}")
-    return OBSERVATION_TYPES[name](arena, dt, max_obstacles)
+    if params is None:
+        params = {}
+    if not isinstance(params, dict):
+        raise ValueError(f"observation_params must be a dict or None, got {params!r}")
+    cls = OBSERVATION_TYPES[name]
+    if cls.parameters:
+        return cls(arena, dt, max_obstacles, params=params)
+    if params:
+        raise ValueError(f"observation_params: observation {name!r} takes no parameters, got keys {sorted(params, key=str)}")
+    return cls(arena, dt, max_obstacles)
 
 
-__all__ = ["OBSERVATION_TYPES", "ObservationType", "StateLayout", "StateObservation", "make_observation_type", "state_layout"]
+__all__ = [
+    "OBSERVATION_TYPES",
+    "ObservationType",
+    "StateLayout",
+    "StateObservation",
+    "make_observation_type",
+    "register_observation_type",
+    "state_layout",
+]

@@ -143,31 +143,27 @@ def check_static_geometry(scenario) -> None:
     outside = (ends[:, 0] < xmin) | (ends[:, 0] > xmax) | (ends[:, 1] < ymin) | (ends[:, 1] > ymax)
     for e in np.flatnonzero(outside)[:1]:
         raise ValueError(f"{_owner(scenario, e // 2)} has the point {tuple(ends[e].tolist())} outside the arena {scenario.bounds}")
+    # every point to test at once: the robot's start and goal, the obstacles' centres, their goals
+    n = scenario.n_obstacles
+    goals = [(i, ob.goal) for i, ob in enumerate(scenario.obstacles) if ob.goal is not None]
+    points = np.array([scenario.start, scenario.goal, *(ob.center for ob in scenario.obstacles), *(g for _, g in goals)], np.float64)
+    radii = scenario.arrays()["radii"]
+    gaps = _distances(points, segments)  # (P, M)
+    inside = _inside_polygon(scenario, points)
     r = scenario.robot_radius
-    for label, point in (("start", scenario.start), ("goal", scenario.goal)):
-        p = np.array([point], np.float64)
-        gaps = _distances(p, segments)[0]
-        inside = _inside_polygon(scenario, p)[0]
-        if inside >= 0:
-            raise ValueError(f"Scenario.{label} {point} is inside Scenario.polygons[{inside}]")
-        for row in np.flatnonzero(gaps <= r)[:1]:
+    for label, k in (("start", 0), ("goal", 1)):
+        point = (scenario.start, scenario.goal)[k]
+        if inside[k] >= 0:
+            raise ValueError(f"Scenario.{label} {point} is inside Scenario.polygons[{inside[k]}]")
+        for row in np.flatnonzero(gaps[k] <= r)[:1]:
             raise ValueError(f"Scenario.{label} {point}: the robot's disc (radius {r}) there touches {_owner(scenario, row)}")
-    if not scenario.obstacles:
-        return
-    data = scenario.arrays()
-    centres, radii = data["positions"], data["radii"]
-    gaps = _distances(centres, segments) - radii[:, None]
-    inside = _inside_polygon(scenario, centres)
-    for i in np.flatnonzero(inside >= 0)[:1]:
-        raise ValueError(f"Scenario.obstacles[{i}] at {scenario.obstacles[i].center} is inside Scenario.polygons[{inside[i]}]")
-    for i, row in np.argwhere(gaps < 0)[:1]:
+    for i in np.flatnonzero(inside[2 : 2 + n] >= 0)[:1]:
+        raise ValueError(f"Scenario.obstacles[{i}] at {scenario.obstacles[i].center} is inside Scenario.polygons[{inside[2 + i]}]")
+    for i, row in np.argwhere(gaps[2 : 2 + n] < radii[:, None])[:1]:
         raise ValueError(f"Scenario.obstacles[{i}] at {scenario.obstacles[i].center} with radius {radii[i]} overlaps {_owner(scenario, row)}")
-    for i, ob in enumerate(scenario.obstacles):
-        if ob.goal is None:
-            continue
-        goal = np.array([ob.goal], np.float64)
-        if _inside_polygon(scenario, goal)[0] >= 0 or (_distances(goal, segments)[0] < ob.radius).any():
-            raise ValueError(f"Scenario.obstacles[{i}].goal {ob.goal} is inside or too near (radius {ob.radius}) the walls or polygons")
+    for k, (i, goal) in enumerate(goals):
+        if inside[2 + n + k] >= 0 or (gaps[2 + n + k] < radii[i]).any():
+            raise ValueError(f"Scenario.obstacles[{i}].goal {goal} is inside or too near (radius {radii[i]}) the walls or polygons")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -308,6 +304,18 @@ def pymunk_segments(rows) -> tuple:
 
 
 @numba.njit(cache=True)
+def points_clearance(points, segments):
+    """``(P,)`` smallest distance from each point to the capsules' surfaces (inf with none): for
+    samplers that test many candidate points (compiled: numpy's (P, M) temporaries cost more)."""
+    out = np.full(points.shape[0], np.inf)
+    for p in range(points.shape[0]):
+        for i in range(segments.shape[0]):
+            d = _point_segment(points[p, 0], points[p, 1], segments[i, 0], segments[i, 1], segments[i, 2], segments[i, 3])
+            out[p] = min(out[p], d - segments[i, 4])
+    return out
+
+
+@numba.njit(cache=True)
 def capsules_clearance(x, y, robot_radius, segments):
     """Smallest surface gap from the robot's disc at ``(x, y)`` to the capsules (inf with none)."""
     gap = np.inf
@@ -326,6 +334,7 @@ __all__ = [
     "Y1",
     "capsules_clearance",
     "check_static_geometry",
+    "points_clearance",
     "pymunk_segments",
     "segments_of",
     "swept_capsule",

@@ -296,3 +296,34 @@ def test_the_renderer_draws_walls_and_polygons():
     assert pixel(5.0, 5.0) == rendering.STATIC and pixel(5.12, 3.0) == rendering.STATIC  # the wall, its thickness
     assert pixel(5.3, 5.0) == rendering.BACKGROUND
     assert pixel(8.6, 7.5) == rendering.STATIC and pixel(7.5, 8.6) == rendering.BACKGROUND  # inside the triangle, outside
+
+
+@pytest.mark.parametrize("family", ["corridor", "doorway", "intersection", "cluttered-room"])
+def test_preset_families_are_seeded_valid_and_keep_obstacles_out_of_the_walls(family):
+    from pathplan_env.families import FAMILIES
+    from pathplan_env.presets import make_scenario
+
+    scenarios = [make_scenario(family, np.random.default_rng(seed)) for seed in range(30)]
+    assert make_scenario(family, np.random.default_rng(4)) == scenarios[4]  # seeded: the same scene again
+    assert len({(s.start, s.goal) for s in scenarios}) == 30 and len(scenarios[0].static_segments) > 0
+    for s in scenarios[:10]:
+        assert s.delta_d == pytest.approx(0.25) and Scenario.from_dict(dataclasses.asdict(s)) == s  # valid as built
+    assert make_scenario(family, np.random.default_rng(0), n_obstacles=3).n_obstacles == 3
+    with pytest.raises(ValueError, match="n_obstacles"):
+        FAMILIES[family](np.random.default_rng(0), -1)
+    env = gym.make("DynamicObstacle-v0", scenario=family, delta_d=1.0)
+    env.reset(seed=0)
+    env.action_space.seed(0)
+    world = env.unwrapped._world
+    for _ in range(150):
+        _, _, terminated, truncated, _ = env.step(env.action_space.sample())
+        world = env.unwrapped._world
+        segments = world.static_segments
+        s0, d = segments[None, :, 0:2], segments[None, :, 2:4] - segments[None, :, 0:2]
+        p = world.obstacle_state[:, None, :2]
+        u = np.clip(np.sum((p - s0) * d, axis=-1) / np.sum(d * d, axis=-1), 0.0, 1.0)
+        gaps = np.linalg.norm(p - (s0 + u[..., None] * d), axis=-1) - segments[None, :, 4] - world.radii[:, None]
+        moves = np.hypot(world.obstacle_state[:, 2], world.obstacle_state[:, 3]) * env.unwrapped.scenario.dt / world.substeps
+        assert (gaps.min(axis=1) > -moves - 1e-9).all()  # a bounce, never a pass through
+        if terminated or truncated:
+            env.reset()

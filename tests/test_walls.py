@@ -301,6 +301,7 @@ def test_the_renderer_draws_walls_and_polygons():
 @pytest.mark.parametrize("family", ["corridor", "doorway", "intersection", "cluttered-room"])
 def test_preset_families_are_seeded_valid_and_keep_obstacles_out_of_the_walls(family):
     from pathplan_env.families import FAMILIES
+    from pathplan_env.geometry import shortest_path_to_goal
     from pathplan_env.presets import make_scenario
 
     scenarios = [make_scenario(family, np.random.default_rng(seed)) for seed in range(30)]
@@ -308,6 +309,7 @@ def test_preset_families_are_seeded_valid_and_keep_obstacles_out_of_the_walls(fa
     assert len({(s.start, s.goal) for s in scenarios}) == 30 and len(scenarios[0].static_segments) > 0
     for s in scenarios[:10]:
         assert s.delta_d == pytest.approx(0.25) and Scenario.from_dict(dataclasses.asdict(s)) == s  # valid as built
+        assert shortest_path_to_goal(s) < math.inf  # no scene starts blocked
     assert make_scenario(family, np.random.default_rng(0), n_obstacles=3).n_obstacles == 3
     with pytest.raises(ValueError, match="n_obstacles"):
         FAMILIES[family](np.random.default_rng(0), -1)
@@ -327,3 +329,26 @@ def test_preset_families_are_seeded_valid_and_keep_obstacles_out_of_the_walls(fa
         assert (gaps.min(axis=1) > -moves - 1e-9).all()  # a bounce, never a pass through
         if terminated or truncated:
             env.reset()
+
+
+def _around_a_corner(a, centre, reach):
+    """From ``a`` to the top of the circle (``centre``, ``reach``) above it, leaving it heading +x:
+    the tangent, then the arc."""
+    d = math.dist(a, centre)
+    phi = (math.atan2(a[1] - centre[1], a[0] - centre[0]) % (2 * math.pi)) - math.acos(reach / d) - math.pi / 2
+    return math.sqrt(d * d - reach * reach) + reach * phi
+
+
+def test_the_static_shortest_path_goes_around_walls_and_polygons():
+    from pathplan_env.geometry import shortest_path_to_goal
+    from pathplan_env.presets import make_scenario
+
+    base = {"bounds": ARENA, "start": (1.0, 5.0), "goal": (9.0, 5.0)}
+    wall = Scenario(**base, walls=(((5.0, 2.0), (5.0, 8.0)),))  # over the wall's round end (reach 0.05 + 0.2)
+    assert shortest_path_to_goal(wall) + 0.2 == pytest.approx(2 * _around_a_corner((1.0, 5.0), (5.0, 8.0), 0.25), rel=1e-12)
+    block = Scenario(**base, polygons=(((4.0, 4.0), (6.0, 4.0), (6.0, 6.0), (4.0, 6.0)),))  # over its top side
+    assert shortest_path_to_goal(block) + 0.2 == pytest.approx(2 * _around_a_corner((1.0, 5.0), (4.0, 6.0), 0.2) + 2.0, rel=1e-12)
+    assert shortest_path_to_goal(Scenario(**base, walls=(((5.0, 0.0), (5.0, 10.0)),))) == math.inf  # no way through
+    for seed in range(5):
+        door = make_scenario("doorway", np.random.default_rng(seed))
+        assert math.dist(door.start, door.goal) - 0.2 <= shortest_path_to_goal(door) < math.inf

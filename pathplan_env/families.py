@@ -19,7 +19,7 @@ from collections.abc import Callable
 import numpy as np
 
 from .scenarios import Obstacle, Scenario, check_count
-from .statics import points_clearance
+from .statics import points_clearance, polygon_shapes
 
 ROBOT_RADIUS = 0.2
 DT = 0.1
@@ -60,8 +60,8 @@ def _place_obstacles(rng, n: int, regions: list[Box], layout: Scenario) -> tuple
     ok = (points_clearance(points, layout.static_segments) > r + OBSTACLE_GAP) & (high > low).all(axis=-1).reshape(-1)
     for end in (layout.start, layout.goal):
         ok &= np.hypot(points[:, 0] - end[0], points[:, 1] - end[1]) > r + ROBOT_RADIUS + START_CLEARANCE
-    for vertices in layout.polygons:
-        ok &= ~shapely.contains_xy(shapely.Polygon(vertices), points[:, 0], points[:, 1])
+    for shape in polygon_shapes(layout):
+        ok &= ~shapely.contains_xy(shape, points[:, 0], points[:, 1])
     points, ok = points.reshape(n, _CANDIDATES, 2), ok.reshape(n, _CANDIDATES)
     centres = np.empty((n, 2))
     for i in range(n):
@@ -134,38 +134,41 @@ def intersection(rng: np.random.Generator, n: int | None = None) -> Scenario:
 
 CLUTTER_BOXES = 6
 CLUTTER_SIZE = (0.6, 1.6)
-#: Boxes stand at least this far apart (m): the robot's diameter with room to spare, so they wall
-#: nothing in by touching.
+#: Boxes' circumscribed circles stand at least this far apart (m): the robot's diameter with room to
+#: spare, so they wall nothing in by touching.
 CLUTTER_GAP = 2 * ROBOT_RADIUS + 0.3
 
 
 def cluttered_room(rng: np.random.Generator, n: int | None = None) -> Scenario:
-    """A 10 m x 10 m room with 6 static boxes (sides uniform in [0.6, 1.6] m, any orientation, centres in
-    [1.2, 8.8]^2 so that they stay inside, at least
-    0.7 m apart and clear of the start and goal by 0.5 m), start and goal at least 6 m apart (as the
-    random preset's), and ``n`` (5) obstacles."""
-    import shapely
-
+    """A 10 m x 10 m room with up to 6 static boxes (sides uniform in [0.6, 1.6] m, any orientation,
+    centres in [1.2, 8.8]^2 so that they stay inside; their circumscribed circles at least 0.7 m
+    apart and 0.5 m clear of the robot's disc at the start and goal), start and goal at least 6 m
+    apart (as the random preset's), and ``n`` (5) obstacles."""
     n = 5 if n is None else check_count(n, "n_obstacles")
     margin = ROBOT_RADIUS + 0.3
     while True:
         start, goal = _uniform(rng, (margin, margin, 10.0 - margin, 10.0 - margin)), _uniform(rng, (margin, margin, 10 - margin, 10 - margin))
         if math.dist(start, goal) >= 6.0:
             break
-    ends = shapely.MultiPoint([start, goal])
-    boxes: list = []
-    for _ in range(200 * CLUTTER_BOXES):  # rejection sampling; bounded, though it needs a few dozen
-        if len(boxes) == CLUTTER_BOXES:
+    # candidates drawn at once; each box is tested by its circumscribed circle (conservative, no shapely)
+    centres = 1.2 + 7.6 * rng.random((_CANDIDATES, 2))
+    sizes = CLUTTER_SIZE[0] + (CLUTTER_SIZE[1] - CLUTTER_SIZE[0]) * rng.random((_CANDIDATES, 2))
+    angles = math.pi * rng.random(_CANDIDATES)
+    reach = 0.5 * np.hypot(sizes[:, 0], sizes[:, 1])
+    ok = np.ones(_CANDIDATES, bool)
+    for end in (start, goal):
+        ok &= np.hypot(centres[:, 0] - end[0], centres[:, 1] - end[1]) > reach + ROBOT_RADIUS + START_CLEARANCE
+    chosen: list[int] = []
+    for k in np.flatnonzero(ok).tolist():
+        if len(chosen) == CLUTTER_BOXES:
             break
-        lo, hi = CLUTTER_SIZE
-        (cx, cy), (w, h), angle = _uniform(rng, (1.2, 1.2, 8.8, 8.8)), _uniform(rng, (lo, lo, hi, hi)), float(rng.random())
-        c, s = math.cos(angle * math.pi), math.sin(angle * math.pi)
-        corners = [(cx + c * dx - s * dy, cy + s * dx + c * dy) for dx, dy in ((-w / 2, -h / 2), (w / 2, -h / 2), (w / 2, h / 2), (-w / 2, h / 2))]
-        box = shapely.Polygon(corners)
-        if box.distance(ends) > ROBOT_RADIUS + START_CLEARANCE and all(box.distance(other) >= CLUTTER_GAP for other in boxes):
-            boxes.append(box)
-    polygons = tuple(tuple(box.exterior.coords)[:-1] for box in boxes)
-    return _scenario(rng, n, [(0.0, 0.0, 10.0, 10.0)], bounds=(0.0, 0.0, 10.0, 10.0), start=start, goal=goal, polygons=polygons,
+        if all(math.dist(centres[k], centres[j]) >= reach[k] + reach[j] + CLUTTER_GAP for j in chosen):
+            chosen.append(k)
+    polygons = []
+    for k in chosen:
+        (cx, cy), (w, h), c, s = centres[k].tolist(), (0.5 * sizes[k]).tolist(), math.cos(angles[k]), math.sin(angles[k])
+        polygons.append(tuple((cx + c * dx - s * dy, cy + s * dx + c * dy) for dx, dy in ((-w, -h), (w, -h), (w, h), (-w, h))))
+    return _scenario(rng, n, [(0.0, 0.0, 10.0, 10.0)], bounds=(0.0, 0.0, 10.0, 10.0), start=start, goal=goal, polygons=tuple(polygons),
                      name="cluttered-room")  # fmt: skip
 
 

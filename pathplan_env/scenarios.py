@@ -170,7 +170,9 @@ class Scenario:
         set_("obstacles", obstacles)
         set_("walls", normalise_walls(self.walls, MIN_LENGTH))
         set_("wall_thickness", _positive(self.wall_thickness, "Scenario.wall_thickness", allow_zero=True))
-        set_("polygons", normalise_polygons(self.polygons, MIN_LENGTH))
+        polygons, shapes = normalise_polygons(self.polygons, MIN_LENGTH)
+        set_("polygons", polygons)
+        set_("_polygon_shapes", shapes)
         set_("_segments", segments_of(self.walls, self.wall_thickness, self.polygons))
         n = len(obstacles)
         arrays = {

@@ -62,12 +62,15 @@ def normalise_walls(walls, min_length: float) -> tuple:
     return tuple(out)
 
 
-def normalise_polygons(polygons, min_length: float) -> tuple:
+def normalise_polygons(polygons, min_length: float) -> tuple[tuple, list]:
     """``Scenario.polygons`` as a tuple of vertex tuples: simple (not self-intersecting) rings of at least
-    three distinct vertices, convex or not. A closing vertex equal to the first is dropped."""
+    three distinct vertices, convex or not. A closing vertex equal to the first is dropped.
+
+    :return: ``(polygons, shapes)``: the normalised polygons and their shapely ``Polygon`` objects (kept
+        by the scenario for :func:`polygon_shapes`)."""
     import shapely  # lazy: only scenes with polygons pay its import
 
-    out = []
+    out, shapes = [], []
     for i, polygon in enumerate(_sequence(polygons, "Scenario.polygons")):
         name = f"Scenario.polygons[{i}]"
         vertices = [_point(v, f"{name}[{j}]") for j, v in enumerate(_sequence(polygon, name))]
@@ -83,7 +86,20 @@ def normalise_polygons(polygons, min_length: float) -> tuple:
             reason = shapely.is_valid_reason(shape)
             raise ValueError(f"{name} must be a simple polygon (no self-intersection, non-zero area): {reason}")
         out.append(tuple(vertices))
-    return tuple(out)
+        shapes.append(shape)
+    return tuple(out), shapes
+
+
+def polygon_shapes(scenario) -> list:
+    """The scenario's polygons as shapely ``Polygon`` objects, built once per scenario (building them cost
+    more than the tests that read them)."""
+    shapes = scenario.__dict__.get("_polygon_shapes")
+    if shapes is None:
+        import shapely
+
+        shapes = [shapely.Polygon(vertices) for vertices in scenario.polygons]
+        object.__setattr__(scenario, "_polygon_shapes", shapes)  # a cache on a frozen dataclass, not a field
+    return shapes
 
 
 def segments_of(walls: tuple, wall_thickness: float, polygons: tuple) -> np.ndarray:
@@ -126,8 +142,8 @@ def _inside_polygon(scenario, points: np.ndarray) -> np.ndarray:
     import shapely
 
     inside = np.full(len(points), -1)
-    for k, vertices in enumerate(scenario.polygons):
-        hit = shapely.contains_xy(shapely.Polygon(vertices), points[:, 0], points[:, 1])
+    for k, shape in enumerate(polygon_shapes(scenario)):
+        hit = shapely.contains_xy(shape, points[:, 0], points[:, 1])
         inside[(inside < 0) & hit] = k
     return inside
 
@@ -335,6 +351,7 @@ __all__ = [
     "capsules_clearance",
     "check_static_geometry",
     "points_clearance",
+    "polygon_shapes",
     "pymunk_segments",
     "segments_of",
     "swept_capsule",

@@ -77,11 +77,16 @@ def swept_contact(ax, ay, bx, by, robot_radius, obstacles_a, obstacles_b, radii)
 
 def shortest_path_to_goal(scenario, margin: float = 0.0) -> float:
     """Length of the exact shortest path of the robot's centre from the start to the goal's disc
-    among the scenario's obstacles at the start (inflated by the robot radius and ``margin``),
-    inside the box where the robot's disc fits: the reference every length ratio divides by."""
+    among the scenario's obstacles at the start, walls and polygons (inflated by the robot radius
+    and ``margin``), inside the box where the robot's disc fits: the reference every length ratio
+    divides by."""
     arrays = scenario.arrays()
     inflated = arrays["radii"] + scenario.robot_radius + margin
-    _, length = shortest_path(scenario.start, scenario.goal, arrays["positions"], inflated, bounds=Arena.of(scenario).robot_box)
+    capsules = scenario.static_segments.copy()
+    capsules[:, 4] += scenario.robot_radius + margin
+    _, length = shortest_path(
+        scenario.start, scenario.goal, arrays["positions"], inflated, bounds=Arena.of(scenario).robot_box, capsules=capsules
+    )
     return length - scenario.goal_radius  # the episode ends on the goal's disc
 
 
@@ -92,6 +97,36 @@ def point_segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.nd
     t = np.einsum("...i,...i->...", p - a, ab) / np.where(denom > 0, denom, 1.0)
     closest = a + np.clip(t, 0.0, 1.0)[..., None] * ab
     return np.linalg.norm(p - closest, axis=-1)
+
+
+def segment_segment_distance(p0: np.ndarray, p1: np.ndarray, q0: np.ndarray, q1: np.ndarray) -> np.ndarray:
+    """Distance between segments ``p0``-``p1`` and ``q0``-``q1`` (broadcast, last axis 2): 0 where they
+    cross, else the nearest of an end to the other segment."""
+    d = np.minimum(
+        np.minimum(point_segment_distance(p0, q0, q1), point_segment_distance(p1, q0, q1)),
+        np.minimum(point_segment_distance(q0, p0, p1), point_segment_distance(q1, p0, p1)),
+    )
+
+    def cross(o, a, b):
+        return (a[..., 0] - o[..., 0]) * (b[..., 1] - o[..., 1]) - (a[..., 1] - o[..., 1]) * (b[..., 0] - o[..., 0])
+
+    crossing = (cross(p0, p1, q0) * cross(p0, p1, q1) < 0) & (cross(q0, q1, p0) * cross(q0, q1, p1) < 0)
+    return np.where(crossing, 0.0, d)
+
+
+def _capsule_ends(capsules: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The capsules' round ends as circles (centres, radii), each distinct end once: with the
+    capsules' own sides (the outer bitangents of their two ends), the graph's corners."""
+    ends = np.unique(np.concatenate([capsules[:, [0, 1, 4]], capsules[:, [2, 3, 4]]]), axis=0)
+    return ends[:, :2], ends[:, 2]
+
+
+def _in_capsules(points: np.ndarray, capsules: np.ndarray) -> np.ndarray:
+    """``points.shape[:-1]`` mask: strictly inside some capsule (a tolerance keeps its boundary free)."""
+    if len(capsules) == 0:
+        return np.zeros(points.shape[:-1], bool)
+    dist = point_segment_distance(points[..., None, :], capsules[:, 0:2], capsules[:, 2:4])
+    return (dist < capsules[:, 4] - 1e-7).any(axis=-1)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -137,12 +172,17 @@ def shortest_path(
     radii,
     bounds: tuple[float, float, float, float] | None = None,
     arc_resolution: float = 0.05,
+    capsules: np.ndarray | None = None,
 ) -> tuple[np.ndarray | None, float]:
-    """Exact shortest path from ``start`` to ``goal`` that never enters the given discs.
+    """Exact shortest path from ``start`` to ``goal`` that never enters the given discs, nor the
+    ``capsules`` (rows ``(x0, y0, x1, y1, reach)``: the points within ``reach`` of a segment, e.g.
+    ``World.static_segments`` with the robot radius added to the half-thickness).
 
     Builds the tangent visibility graph (start/goal tangents, the four common tangents of every
     pair of circles, and the arcs between consecutive tangent points on each circle), drops every
-    straight edge that cuts a disc and every arc that enters another disc, and runs Dijkstra. Inflate
+    straight edge that cuts a disc and every arc that enters another disc, and runs Dijkstra. A
+    capsule adds its two round ends as circles (its straight sides are their outer bitangents) and
+    drops the nodes, edges and arcs that enter it (a polygon is the capsules of its edges). Inflate
     the radii by the robot radius to get the robot's shortest path. Tangent points outside ``bounds``
     are dropped (walls are otherwise not obstacles).
 
@@ -152,6 +192,10 @@ def shortest_path(
     start, goal = np.asarray(start, float), np.asarray(goal, float)
     centers = np.asarray(centers, float).reshape(-1, 2)
     radii = np.asarray(radii, float).reshape(-1)
+    capsules = np.empty((0, 5)) if capsules is None else np.asarray(capsules, float).reshape(-1, 5)
+    if len(capsules):
+        ends, reaches = _capsule_ends(capsules)
+        centers, radii = np.concatenate([centers, ends]), np.concatenate([radii, reaches])
     eps = 1e-9
     # nodes: 0 start, 1 goal, then tangent points (circle index, angle)
     node_xy = [start, goal]
@@ -186,13 +230,16 @@ def shortest_path(
         inside_bounds = (xy[:, 0] >= xmin) & (xy[:, 0] <= xmax) & (xy[:, 1] >= ymin) & (xy[:, 1] <= ymax)
     # a node inside another disc is unusable
     inside_disc = np.linalg.norm(xy[:, None, :] - centers[None], axis=-1) < radii[None] - 1e-7
-    usable = inside_bounds & ~inside_disc.any(axis=1)
+    usable = inside_bounds & ~inside_disc.any(axis=1) & ~_in_capsules(xy, capsules)
 
     ea, eb = np.asarray(edges_a), np.asarray(edges_b)
     keep = usable[ea] & usable[eb]
     ea, eb = ea[keep], eb[keep]
     seg_dist = point_segment_distance(centers[None], xy[ea][:, None], xy[eb][:, None])  # (E, N)
     clear = (seg_dist >= radii[None] - 1e-7).all(axis=1) if len(radii) else np.ones(len(ea), bool)
+    if len(capsules):
+        cap_dist = segment_segment_distance(xy[ea][:, None], xy[eb][:, None], capsules[None, :, 0:2], capsules[None, :, 2:4])
+        clear &= (cap_dist >= capsules[None, :, 4] - 1e-7).all(axis=1)
     ea, eb = ea[clear], eb[clear]
     weights = [np.linalg.norm(xy[ea] - xy[eb], axis=1)]
     rows, cols = [ea], [eb]
@@ -215,6 +262,7 @@ def shortest_path(
         blocked = (np.linalg.norm(pts_s[:, :, None, :] - centers[None, None, others], axis=-1) < radii[others] - 1e-7).any(
             axis=(1, 2)
         )
+        blocked |= _in_capsules(pts_s, capsules).any(axis=1)
         if bounds is not None:
             blocked |= ((pts_s[..., 0] < xmin) | (pts_s[..., 0] > xmax) | (pts_s[..., 1] < ymin) | (pts_s[..., 1] > ymax)).any(axis=1)
         # zero sweeps stay: they join tangent points that coincide (a bitangent touching where another

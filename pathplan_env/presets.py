@@ -10,6 +10,7 @@ import numba
 import numpy as np
 
 from .crowdnav import CROWDNAV_PRESETS
+from .families import FAMILIES
 from .scenarios import Obstacle, Scenario, Vec2, check_count
 
 #: The paper's Table 1 obstacle centres. The paper states nothing else; our assumptions
@@ -157,11 +158,12 @@ PRESETS: dict[str, Callable[[np.random.Generator, int | None], Scenario]] = {
     **{name: (lambda rng, n, name=name: paper_case(name)) for name in PAPER_CASES},
     "random": lambda rng, n: sample_random_scenario(rng, RANDOM_DEFAULT_OBSTACLES if n is None else n),
     **CROWDNAV_PRESETS,
+    **FAMILIES,  # static geometry: corridor, doorway, intersection, cluttered-room (families.py)
 }
 #: The presets whose obstacle count ``n_obstacles`` sets; every other scenario has its own obstacles.
-COUNTED_PRESETS = frozenset({"random", *CROWDNAV_PRESETS})
+COUNTED_PRESETS = frozenset({"random", *CROWDNAV_PRESETS, *FAMILIES})
 #: The presets' own Δd, applied when ``make_scenario`` gets none (presets not listed keep their speeds).
-PRESET_DELTA_D: dict[str, float] = {**dict.fromkeys(PAPER_CASES, DEFAULT_DELTA_D), "random": DEFAULT_DELTA_D}
+PRESET_DELTA_D: dict[str, float] = {**dict.fromkeys(PAPER_CASES, DEFAULT_DELTA_D), "random": DEFAULT_DELTA_D, **dict.fromkeys(FAMILIES, DEFAULT_DELTA_D)}
 
 
 def make_scenario(

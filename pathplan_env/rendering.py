@@ -6,6 +6,7 @@ import numpy as np
 
 BACKGROUND = (250, 250, 247)
 WALL = (60, 60, 60)
+STATIC = (110, 110, 118)  # the scene's walls and polygons
 OBSTACLE = (214, 96, 77)
 ARROW = (120, 40, 30)
 ROBOT = (52, 101, 164)
@@ -17,7 +18,8 @@ CAPTION = (40, 40, 40)
 
 
 class Renderer:
-    """Draws the arena, obstacles with velocity arrows, the robot and its trail, the goal, the waypoint."""
+    """Draws the arena, its walls and polygons, obstacles with velocity arrows, the robot and its trail,
+    the goal, the waypoint."""
 
     def __init__(self, bounds, render_mode: str, fps: int, size: int = 600):
         import pygame  # lazy: the env runs without pygame's display machinery unless rendering
@@ -47,6 +49,7 @@ class Renderer:
         pygame, canvas, s = self._pygame, self.canvas, self.scale
         canvas.fill(BACKGROUND)
         pygame.draw.rect(canvas, WALL, canvas.get_rect(), width=3)
+        self._draw_statics(scenario)
         for (x, y, vx, vy), r in zip(obstacle_state, radii):
             centre = self.to_screen((x, y))
             pygame.draw.circle(canvas, OBSTACLE, centre, max(2, int(r * s)))
@@ -81,6 +84,22 @@ class Renderer:
             self.clock.tick(self.fps)
             return None
         return np.transpose(np.array(pygame.surfarray.pixels3d(canvas)), axes=(1, 0, 2)).copy()
+
+    def _draw_statics(self, scenario) -> None:
+        """Walls as the capsules they are (a band of their thickness with round ends), polygons filled."""
+        pygame, canvas, s = self._pygame, self.canvas, self.scale
+        half = 0.5 * scenario.wall_thickness
+        for a, b in scenario.walls:
+            ends = np.array([a, b], np.float64)
+            along = (ends[1] - ends[0]) / np.linalg.norm(ends[1] - ends[0])
+            side = half * np.array([-along[1], along[0]])
+            band = [ends[0] + side, ends[1] + side, ends[1] - side, ends[0] - side]
+            pygame.draw.polygon(canvas, STATIC, [self.to_screen(p) for p in band])
+            pygame.draw.line(canvas, STATIC, self.to_screen(a), self.to_screen(b), 2)  # visible however thin
+            for end in (a, b):
+                pygame.draw.circle(canvas, STATIC, self.to_screen(end), int(round(half * s)))
+        for vertices in scenario.polygons:
+            pygame.draw.polygon(canvas, STATIC, [self.to_screen(v) for v in vertices])
 
     def close(self):
         if self.window is not None:

@@ -5,7 +5,8 @@
 
 The file holds the fields of :class:`pathplan_env.Scenario` (``bounds``, ``start``, ``goal``,
 ``obstacles`` as a list of ``{center, radius, velocity}`` mappings, and optionally ``name``, ``dt``,
-``robot_radius``...). YAML is read with ``yaml.safe_load`` and JSON with ``json``: neither builds
+``robot_radius``, ``walls`` as ``[[x0, y0], [x1, y1]]`` pairs with one ``wall_thickness``,
+``polygons`` as vertex lists...). YAML is read with ``yaml.safe_load`` and JSON with ``json``: neither builds
 Python objects, so a scenario file cannot run code. Without a ``name`` the scenario takes the
 file's stem.
 """

@@ -1,7 +1,8 @@
 """Scenarios: the frozen description of one episode's world, validated, and Δd (presets: ``presets.py``).
 
 A :class:`Scenario` is pure data (no simulator state): arena bounds, start, goal, robot size and
-speed, the control period ``dt`` and the obstacles with their initial velocities. The env turns a
+speed, the control period ``dt``, the obstacles with their initial velocities, and the static geometry
+(walls and polygons, ``statics.py``). The env turns a
 scenario into a pymunk world at every reset; ``env.unwrapped.scenario`` is the one in use.
 
 Δd (the paper's Eq. 8) is the distance an obstacle moves in one env step divided by its radius:
@@ -19,6 +20,7 @@ import numpy as np
 
 from .arena import Arena
 from .behaviours import BOUNCE, Behaviour, make_behaviour
+from .statics import DEFAULT_WALL_THICKNESS, check_static_geometry, normalise_polygons, normalise_walls, segments_of
 
 Vec2 = tuple[float, float]
 
@@ -112,6 +114,13 @@ class Scenario:
     :param robot_visible: whether goal-directed obstacles see the robot and avoid it.
     :param time_limit: episode time limit (s): the env truncates once it has passed; ``None``
         leaves only the registration's step limit.
+    :param walls: straight walls inside the arena, ``((x0, y0), (x1, y1))`` each: capsules (round
+        ends) ``wall_thickness`` thick. The robot must start and end clear of them, and obstacles
+        start clear of them and bounce off them as off the arena's edges.
+    :param wall_thickness: the thickness of every wall (m), default 0.1 (an interior wall, half the
+        default robot radius); 0 makes them lines.
+    :param polygons: closed static polygons, convex or not, each a sequence of at least 3 vertices
+        (a repeated closing vertex is dropped); simple (not self-intersecting), inside the arena.
     """
 
     bounds: tuple[float, float, float, float]
@@ -126,6 +135,9 @@ class Scenario:
     behaviour: Behaviour = BOUNCE
     robot_visible: bool = False
     time_limit: float | None = None
+    walls: tuple[tuple[Vec2, Vec2], ...] = ()
+    wall_thickness: float = DEFAULT_WALL_THICKNESS
+    polygons: tuple[tuple[Vec2, ...], ...] = ()
 
     def __post_init__(self):
         try:
@@ -156,6 +168,12 @@ class Scenario:
             if not isinstance(ob, Obstacle):
                 raise ValueError(f"Scenario.obstacles[{i}] must be an Obstacle, got {type(ob).__name__}")
         set_("obstacles", obstacles)
+        set_("walls", normalise_walls(self.walls, MIN_LENGTH))
+        set_("wall_thickness", _positive(self.wall_thickness, "Scenario.wall_thickness", allow_zero=True))
+        polygons, shapes = normalise_polygons(self.polygons, MIN_LENGTH)
+        set_("polygons", polygons)
+        set_("_polygon_shapes", shapes)
+        set_("_segments", segments_of(self.walls, self.wall_thickness, self.polygons))
         n = len(obstacles)
         arrays = {
             "positions": np.array([ob.center for ob in obstacles], dtype=np.float64).reshape(n, 2),
@@ -184,6 +202,7 @@ class Scenario:
         for a in arrays.values():
             a.flags.writeable = False
         object.__setattr__(scenario, "_arrays", arrays)
+        object.__setattr__(scenario, "_segments", segments_of(scenario.walls, scenario.wall_thickness, scenario.polygons))
         return scenario
 
     def _check_geometry(self) -> None:
@@ -201,6 +220,7 @@ class Scenario:
         max_step = math.hypot(xmax - xmin, ymax - ymin)
         if self.robot_speed * self.dt > max_step:
             raise ValueError(f"Scenario.robot_speed {self.robot_speed} crosses the whole arena in one step")
+        check_static_geometry(self)
         if not self.obstacles:
             return
         # all obstacles at once; the error names the first offender
@@ -243,6 +263,12 @@ class Scenario:
     def arena_diagonal(self) -> float:
         xmin, ymin, xmax, ymax = self.bounds
         return math.hypot(xmax - xmin, ymax - ymin)
+
+    @property
+    def static_segments(self) -> np.ndarray:
+        """The walls and polygons as read-only capsule rows ``(x0, y0, x1, y1, half_thickness)``
+        (``statics.py``): walls first, then each polygon's edges; ``(0, 5)`` without any."""
+        return self._segments
 
     def behaviour_of(self, i: int) -> Behaviour:
         """Obstacle ``i``'s motion model: its own, else the scenario's."""

@@ -10,6 +10,10 @@ The robot is kinematic and never pushes an obstacle, so it is not a pymunk body:
 in a straight line each step, and robot-obstacle contact is an exact swept-circle test against
 the obstacles' positions at every substep (Chipmunk does not sweep; a fast obstacle could
 otherwise cross the robot between two steps unseen).
+
+The scene's walls and polygons (``statics.py``) are static pymunk segments, so obstacles bounce off
+them as off the arena's edges (and keep their speed the same way); the robot's contact with them
+is the same exact swept test (``statics.static_stop``).
 """
 
 from __future__ import annotations
@@ -24,6 +28,7 @@ import pymunk.batch
 from .chipmunk import READ_BODY, WRITE_BODY, BatchBuffer, each_body, ffi, set_mass, space_add, space_remove, space_step
 from .geometry import NO_CONTACT, swept_contact
 from .scenarios import Scenario
+from .statics import capsules_clearance, pymunk_segments, static_stop
 
 #: Largest obstacle displacement per substep, in units of the smallest obstacle radius. Keeps
 #: Chipmunk's discrete collision detection from missing obstacle-obstacle and obstacle-wall
@@ -150,6 +155,15 @@ class World:
         self._walls = walls if walls is not None else self._make_walls(scenario.bounds, thickness=max(scenario.arena_diagonal, 1.0))
         self._walls_bounds = scenario.bounds
         space_add(self.space, self._walls)
+        #: The scene's static geometry inside the arena as capsules, one row ``(x0, y0, x1, y1,
+        #: half_thickness)`` each (a wall; a polygon's edges with half-thickness 0). The arena's own
+        #: edges are not rows: they are ``scenario.bounds``. Read by sensors and planners.
+        self.static_segments = scenario.static_segments
+        self._has_statics = len(self.static_segments) > 0  # read every step: no walls, no cost
+        if self._has_statics:
+            # (before the state view below is attached: a body added later would make the batch read
+            # reallocate the array under the view)
+            space_add(self.space, pymunk_segments(self.static_segments.tolist()))
         spare = recycle._release_moving_obstacles() if recycle is not None else []
         objects, self._moving = [], []
         for r, speed in zip(self.radii.tolist(), top_speeds.tolist()):  # a goal-directed obstacle is dynamic even at rest
@@ -175,10 +189,6 @@ class World:
         self._pymunk_state[:, 2:] = data["velocities"]
         self._write_bodies()
         self.obstacle_state = self._pymunk_state.copy()  # (N, 4): x, y, vx, vy
-        #: The scene's static geometry inside the arena as capsules, one row ``(x0, y0, x1, y1,
-        #: half_thickness)`` each (a wall; a polygon's edges with half-thickness 0). The arena's own
-        #: edges are not rows: they are ``scenario.bounds``. Read by sensors and planners.
-        self.static_segments = np.empty((0, 5))
 
     @staticmethod
     def _group_drivers(scenario: Scenario) -> list:
@@ -235,19 +245,12 @@ class World:
         on their own static body so that the next episode's world can take them over."""
         xmin, ymin, xmax, ymax = bounds
         h = thickness
-        body = pymunk.Body(body_type=pymunk.Body.STATIC)
-        segments = [
-            ((xmin - h, ymin - h), (xmax + h, ymin - h)),
-            ((xmin - h, ymax + h), (xmax + h, ymax + h)),
-            ((xmin - h, ymin - h), (xmin - h, ymax + h)),
-            ((xmax + h, ymin - h), (xmax + h, ymax + h)),
-        ]
-        shapes = []
-        for a, b in segments:
-            seg = pymunk.Segment(body, a, b, h)
-            seg.elasticity = 1.0
-            shapes.append(seg)
-        return (body, *shapes)
+        return pymunk_segments([
+            (xmin - h, ymin - h, xmax + h, ymin - h, h),
+            (xmin - h, ymax + h, xmax + h, ymax + h, h),
+            (xmin - h, ymin - h, xmin - h, ymax + h, h),
+            (xmax + h, ymin - h, xmax + h, ymax + h, h),
+        ])  # fmt: skip
 
     def _release_walls(self, bounds) -> tuple | None:
         """Hand this world's walls to the next one if the arena is the same (building them was a
@@ -305,15 +308,23 @@ class World:
         goal; ``NO_CONTACT`` if it does not) or where it first touches an obstacle, whichever comes
         first. The obstacles finish the step; the robot rests at that point with zero velocity.
 
-        :return: ``(min_gap, contact_fraction)``: the smallest surface gap to any obstacle during the
-            step up to that point (m; 0 on contact, inf with no obstacles), and the fraction of the
-            step at which the first contact began (``NO_CONTACT``, > 1, if none before the goal).
+        Walls and polygons count as obstacles: the robot also stops where it first touches one.
+
+        :return: ``(min_gap, contact_fraction)``: the smallest surface gap to any obstacle, wall or
+            polygon during the step up to that point (m; 0 on contact, the arena's diagonal with
+            none), and the fraction of the step at which the first contact began (``NO_CONTACT``,
+            > 1, if none before the goal).
         """
         dt, n = self.scenario.dt, self.substeps
         if self._drivers:
             self._steer()
         x0, y0 = self.robot_xy
         min_gap, first_contact = self._diagonal, NO_CONTACT  # no gap is wider: finite with no obstacles
+        static_contact = False
+        if self._has_statics:
+            # the loop below stops at the walls' first contact as at the goal (an obstacle touched earlier still comes first)
+            goal_fraction, static_contact, gap = static_stop(x0, y0, dx, dy, goal_fraction, self.scenario.robot_radius, self.static_segments)
+            min_gap = min(min_gap, gap)
         ax, ay = x0, y0
         moving = True
         goal_substep = min(n, max(1, math.ceil(goal_fraction * n))) if goal_fraction <= 1.0 else 0
@@ -344,8 +355,11 @@ class World:
                 min_gap = min(min_gap, 0.0)  # every gap is positive before the first contact
                 bx, by = ax + t * (bx - ax), ay + t * (by - ay)
                 moving = False
-            elif k == goal_substep:  # at the goal: the robot stops there
-                min_gap = min(min_gap, gap)
+            elif k == goal_substep:  # at the goal, or where it touches a wall: the robot stops there
+                if static_contact:
+                    first_contact, min_gap = goal_fraction, 0.0
+                else:
+                    min_gap = min(min_gap, gap)
                 bx, by = x0 + goal_fraction * dx, y0 + goal_fraction * dy
                 moving = False
             elif sweep_gap < min_gap:
@@ -383,11 +397,15 @@ class World:
         return out
 
     def clearance(self) -> float:
-        """Current smallest surface gap between the robot and any obstacle (the arena diagonal with none)."""
-        if self.n_obstacles == 0:
-            return self.scenario.arena_diagonal
+        """Current smallest surface gap between the robot and any obstacle, wall or polygon (the
+        arena diagonal with none)."""
         x, y = self.robot_xy
-        return _clearance(self.obstacle_state, self.radii, x, y, self.scenario.robot_radius)
+        gap = self.scenario.arena_diagonal
+        if self.n_obstacles:
+            gap = min(gap, _clearance(self.obstacle_state, self.radii, x, y, self.scenario.robot_radius))
+        if self._has_statics:
+            gap = min(gap, capsules_clearance(x, y, self.scenario.robot_radius, self.static_segments))
+        return gap
 
     # -- pickling: pymunk's Space pickles itself; the batch buffer and its view are rebuilt ----
     def __getstate__(self):

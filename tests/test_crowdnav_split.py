@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from agents.evaluation import evaluate
-from agents.evaluation.episodes import make_episode_env, run_episode
 from agents.evaluation.entrants import resolve_scenarios
+from agents.evaluation.episodes import make_episode_env, run_episode
 from agents.evaluation.run_diff import diff_runs
 from pathplan_env.crowdnav import PRESET_LAYOUTS, crowdnav_test_case
 from pathplan_env.splits import episode_seeds, heldout_seeds

@@ -132,17 +132,17 @@ def main(argv=None) -> None:
         differ = [i for i, t in enumerate(theirs) if ours[i][0] != t["outcome"]]
         listed = " ".join(f"{i}({ours[i][0][0]}/{theirs[i]['outcome'][0]})" for i in differ)
         print(f"  cases that differ (ours/theirs): {listed}")
-        if args.trajectories:
-            for case in range(min(n, 10)):
-                mine, t = our_episode(preset, case), theirs[case]
-                # the last step aside: there ours stops at the contact or the goal's disc, CrowdNav's flies the whole step
-                k = min(len(mine["robot"]), len(t["robot"])) - 1
-                robot_gap = np.abs(mine["robot"][:k] - t["robot"][:k]).max()
-                human_gap = np.abs(mine["humans"][:k] - t["humans"][:k]).max()
-                print(f"  case {case}: ours {mine['outcome']} at {mine['time']:.2f} s, CrowdNav's {t['outcome']} at "
-                      f"{t['time']:.2f} s; over the {k} positions before the last the robots differ by at most "
-                      f"{robot_gap:.1e} m, the humans by {human_gap:.1e} m")  # fmt: skip
-
+        shown = sorted(set(differ) | (set(range(min(n, 10))) if args.trajectories else set()))
+        for case in shown:  # the differing cases always; the first ten with --trajectories
+            mine, t = our_episode(preset, case), theirs[case]
+            # the last step aside: there ours stops at the contact or the goal's disc, CrowdNav's flies the whole step
+            k = min(len(mine["robot"]), len(t["robot"])) - 1
+            robot_gap = np.abs(mine["robot"][:k] - t["robot"][:k]).max()
+            human_gap = np.abs(mine["humans"][:k] - t["humans"][:k]).max()
+            clearance = (np.linalg.norm(t["humans"] - t["robot"][:, None], axis=2) - 0.6).min()
+            print(f"  case {case}: ours {mine['outcome']} at {mine['time']:.2f} s, CrowdNav's {t['outcome']} at "
+                  f"{t['time']:.2f} s; over the {k} positions before the last the robots differ by at most "
+                  f"{robot_gap:.1e} m, the humans by {human_gap:.1e} m; CrowdNav's step ends {clearance:.4f} m apart at the closest")  # fmt: skip
 
 if __name__ == "__main__":
     main()

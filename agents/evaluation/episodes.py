@@ -29,6 +29,8 @@ def make_episode_env(scenario: ScenarioSpec, delta_d: float | None, n_obstacles:
     if split == "crowdnav":
         from pathplan_env.crowdnav import PRESET_LAYOUTS, crowdnav_test_case
 
+        if not (isinstance(scenario.scenario, str) and scenario.scenario in PRESET_LAYOUTS):
+            raise ValueError(f"split 'crowdnav' takes only the presets {sorted(PRESET_LAYOUTS)}, got scenario {scenario.label!r}")
         layout, visible = PRESET_LAYOUTS[scenario.scenario]
         scene = crowdnav_test_case(layout, episode, n_obstacles, visible, delta_d)
         return gym.make("DynamicObstacle-v0", scenario=scene, **(env_options or {}))

@@ -14,6 +14,9 @@ ORCA with neighbour distance 10 m, 10 neighbours, time horizon 5 s, safety space
 Starts and goals are drawn by CrowdNav's rejection rule: at least the two radii plus its 0.2 m
 discomfort distance from the robot and the humans already placed. The differences from CrowdNav
 are listed in ``docs/crowdnav.md``.
+
+:func:`crowdnav_test_case` is CrowdNav's own test case ``i`` (its seed ``1000 + i``, its draws, its
+rule), the scenes of the evaluation's ``crowdnav`` split.
 """
 
 from __future__ import annotations
@@ -21,9 +24,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.linalg import norm
 
 from .behaviours import ORCA
-from .scenarios import Obstacle, Scenario
+from .scenarios import Obstacle, Scenario, check_count, check_delta_d
 
 HUMAN_RADIUS = 0.3
 HUMAN_SPEED = 1.0
@@ -109,12 +113,12 @@ def crowdnav_scenario(layout: str, rng: np.random.Generator, n_humans: int | Non
     return _scene(layout, starts, goals, visible)
 
 
-def _scene(layout: str, starts, goals, visible: bool) -> Scenario:
+def _scene(layout: str, starts, goals, visible: bool, speed: float = HUMAN_SPEED) -> Scenario:
     """The scenario of drawn starts and goals, built without re-validation: CrowdNav's spacing rule
     (0.8 m between starts, between goals, and from the robot's start and goal) and the arena make it
     valid by construction (tested against the validating constructor); validating took a third of a reset."""
     n = len(starts)
-    humans = tuple(Obstacle._from_checked((float(x), float(y)), HUMAN_RADIUS, (0.0, 0.0), (float(gx), float(gy)), HUMAN_SPEED)
+    humans = tuple(Obstacle._from_checked((float(x), float(y)), HUMAN_RADIUS, (0.0, 0.0), (float(gx), float(gy)), speed)
                    for (x, y), (gx, gy) in zip(starts, goals))  # fmt: skip
     arrays = {"positions": np.array(starts, np.float64).reshape(n, 2), "velocities": np.zeros((n, 2)), "radii": np.full(n, HUMAN_RADIUS)}
     return Scenario._from_checked(
@@ -132,3 +136,93 @@ CROWDNAV_PRESETS = {
     for layout in _LAYOUTS
     for visible in (False, True)
 }
+
+
+# -- CrowdNav's own test cases ---------------------------------------------------------------------
+#: CrowdNav seeds test case i with ``np.random.seed(TEST_CASE_SEED_BASE + i)`` (``crowd_sim.py``'s
+#: reset: the test phase's counter offset is the validation split's capacity, 1000).
+TEST_CASE_SEED_BASE = 1000
+#: CrowdNav's test size (``env.config``); its case counter wraps there.
+TEST_CASES = 500
+#: The presets whose scenes CrowdNav's test cases replace in the ``crowdnav`` split: (layout, visible).
+PRESET_LAYOUTS = {f"crowdnav-{layout}" + ("-visible" if visible else ""): (layout, visible) for layout in _LAYOUTS for visible in (False, True)}
+
+
+def _legacy_clear(point, others, min_dist: float) -> bool:
+    return not any(norm((point[0] - q[0], point[1] - q[1])) < min_dist for q in others)  # CrowdNav's norm and "<"
+
+
+def _legacy_circle_crossing(state: np.random.RandomState, n: int):
+    """``generate_circle_crossing_human`` n times, transcribed (its numpy calls, in its order)."""
+    min_dist = 2 * HUMAN_RADIUS + DISCOMFORT_DISTANCE
+    starts, goals = [], []
+    for _ in range(n):
+        for _ in range(MAX_DRAWS):
+            angle = state.random_sample() * np.pi * 2
+            px_noise = (state.random_sample() - 0.5) * HUMAN_SPEED
+            py_noise = (state.random_sample() - 0.5) * HUMAN_SPEED
+            px = CIRCLE_RADIUS * np.cos(angle) + px_noise
+            py = CIRCLE_RADIUS * np.sin(angle) + py_noise
+            if _legacy_clear((px, py), [ROBOT_START, ROBOT_GOAL, *starts, *goals], min_dist):
+                break
+        else:
+            raise _too_crowded(n, len(starts))
+        starts.append((px, py))
+        goals.append((-px, -py))
+    return starts, goals
+
+
+def _legacy_square_crossing(state: np.random.RandomState, n: int):
+    """``generate_square_crossing_human`` n times, transcribed: the side's sign drawn once per human
+    (``> 0.5``: the left half), starts kept from positions only (the robot's goal is not checked),
+    goals from goals."""
+    min_dist = 2 * HUMAN_RADIUS + DISCOMFORT_DISTANCE
+    starts, goals = [], []
+    for _ in range(n):
+        sign = -1 if state.random_sample() > 0.5 else 1
+        for _ in range(MAX_DRAWS):
+            px = state.random_sample() * SQUARE_WIDTH * 0.5 * sign
+            py = (state.random_sample() - 0.5) * SQUARE_WIDTH
+            if _legacy_clear((px, py), [ROBOT_START, *starts], min_dist):
+                break
+        else:
+            raise _too_crowded(n, len(starts))
+        for _ in range(MAX_DRAWS):
+            gx = state.random_sample() * SQUARE_WIDTH * 0.5 * -sign
+            gy = (state.random_sample() - 0.5) * SQUARE_WIDTH
+            if _legacy_clear((gx, gy), [ROBOT_GOAL, *goals], min_dist):
+                break
+        else:
+            raise _too_crowded(n, len(starts))
+        starts.append((px, py))
+        goals.append((gx, gy))
+    return starts, goals
+
+
+_LEGACY_LAYOUTS = {"circle-crossing": _legacy_circle_crossing, "square-crossing": _legacy_square_crossing}
+
+
+def crowdnav_test_case(layout: str, case: int, n_humans: int | None = None, visible: bool = False,
+                       delta_d: float | None = None) -> Scenario:  # fmt: skip
+    """CrowdNav's test case ``case`` of ``layout`` (``"circle-crossing"`` or ``"square-crossing"``) as
+    vita-epfl/CrowdNav (20d6780) draws it: ``np.random.seed(1000 + case)``, then its humans in its
+    order and by its rejection rule, here from a private ``np.random.RandomState(1000 + case)`` (the
+    same stream; the global generator is never touched).
+
+    ``delta_d`` sets the humans' preferred speed as ``Scenario.with_delta_d`` does (``None``: CrowdNav's
+    1 m/s). It is applied here because CrowdNav's square crossing does not keep a start off the robot's
+    goal: 30 of its 500 cases start a human on the robot's disc at the goal, which the validating
+    ``Scenario`` (and so ``with_delta_d``) refuses; the human walks away at once, and the scene is
+    CrowdNav's, so it is built as drawn. Pass it to the env with ``delta_d=None``.
+    """
+    if layout not in _LEGACY_LAYOUTS:
+        raise ValueError(f"layout must be one of {sorted(_LEGACY_LAYOUTS)}, got {layout!r}")
+    if isinstance(case, bool) or not isinstance(case, (int, np.integer)) or not 0 <= case < TEST_CASES:
+        raise ValueError(f"case must be an integer in [0, {TEST_CASES}) (CrowdNav's test cases), got {case!r}")
+    delta_d = check_delta_d(delta_d)
+    speed = HUMAN_SPEED if delta_d is None else delta_d * HUMAN_RADIUS / DT  # with_delta_d's expression: the same float
+    if speed * DT > math.hypot(BOUNDS[2] - BOUNDS[0], BOUNDS[3] - BOUNDS[1]):
+        raise ValueError(f"delta_d {delta_d} makes the humans cross the whole arena in one step; lower delta_d")
+    n = HUMANS if n_humans is None else check_count(n_humans, "n_humans")
+    starts, goals = _LEGACY_LAYOUTS[layout](np.random.RandomState(TEST_CASE_SEED_BASE + int(case)), n)
+    return _scene(layout, starts, goals, bool(visible), speed)

@@ -2,12 +2,21 @@
 
 Training draws episode seeds below ``VALIDATION_SEED_BASE``; validation uses
 ``[VALIDATION_SEED_BASE, TEST_SEED_BASE)``; the evaluation's test split lives above ``TEST_SEED_BASE``.
+
+The evaluation's ``crowdnav`` split is CrowdNav's own test cases: episode ``i`` of a CrowdNav preset is
+its test case ``i`` (``pathplan_env.crowdnav.crowdnav_test_case``, drawn from CrowdNav's seed
+``1000 + i``), so a result compares case by case with a model evaluated in CrowdNav. Everything else an
+episode seeds (the agent, the env's own stream) takes the test split's seed, as on ``test``.
 """
+
+from .crowdnav import TEST_CASES as CROWDNAV_TEST_CASES
 
 VALIDATION_SEED_BASE = 900_000_000
 TEST_SEED_BASE = 1_000_000_000
 EPISODES_PER_SPLIT_SEED = 1_000_000
 TRAINING_SEEDS_PER_RUN = 10_000_000
+#: The evaluation's splits (``scripts/evaluate.py --split``).
+SPLITS = ("test", "validation", "crowdnav")
 
 
 def heldout_seeds(split_seed: int, episodes: int) -> list[int]:
@@ -26,6 +35,16 @@ def validation_seeds(split_seed: int, episodes: int) -> list[int]:
     if not VALIDATION_SEED_BASE <= base < TEST_SEED_BASE:
         raise ValueError(f"split_seed must be in [0, {(TEST_SEED_BASE - VALIDATION_SEED_BASE) // EPISODES_PER_SPLIT_SEED - 1}], got {split_seed!r}")
     return [base + i for i in range(episodes)]
+
+
+def episode_seeds(split: str, split_seed: int, episodes: int) -> list[int]:
+    """The episode seeds of an evaluation on ``split`` (one of :data:`SPLITS`): the agent's and the
+    env's. On ``crowdnav`` the scenes are CrowdNav's cases, at most its 500, and the seeds the test split's."""
+    if split not in SPLITS:
+        raise ValueError(f"split must be one of {list(SPLITS)}, got {split!r}")
+    if split == "crowdnav" and episodes > CROWDNAV_TEST_CASES:
+        raise ValueError(f"episodes must be <= {CROWDNAV_TEST_CASES} on split 'crowdnav' (CrowdNav's test cases), got {episodes}")
+    return (validation_seeds if split == "validation" else heldout_seeds)(split_seed, episodes)
 
 
 def training_seed_base(run_seed: int) -> int:

@@ -4,6 +4,8 @@
         --delta-d 0,0.125,0.25,0.5,1 --episodes 100 --seed 0 --out results/NAME
     python scripts/evaluate.py --suite default        # the README's main job (~3 minutes on 2 cores)
     python scripts/evaluate.py --agents pf_agent:PotentialField,pso --scenarios scenes/corridor.yaml --episodes 50
+    python scripts/evaluate.py --agents orca --scenarios crowdnav-circle-crossing --delta-d 0.8333333333333334 \
+        --episodes 500 --split crowdnav --out results/crowdnav_cases   # CrowdNav's own 500 test cases
 
 Every (agent, scenario, Δd) cell runs the same episodes, and the privileged oracle-clairvoyant runs
 on them too: each cell reports its physical limit and every agent its success ÷ limit. Writes
@@ -15,6 +17,10 @@ Your own agent: ``module:attribute`` (a module on the path or in the current dir
 ``path/to/file.py:attribute``, naming a class, a factory or an object with SB3's ``predict``; a learned
 agent's checkpoint as ``ppo@runs/a/best_model.zip``. Your own scene: a JSON or YAML file of a
 ``pathplan_env.Scenario``. Any entry takes a label as ``label=entry``; a label given twice is an error.
+
+Env options reach every episode's env (``gym.make`` keywords): ``--observation NAME`` with
+``--observation-params JSON``, or any keyword through ``--env-options JSON``; a bad one stops the run
+before any episode, with the env's own message.
 """
 
 from __future__ import annotations
@@ -28,6 +34,11 @@ from pathlib import Path
 from agents.evaluation import LIMIT_AGENT, SUITES, evaluate
 from agents.evaluation.records import OWN_SPEEDS
 from agents.evaluation.reporting import crowdnav_table, limit_table, markdown_table
+from pathplan_env.splits import SPLITS
+
+#: gym.make keywords with a flag of their own: ``--NAME`` (a registered type's name) and ``--NAME-params``
+#: (its parameters as JSON), into the env options ``NAME`` and ``NAME_params``. (``robot`` joins the same way.)
+ENV_OPTION_FLAGS = {"observation": "the observation type (pathplan_env.observations)"}
 
 
 def parse_args(argv=None) -> argparse.Namespace:
@@ -41,12 +52,18 @@ def parse_args(argv=None) -> argparse.Namespace:
                         "(the default when every scenario is a file)")
     parser.add_argument("--episodes", type=int, help="episodes per cell")
     parser.add_argument("--seed", type=int, default=0, help="split seed")
-    parser.add_argument("--split", choices=("test", "validation"), default="test",
-                        help="test episodes (reports) or validation episodes (model selection, e.g. between RL checkpoints)")
+    parser.add_argument("--split", choices=SPLITS, default="test",
+                        help="test episodes (reports), validation episodes (model selection, e.g. between RL checkpoints), "
+                        "or crowdnav: CrowdNav's own test cases (episode i = its case i, seed 1000 + i; the CrowdNav presets only, "
+                        "at most 500 episodes)")
     parser.add_argument("--n-obstacles", type=int, help="obstacles of the random (default 8) and CrowdNav (default 5) presets")
     parser.add_argument("--workers", type=int, default=os.cpu_count(), help="parallel processes")
     parser.add_argument("--agent-kwargs", default="{}",
                         help='JSON overrides: for every agent, e.g. \'{"n_waypoints": 3}\', or per agent, e.g. \'{"pso": {"n_waypoints": 3}}\'')
+    for name, what in ENV_OPTION_FLAGS.items():
+        parser.add_argument(f"--{name}", help=f"{what}: every episode's env takes {name}=NAME")
+        parser.add_argument(f"--{name}-params", help=f"JSON: its parameters, every episode's env takes {name}_params=...")
+    parser.add_argument("--env-options", default="{}", help='JSON: gym.make keywords for every episode\'s env, e.g. \'{"observation": "state"}\'')
     parser.add_argument("--resume", action="store_true", help="continue the run recorded in --out/episodes.jsonl")
     parser.add_argument("--backend", choices=("process", "ray"), default="process",
                         help='where episodes run: a local process pool (--workers) or Ray (pip install -e ".[ray]")')
@@ -78,6 +95,29 @@ def _delta(text: str) -> float | None:
         raise ValueError(f"--delta-d: expected comma-separated numbers or {OWN_SPEEDS!r}, got {text.strip()!r}") from None
 
 
+def _json_flag(text: str, flag: str):
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as error:
+        raise SystemExit(f"{flag}: not valid JSON ({error}): {text!r}") from None
+
+
+def _env_options(args: argparse.Namespace) -> dict:
+    """``--env-options`` with the named flags merged in; a keyword given both ways is an error."""
+    options = _json_flag(args.env_options, "--env-options")
+    if not isinstance(options, dict):
+        raise SystemExit(f"--env-options: expected a JSON object of gym.make keywords, got {args.env_options!r}")
+    for name in ENV_OPTION_FLAGS:
+        for key, flag, value in ((name, f"--{name}", getattr(args, name)),
+                                 (f"{name}_params", f"--{name}-params", getattr(args, f"{name}_params"))):  # fmt: skip
+            if value is None:
+                continue
+            if key in options:
+                raise SystemExit(f"{flag}: {key} is in --env-options too; give it once")
+            options[key] = _json_flag(value, flag) if key.endswith("_params") else value
+    return options
+
+
 def main(argv=None) -> list[dict]:
     args = parse_args(argv)
     from agents.evaluation import resolve_agents, resolve_scenarios
@@ -88,6 +128,8 @@ def main(argv=None) -> list[dict]:
         scenarios = resolve_scenarios(_entries(args.scenarios), argument="--scenarios")
         if args.delta_d is None:  # a scene of one's own runs at its own speeds; presets sweep the default suite's Δd
             args.delta_d = OWN_SPEEDS if all(not isinstance(s.scenario, str) for s in scenarios) else SUITES["default"]["delta_d"]
+            if args.split == "crowdnav":  # CrowdNav's cases at CrowdNav's speeds, as its suite runs them
+                args.delta_d = SUITES["crowdnav"]["delta_d"]
         deltas = resolve_deltas([_delta(d) for d in args.delta_d.split(",")], "--delta-d")
     except ValueError as error:
         raise SystemExit(str(error)) from None
@@ -97,13 +139,14 @@ def main(argv=None) -> list[dict]:
         agent_kwargs = json.loads(args.agent_kwargs)
     except json.JSONDecodeError as error:
         raise SystemExit(f"--agent-kwargs: not valid JSON ({error}): {args.agent_kwargs!r}") from None
+    env_options = _env_options(args)
     start = time.perf_counter()
     try:
         rows = evaluate(
             agent_specs, scenarios, deltas, args.episodes, args.out, seed=args.seed, split=args.split,
             n_obstacles=args.n_obstacles, workers=args.workers, agent_kwargs=agent_kwargs, limit=not args.no_limit,
             resume=args.resume, plots=not args.no_plots, config={"suite": args.suite}, backend=args.backend,
-            address=args.address,
+            address=args.address, env_options=env_options,
         )  # fmt: skip
     except ValueError as error:  # named by the harness before any episode ran or anything was written
         raise SystemExit(f"evaluate.py: {error}") from None

@@ -2,24 +2,29 @@
 
 from __future__ import annotations
 
+import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from .entrants import AgentSpec, ScenarioSpec, resolve_agents, resolve_scenarios
 from .records import OWN_SPEEDS, delta_text
 
+#: ``gym.make`` keywords the run sets itself (its scenarios, Δd and counts), and ``render_mode`` (episodes are not drawn).
+RUN_OWN_ENV_KEYWORDS = ("scenario", "delta_d", "n_obstacles", "render_mode")
+
 
 @dataclass
 class CheckedRun:
-    """What ``check_run`` found valid: the specs, the Δd values (``None``: the scenario's own speeds)
-    and each agent's keyword arguments, by label."""
+    """What ``check_run`` found valid: the specs, the Δd values (``None``: the scenario's own speeds),
+    each agent's keyword arguments, by label, and the env options of every episode."""
 
     agents: list[AgentSpec]
     scenarios: list[ScenarioSpec]
     deltas: list[float | None]
     overrides: dict[str, dict]
+    env_options: dict = field(default_factory=dict)
 
 
 def resolve_deltas(deltas, argument: str = "deltas") -> list[float | None]:
@@ -39,16 +44,52 @@ def resolve_deltas(deltas, argument: str = "deltas") -> list[float | None]:
     return out
 
 
+def resolve_env_options(env_options, split: str = "test") -> dict:
+    """``gym.make`` keywords for every episode's env (e.g. ``{"observation": "state"}``), as plain JSON
+    (``summary.json`` records them and ``--resume`` keys on them). Unknown keywords and bad values are
+    the env's to refuse: :func:`check_run` builds every cell with them."""
+    if env_options is None:
+        return {}
+    if not isinstance(env_options, dict) or not all(isinstance(k, str) for k in env_options):
+        raise ValueError(f"env_options must be a dict of gym.make keyword arguments, got {env_options!r}")
+    own = sorted(set(env_options) & set(RUN_OWN_ENV_KEYWORDS))
+    if own:
+        raise ValueError(f"env_options: {own} are the run's own (its scenarios, delta_d, n_obstacles; episodes are not rendered)")
+    if split == "crowdnav" and "robot_visible" in env_options:
+        raise ValueError("env_options: robot_visible is not taken on split 'crowdnav'; its -visible presets are CrowdNav's cases with a visible robot")
+    try:
+        plain = json.loads(json.dumps(env_options, allow_nan=False))
+    except (TypeError, ValueError) as error:
+        raise ValueError(f"env_options must be plain JSON values (summary.json records them): {error}") from None
+    if plain != env_options:  # e.g. a tuple would reach the env as a list on resume
+        raise ValueError(f"env_options must be plain JSON values (dicts, lists, str, numbers, bools, None), got {env_options!r}")
+    return plain
+
+
+def _check_split(split: str, scenario_specs: list[ScenarioSpec], episodes: int) -> None:
+    from pathplan_env.crowdnav import PRESET_LAYOUTS
+    from pathplan_env.splits import SPLITS, episode_seeds
+
+    if split not in SPLITS:
+        raise ValueError(f"split must be one of {list(SPLITS)}, got {split!r}")
+    if split == "crowdnav":
+        others = [s.label for s in scenario_specs if not (isinstance(s.scenario, str) and s.scenario in PRESET_LAYOUTS)]
+        if others:
+            raise ValueError(f"split 'crowdnav' (CrowdNav's own test cases) takes only the presets {sorted(PRESET_LAYOUTS)}; not {others}")
+    episode_seeds(split, 0, episodes)  # the split's own bound (crowdnav: 500 cases)
+
+
 def check_run(agent_names, scenarios, deltas, episodes, *, seed=0, split="test", n_obstacles=None, workers=1,
-              agent_kwargs=None, transport: str | None = None) -> CheckedRun:  # fmt: skip
+              agent_kwargs=None, transport: str | None = None, env_options=None) -> CheckedRun:  # fmt: skip
     """Refuse a run that could not finish, naming the argument, before anything is written: an agent
     or scenario that cannot be resolved or built, a label given twice, a bad count, and any scene the
-    env would reject (every scenario and Δd is built once, at the run's first episode seed).
+    env would reject (every scenario and Δd is built once, at the run's first episode seed), with
+    ``env_options`` too (the env's own error for a bad option).
 
     ``transport`` is how jobs reach the workers (:func:`entrants.resolve_agents`)."""
-    import gymnasium as gym
+    from pathplan_env.splits import episode_seeds
 
-    from pathplan_env.splits import heldout_seeds, validation_seeds
+    from .episodes import make_episode_env
 
     def whole(value, name, minimum):
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
@@ -60,17 +101,23 @@ def check_run(agent_names, scenarios, deltas, episodes, *, seed=0, split="test",
     whole(episodes, "episodes", 1)
     whole(seed, "seed", 0)
     whole(workers, "workers", 1)
-    if split not in ("test", "validation"):
-        raise ValueError(f"split must be 'test' or 'validation', got {split!r}")
-    first_seed = (heldout_seeds if split == "test" else validation_seeds)(seed, 1)[0]
+    _check_split(split, scenario_specs, episodes)
+    options = resolve_env_options(env_options, split)
+    first_seed = episode_seeds(split, seed, 1)[0]
     first_env, scene_envs = None, []
     for spec in scenario_specs:
         for delta_d in deltas:
             try:
-                env = gym.make("DynamicObstacle-v0", scenario=spec.scenario, delta_d=delta_d, n_obstacles=n_obstacles)
+                env = make_episode_env(spec, delta_d, n_obstacles, None, split)
                 env.reset(seed=first_seed)
             except ValueError as error:
                 raise ValueError(f"scenario {spec.label!r} at delta_d {delta_text(delta_d)}: {error}") from None
+            if options:  # the scene is fine without them: an error now is the options'
+                try:
+                    env = make_episode_env(spec, delta_d, n_obstacles, options, split)
+                    env.reset(seed=first_seed)
+                except (ValueError, TypeError) as error:  # TypeError: a keyword the env does not take
+                    raise ValueError(f"env_options {options}: {error}") from None
             if first_env is None:
                 first_env = env
         scene_envs.append(env)
@@ -79,7 +126,7 @@ def check_run(agent_names, scenarios, deltas, episodes, *, seed=0, split="test",
         if agent.kind == "object":
             for env in scene_envs[1:]:
                 agent.build(env, 0)
-    return CheckedRun(agents, scenario_specs, deltas, overrides)
+    return CheckedRun(agents, scenario_specs, deltas, overrides, options)
 
 
 def resolve_agent_kwargs(agents: list[AgentSpec], agent_kwargs: dict, env) -> dict[str, dict]:

@@ -18,14 +18,32 @@ from .records import EpisodeResult
 _WARMED: set[str] = set()  # agents (by label) whose compiled code this process has already loaded
 
 
-def warm_up(agent: AgentSpec, scenario: ScenarioSpec, delta_d: float | None, n_obstacles: int | None, overrides: dict) -> None:
+def make_episode_env(scenario: ScenarioSpec, delta_d: float | None, n_obstacles: int | None, env_options: dict | None = None,
+                     split: str = "test", episode: int = 0):  # fmt: skip
+    """The env of episode ``episode`` of a cell: the scenario at ``delta_d``, with the run's
+    ``env_options`` (``gym.make`` keywords). On the ``crowdnav`` split the scene is CrowdNav's test
+    case ``episode`` (``pathplan_env.crowdnav.crowdnav_test_case``, Δd applied there), not a draw from
+    the env's seed."""
+    import gymnasium as gym
+
+    if split == "crowdnav":
+        from pathplan_env.crowdnav import PRESET_LAYOUTS, crowdnav_test_case
+
+        if not (isinstance(scenario.scenario, str) and scenario.scenario in PRESET_LAYOUTS):
+            raise ValueError(f"split 'crowdnav' takes only the presets {sorted(PRESET_LAYOUTS)}, got scenario {scenario.label!r}")
+        layout, visible = PRESET_LAYOUTS[scenario.scenario]
+        scene = crowdnav_test_case(layout, episode, n_obstacles, visible, delta_d)
+        return gym.make("DynamicObstacle-v0", scenario=scene, **(env_options or {}))
+    return gym.make("DynamicObstacle-v0", scenario=scenario.scenario, delta_d=delta_d, n_obstacles=n_obstacles, **(env_options or {}))
+
+
+def warm_up(agent: AgentSpec, scenario: ScenarioSpec, delta_d: float | None, n_obstacles: int | None, overrides: dict,
+            env_options: dict | None = None) -> None:  # fmt: skip
     """One plan on a throwaway episode, so that numba's compilation or cache load (seconds) and
     torch's first call never land in an episode's planning times."""
     if agent.label in _WARMED:
         return
-    import gymnasium as gym
-
-    env = gym.make("DynamicObstacle-v0", scenario=scenario.scenario, delta_d=delta_d, n_obstacles=n_obstacles)
+    env = make_episode_env(scenario, delta_d, n_obstacles, env_options)
     obs, _ = env.reset(seed=0)
     _policy(agent.build(env, 0, overrides))(obs, None, np.ones(1, dtype=bool))
     _WARMED.add(agent.label)
@@ -81,17 +99,16 @@ def episode_policy(agent: AgentSpec, env, seed: int, overrides: dict | None = No
 
 
 def run_episode(agent: AgentSpec | str, scenario: ScenarioSpec | str, delta_d: float | None, episode: int, seed: int,
-                n_obstacles: int | None, overrides: dict) -> EpisodeResult:  # fmt: skip
+                n_obstacles: int | None, overrides: dict, env_options: dict | None = None, split: str = "test") -> EpisodeResult:  # fmt: skip
     """One episode of one agent (the unit of work every executor runs). ``agent`` and ``scenario``
-    are specs (:mod:`.entrants`) or anything they resolve, e.g. a registered name and a preset."""
-    import gymnasium as gym
-
+    are specs (:mod:`.entrants`) or anything they resolve, e.g. a registered name and a preset.
+    ``env_options`` and ``split``: :func:`make_episode_env` (the env and agent are seeded with ``seed`` on any split)."""
     from pathplan_env.geometry import shortest_path_to_goal
 
     agent = agent if isinstance(agent, AgentSpec) else resolve_agents([agent])[0]
     scenario = scenario if isinstance(scenario, ScenarioSpec) else resolve_scenarios([scenario])[0]
-    warm_up(agent, scenario, delta_d, n_obstacles, overrides)
-    env = gym.make("DynamicObstacle-v0", scenario=scenario.scenario, delta_d=delta_d, n_obstacles=n_obstacles)
+    warm_up(agent, scenario, delta_d, n_obstacles, overrides, env_options)
+    env = make_episode_env(scenario, delta_d, n_obstacles, env_options, split, episode)
     obs, info = env.reset(seed=seed)
     policy, act = episode_policy(agent, env, seed, overrides)
     scenario_of_episode = env.unwrapped.scenario

@@ -7,7 +7,9 @@
 Agents and scenarios come in many forms (:mod:`agents.evaluation.entrants`), each named by a label.
 Every (agent, scenario, Δd) cell runs the same episodes: episode ``i`` uses seed
 ``pathplan_env.splits.heldout_seeds(seed, episodes)[i]`` for the env (scene, directions) and the
-agent, so results do not depend on the number of workers. The privileged ``oracle-clairvoyant``
+agent, so results do not depend on the number of workers (``split="validation"``: the validation
+seeds; ``split="crowdnav"``: CrowdNav's test case ``i`` as the scene, the test seeds for the rest).
+``env_options`` are ``gym.make`` keywords given to every episode's env. The privileged ``oracle-clairvoyant``
 runs on the same episodes to give each cell its physical limit, custom scenarios included. Episodes are appended to
 ``episodes.jsonl`` as they finish, so a crash loses nothing and ``resume=True`` continues a run;
 ``summary.json``, ``episodes.csv`` and plots are written at the end. ``scripts/evaluate.py`` is the
@@ -35,15 +37,20 @@ from .statistics import summarize
 
 def _job_key(job) -> tuple:
     """A job as ``episodes.jsonl`` records it: labels (a preset's or a registered agent's name, as
-    before labels existed, so older runs resume), a custom scene's digest, and the agent's kwargs."""
-    agent, scenario, delta_d, episode, seed, n_obstacles, overrides = job
-    return _key(agent.label, scenario.key, delta_d, episode, seed, n_obstacles, overrides)
+    before labels existed, so older runs resume), a custom scene's digest, the agent's kwargs, and
+    the env options and the split's scenes when not the defaults."""
+    agent, scenario, delta_d, episode, seed, n_obstacles, overrides, env_options, split = job
+    return _key(agent.label, scenario.key, delta_d, episode, seed, n_obstacles, overrides, env_options, split)
 
 
-def _key(agent: str, scenario: str, delta_d, episode, seed, n_obstacles, overrides) -> tuple:
+def _key(agent: str, scenario: str, delta_d, episode, seed, n_obstacles, overrides, env_options, split) -> tuple:
     n = None if n_obstacles is None else int(n_obstacles)
     delta_d = None if delta_d is None else float(delta_d)
-    return (agent, scenario, delta_d, int(episode), int(seed), n, json.dumps(overrides, sort_keys=True))
+    key = (agent, scenario, delta_d, int(episode), int(seed), n, json.dumps(overrides, sort_keys=True))
+    # only what changes an episode beyond its seed: the test and validation splits differ by their seeds
+    # already, and a default run keeps the key it had before these existed (its records resume)
+    extra = ({"env_options": env_options} if env_options else {}) | ({"scenes": split} if split == "crowdnav" else {})
+    return key + (json.dumps(extra, sort_keys=True),) if extra else key
 
 
 def _summarize(results: list[EpisodeResult]) -> list[dict]:
@@ -57,7 +64,7 @@ def evaluate(
     agent_names: list, scenarios: list, deltas: list[float | None], episodes: int, out: str | Path, *,
     seed: int = 0, split: str = "test", n_obstacles: int | None = None, workers: int = 1, agent_kwargs: dict | None = None,
     limit: bool = True, resume: bool = False, plots: bool = True, config: dict | None = None,
-    backend: str = "process", address: str | None = None,
+    backend: str = "process", address: str | None = None, env_options: dict | None = None,
 ) -> list[dict]:  # fmt: skip
     """Run the cells, write the results to ``out`` and return the summary rows (see the module doc).
 
@@ -67,9 +74,14 @@ def evaluate(
     may be labelled (``(label, entry)``); results name them by label (:mod:`agents.evaluation.entrants`).
     ``deltas``: Δd values; ``None`` (or ``"own"``) runs a scenario at its own obstacle speeds.
     ``agent_kwargs``: for every agent, or ``{label: {...}}`` per agent.
+    ``split``: ``"test"``, ``"validation"`` or ``"crowdnav"`` (CrowdNav's own test cases, for its presets; at most 500 episodes).
+    ``env_options``: ``gym.make`` keywords for every episode's env, e.g. ``{"observation": "state"}``;
+    checked by building every cell with them before any episode, recorded in ``summary.json``, and
+    part of each episode's record (a resumed run with other options runs its episodes anew).
     ``backend``: ``"process"`` (a local pool of ``workers`` processes) or ``"ray"`` (a local Ray, or
     the cluster at ``address``; :mod:`agents.evaluation.ray_backend`). Both run the same jobs: same results."""
-    from pathplan_env.splits import heldout_seeds, validation_seeds
+    from pathplan_env.crowdnav import TEST_CASE_SEED_BASE as CROWDNAV_SEED_BASE
+    from pathplan_env.splits import episode_seeds
 
     if backend not in ("process", "ray"):
         raise ValueError(f"backend must be 'process' or 'ray', got {backend!r}")
@@ -83,8 +95,8 @@ def evaluate(
         raise ValueError(f"workers must be an integer >= 1, got {workers!r}")  # before it decides the transport
     transport = "ray" if backend == "ray" else "process" if workers > 1 else None
     run = check_run(agent_names, scenarios, deltas, episodes, seed=seed, split=split, n_obstacles=n_obstacles,
-                    workers=workers, agent_kwargs=agent_kwargs, transport=transport)  # fmt: skip
-    entrants, own = list(run.agents), run.overrides
+                    workers=workers, agent_kwargs=agent_kwargs, transport=transport, env_options=env_options)  # fmt: skip
+    entrants, own, options = list(run.agents), run.overrides, run.env_options
     limit_spec = resolve_agents([LIMIT_AGENT])[0]
     for spec in entrants:
         if spec.label == LIMIT_AGENT and (spec.target is not limit_spec.target or spec.kwargs):
@@ -92,8 +104,9 @@ def evaluate(
     if limit and LIMIT_AGENT not in own:
         entrants.append(limit_spec)
         own[LIMIT_AGENT] = {}  # the kwargs are meant for the agents asked for
-    seeds = (heldout_seeds if split == "test" else validation_seeds)(seed, episodes)
-    jobs = [(a, s, d, i, e, n_obstacles, own[a.label]) for a in entrants for s in run.scenarios for d in run.deltas for i, e in enumerate(seeds)]
+    seeds = episode_seeds(split, seed, episodes)
+    jobs = [(a, s, d, i, e, n_obstacles, own[a.label], options, split)
+            for a in entrants for s in run.scenarios for d in run.deltas for i, e in enumerate(seeds)]  # fmt: skip
     scenario_key = {s.label: s.key for s in run.scenarios}
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -117,7 +130,7 @@ def evaluate(
 
         def record(res: EpisodeResult) -> None:
             results.append(res)
-            key = _key(res.agent, scenario_key[res.scenario], res.delta_d, res.episode, res.seed, n_obstacles, own[res.agent])
+            key = _key(res.agent, scenario_key[res.scenario], res.delta_d, res.episode, res.seed, n_obstacles, own[res.agent], options, split)
             sink.write(json.dumps({"job": list(key), "result": asdict(res)}) + "\n")
             sink.flush()
 
@@ -135,7 +148,8 @@ def evaluate(
                                "custom_scenarios": {s.label: s.definition for s in run.scenarios if s.definition},
                                "delta_d": run.deltas, "episodes": episodes,
                                "seed": seed, "split": split, "n_obstacles": n_obstacles, "workers": workers,
-                               "agent_kwargs": agent_kwargs or {}, "episode_seeds": [seeds[0], seeds[-1]],
+                               "agent_kwargs": agent_kwargs or {}, "env_options": options, "episode_seeds": [seeds[0], seeds[-1]],
+                               **({"crowdnav_case_seeds": [CROWDNAV_SEED_BASE, CROWDNAV_SEED_BASE + episodes - 1]} if split == "crowdnav" else {}),
                                "wall_seconds": round(elapsed, 1)}  # fmt: skip
     (out / "summary.json").write_text(json.dumps({"results": rows, "config": config, "versions": versions()}, indent=2))
     with open(out / "episodes.csv", "w", newline="") as f:

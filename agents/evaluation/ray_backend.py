@@ -1,7 +1,7 @@
 """The evaluation's Ray executor: the same ``run_episode`` jobs as the local process pool, on a local
 Ray or a cluster (``ray start --head``, then ``--address``). Optional: ``pip install -e ".[ray]"``.
 
-The jobs carry the agents' and scenarios' specs (``entrants``); Ray sends them with cloudpickle, which
+The jobs carry the agents' and scenarios' specs (``entrants``), the run's env options and split; Ray sends them with cloudpickle, which
 sends a class or function defined in the driver's ``__main__`` by value, so an agent registered or
 defined in the user's script reaches the workers; ``module:attribute`` agents are imported by each worker.
 Results come back as episodes finish (the progress bar moves); a task whose worker dies is

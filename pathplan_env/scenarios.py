@@ -299,6 +299,17 @@ class Scenario:
             return max((self.top_speeds() * self.dt / self._arrays["radii"]).tolist(), default=0.0)
         return max((ob.speed * self.dt / ob.radius for ob in self.obstacles), default=0.0)
 
+    def with_robot_visible(self, visible: bool) -> Scenario:
+        """This scene with the robot seen by the humans or not; nothing else changes, so nothing is
+        checked again (CrowdNav's square crossing may start a human on the robot's goal, which a new
+        scene would refuse: ``pathplan_env.crowdnav.crowdnav_test_case`` keeps such cases as CrowdNav draws them)."""
+        if not isinstance(visible, (bool, np.bool_)):
+            raise ValueError(f"visible must be True or False, got {visible!r}")
+        copy = object.__new__(Scenario)
+        object.__setattr__(copy, "__dict__", dict(self.__dict__))
+        object.__setattr__(copy, "robot_visible", bool(visible))
+        return copy
+
     def with_delta_d(self, delta_d: float, rng: np.random.Generator) -> Scenario:
         """A copy whose every obstacle moves exactly ``delta_d`` radii per step.
 

@@ -152,3 +152,19 @@ def test_env_options_and_the_split_reach_ray_workers():
     run_jobs_on_ray(jobs, results.append, num_cpus=2)
     strip = lambda r: json.dumps({k: v for k, v in vars(r).items() if k != "plan_ms"}, sort_keys=True)
     assert sorted(map(strip, results)) == sorted(strip(run_episode(*job)) for job in jobs)
+
+
+def test_the_limit_runs_on_a_visible_case_whose_human_starts_on_the_robots_goal():
+    """CrowdNav's square case 3 starts a human on the robot's goal; the oracle's invisible copy of
+    the scene must not re-validate it (it did: a ValueError stopped the run)."""
+    import gymnasium as gym
+
+    import agents
+    from pathplan_env.crowdnav import crowdnav_test_case
+
+    scenario = crowdnav_test_case("square-crossing", 3, visible=True)
+    env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=None)
+    oracle = agents.make("oracle-clairvoyant", env, seed=0, max_expansions=500)
+    obs, _ = env.reset(seed=0)
+    action, _ = oracle.predict(obs, deterministic=True)
+    assert oracle.verdict == "reactive" and env.action_space.contains(action)

@@ -15,7 +15,6 @@ they would have without the robot, says so (verdict ``"reactive"``) and gives no
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import time
 
@@ -80,7 +79,7 @@ class ClairvoyantOracle(Agent):
         remaining = max_steps - now
         reactive = scenario.robot_visible and scenario.goal_directed
         # the same episode, bit for bit, from its start (for reacting obstacles: as if the robot were invisible)
-        future = World(dataclasses.replace(scenario, robot_visible=False) if reactive else scenario)
+        future = World(scenario.with_robot_visible(False) if reactive else scenario)
         trajectory = future.obstacle_trajectory(max_steps)[now * future.substeps :]
         problem = SpacetimeProblem(trajectory, future.substeps, scenario.robot_radius, world.radii, np.array(world.robot_xy),
                                    np.array(scenario.goal), scenario.goal_radius, env.arena.box, env.robot_step_length)  # fmt: skip

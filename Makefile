@@ -37,6 +37,8 @@ test: $(FULL)
 BENCH_VENV := .venv-bench
 bench: $(CORE)
 	$(PY) scripts/bench_env.py
+	$(PY) -m pip install --quiet -e ".[sensors-bench]"
+	$(PY) scripts/bench_sensors.py
 	test -x $(BENCH_VENV)/bin/python || $(PYTHON) -m venv $(BENCH_VENV)
 	$(BENCH_VENV)/bin/python -m pip install --quiet -e ".[bench]"
 	$(BENCH_VENV)/bin/python scripts/bench_planners.py

@@ -23,7 +23,6 @@ import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
 from agents.base import real_obstacles
 from agents.planners.prediction import predict_obstacles, substeps_for
 from pathplan_env.splits import validation_seeds
-from pathplan_env.world import World
 
 
 def errors(n_obstacles: int, delta_d: float, scenes: int, steps: int, warmup: int = 3):
@@ -41,9 +40,7 @@ def errors(n_obstacles: int, delta_d: float, scenes: int, steps: int, warmup: in
         seen = predict_obstacles(centres, velocities, radii, bounds, env.scenario.dt, steps, n)
         state = world.obstacle_state
         exact = predict_obstacles(state[:, :2].copy(), state[:, 2:].copy(), world.radii, bounds, env.scenario.dt, steps, n)
-        truth = World.__new__(World)  # the world itself, copied: its true future without touching the env
-        truth.__setstate__(world.__getstate__())
-        future = truth.obstacle_trajectory(steps)
+        future = world.obstacle_trajectory(steps)  # the env's own world, run on: the true future (the env is dropped after)
         scale = world.radii.min()
         for predicted, out in ((seen, from_obs), (exact, from_state)):
             gap = np.hypot(*(predicted[::n, :, :2] - future[::n, :, :2]).transpose(2, 0, 1)).max(axis=1)

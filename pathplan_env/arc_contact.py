@@ -176,14 +176,14 @@ class StepStatics(NamedTuple):
 
 @numba.njit(cache=True)
 def step_statics(robot, segments, goal_x, goal_y, goal_radius):
-    """:class:`StepStatics` of the arc ``robot`` (an :class:`Arc`'s values as an array plus the robot
+    """:class:`StepStatics`' values of the arc ``robot`` (an :class:`Arc`'s values as an array plus the robot
     radius, see :func:`_arc`) against the capsules, in one call."""
     arc, radius = _arc(robot)
     goal = arc_goal(arc, goal_x, goal_y, goal_radius)
     gap, wall = arc_capsules(arc, min(goal, 1.0), radius, segments)
     if wall > 1.0:
         wall = NO_CONTACT
-    return StepStatics(goal, wall, 0.0 if wall <= 1.0 else gap)
+    return goal, wall, 0.0 if wall <= 1.0 else gap  # (a plain tuple: boxing a NamedTuple costs a microsecond)
 
 
 #: Columns of the ``robot`` array the kernels take from Python: an :class:`Arc` and the robot radius

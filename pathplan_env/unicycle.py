@@ -28,7 +28,7 @@ import numpy as np
 from gymnasium import spaces
 
 from .actions import ACTION_TYPES, ActionType, parse_action
-from .arc_contact import DURATION, HEADING, RADIUS, SPEED, TURN_RATE, X, Y, arc_point, arc_substep, step_statics
+from .arc_contact import DURATION, HEADING, RADIUS, SPEED, TURN_RATE, StepStatics, X, Y, arc_substep, step_statics
 from .arc_contact import Arc as Arc
 from .arena import Arena
 from .geometry import NO_CONTACT
@@ -178,8 +178,18 @@ class UnicycleAction(ActionType):
         robot = self._robot
         (robot[X], robot[Y]), robot[HEADING], robot[SPEED], robot[TURN_RATE] = world.robot_xy, world.robot_heading, speed, turn_rate
         goal_fraction, min_gap, contact_fraction = drive(world, robot, self._segments, *self._goal)
-        end_x, end_y, _ = arc_point(Arc(*robot[:6]), 1.0)
+        end_x, end_y, _ = pose(*robot[:6].tolist(), 1.0)
         return speed * world.scenario.dt, goal_fraction, min_gap, contact_fraction, (end_x, end_y), move
+
+
+def pose(x: float, y: float, heading: float, speed: float, turn_rate: float, duration: float, f: float) -> tuple[float, float, float]:
+    """``arc_contact.arc_point`` of :class:`Arc` ``(x, ..., duration)`` in plain Python (a compiled call
+    from Python with a record costs more than this arithmetic)."""
+    s = f * duration
+    half = 0.5 * turn_rate * s
+    chord = speed * s * (1.0 - half * half / 6.0 if abs(half) < 1e-4 else math.sin(half) / half)
+    mid = heading + half
+    return x + chord * math.cos(mid), y + chord * math.sin(mid), heading + 2.0 * half
 
 
 def drive(world, robot: np.ndarray, segments: np.ndarray, goal_x: float, goal_y: float, goal_radius: float) -> tuple[float, float, float]:
@@ -190,7 +200,7 @@ def drive(world, robot: np.ndarray, segments: np.ndarray, goal_x: float, goal_y:
     """
     scenario, n = world.scenario, world.substeps
     world.begin_step()
-    statics = step_statics(robot, segments, goal_x, goal_y, goal_radius)
+    statics = StepStatics(*step_statics(robot, segments, goal_x, goal_y, goal_radius))
     stop = min(statics.goal, statics.wall)  # NO_CONTACT (> 1) if neither
     min_gap, first_contact = min(scenario.arena_diagonal, statics.gap), NO_CONTACT
     moving = True
@@ -215,7 +225,7 @@ def drive(world, robot: np.ndarray, segments: np.ndarray, goal_x: float, goal_y:
         else:
             min_gap = min(min_gap, gap)
     end = 1.0 if moving else (first_contact if first_contact <= 1.0 else stop)
-    x, y, heading = arc_point(Arc(robot[X], robot[Y], robot[HEADING], robot[SPEED], robot[TURN_RATE], robot[DURATION]), end)
+    x, y, heading = pose(*robot[:6].tolist(), end)
     speed, turn_rate = (robot[SPEED], robot[TURN_RATE]) if moving else (0.0, 0.0)
     world.robot_xy = (x, y)
     world.robot_heading = math.atan2(math.sin(heading), math.cos(heading))

@@ -279,3 +279,22 @@ def test_renders_the_heading():
     env.reset(seed=0)
     frame = env.render()
     assert frame.shape[2] == 3
+
+
+# -- agents ----------------------------------------------------------------------------------------
+@pytest.mark.parametrize("name", ["dwa", "tracked-astar-spacetime", "tracked-straight"])
+def test_unicycle_agents_drive_an_episode(name):
+    import agents
+
+    env = gym.make("DynamicObstacle-v0", robot="unicycle", delta_d=0.0, n_obstacles=0)
+    agent = agents.make(name, env, seed=0)
+    info = agents.rollout(agent, env, seed=0)
+    assert info["is_success"]  # an empty arena: every one reaches the goal
+    assert agent.last_plan is not None
+
+
+def test_unicycle_agents_need_a_unicycle():
+    import agents
+
+    with pytest.raises(ValueError, match="unicycle"):
+        agents.make("dwa", gym.make("DynamicObstacle-v0"))

@@ -16,7 +16,10 @@ obstacle moves in a straight line (Chipmunk's integration). Two facts make the t
   arc's length ``L``, the robot's speed being constant on it; ``|o'|`` the obstacle's substep
   displacement; a capsule's ``|o'| = 0``). No root lies before ``u + g(u) / B``, so stepping by
   ``g / B`` never skips a contact; it stops where ``g <= tol`` (a relative ``CONTACT_TOLERANCE``
-  of the reach, a nanometre on a metre: far below any near miss that matters).
+  of the reach, a nanometre on a metre: far below any near miss that matters). At every step the
+  chord bound is tried again over the rest of the interval (its ``δ`` shrinks with the square of the
+  rest): it clears the rest or moves ``u`` up to its own lower bracket, so a graze along a straight
+  or gently curved path, where ``g / B`` would crawl, ends in a few steps.
 
 Everything is compiled with numba; an arc is a named record (:class:`Arc`).
 """
@@ -95,13 +98,22 @@ def arc_disc(arc, f0, f1, oax, oay, obx, oby, reach):
     best = np.inf
     for _ in range(MAX_ADVANCES):
         px, py, _ = arc_point(arc, f0 + u * (f1 - f0))
-        gap = math.hypot(oax + u * (obx - oax) - px, oay + u * (oby - oay) - py) - reach
+        ox = oax + u * (obx - oax)
+        oy = oay + u * (oby - oay)
+        gap = math.hypot(ox - px, oy - py) - reach
         best = min(best, gap)
         if gap <= tol:
             return min(gap, 0.0), u
         if bound <= 0.0:
             break
-        u += gap / bound
+        # the chord bound again over what is left (its δ shrinks with the square of the rest): it
+        # clears the rest, or brackets its first contact from below (a graze along a straight or
+        # gently curved path, where g / B crawls, ends here)
+        rest = delta * (1.0 - u) * (1.0 - u)
+        chord_gap, t = swept_pair(px, py, bx, by, reach + rest + tol, ox, oy, obx, oby, 0.0)
+        if t > 1.0:
+            return min(best, chord_gap + tol), NO_CONTACT
+        u = max(u + gap / bound, u + t * (1.0 - u))
         if u > 1.0:
             return best, NO_CONTACT
     return (best, NO_CONTACT) if bound <= 0.0 else (0.0, u)  # budget spent: a conservative hit
@@ -139,7 +151,11 @@ def arc_capsule(arc, f_end, robot_radius, x0, y0, x1, y1, half):
             return min(gap, 0.0), u * f_end
         if length <= 0.0:
             break
-        u += gap / length  # a static capsule: the closing speed is at most the robot's
+        rest = delta * (1.0 - u) * (1.0 - u)  # the chord bound over what is left, as in arc_disc
+        chord_gap, t = swept_capsule(px, py, bx, by, robot_radius + rest + tol, x0, y0, x1, y1, half)
+        if t > 1.0:
+            return min(best, chord_gap + tol), NO_CONTACT
+        u = max(u + gap / length, u + t * (1.0 - u))  # a static capsule: the closing speed is at most the robot's
         if u > 1.0:
             return best, NO_CONTACT
     return (best, NO_CONTACT) if length <= 0.0 else (0.0, u * f_end)

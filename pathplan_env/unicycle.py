@@ -28,7 +28,7 @@ import numpy as np
 from gymnasium import spaces
 
 from .actions import ACTION_TYPES, ActionType, parse_action
-from .arc_contact import DURATION, HEADING, RADIUS, SPEED, TURN_RATE, StepStatics, X, Y, arc_substep, step_statics
+from .arc_contact import DURATION, RADIUS, SPEED, TURN_RATE, arc_substep, step_statics
 from .arc_contact import Arc as Arc
 from .arena import Arena
 from .geometry import NO_CONTACT
@@ -148,10 +148,8 @@ class UnicycleAction(ActionType):
         }
 
     def observe_robot(self, world) -> dict[str, np.ndarray]:
-        return {
-            "robot_heading": np.array([world.robot_heading], np.float32),
-            "robot_angular_velocity": np.array([world.robot_angular_velocity], np.float32),
-        }
+        both = np.array([world.robot_heading, world.robot_angular_velocity], np.float32)  # one allocation, two views
+        return {"robot_heading": both[0:1], "robot_angular_velocity": both[1:2]}
 
     def reset(self, world, arena: Arena) -> None:
         super().reset(world, arena)
@@ -175,10 +173,10 @@ class UnicycleAction(ActionType):
 
     def replay(self, world, move):
         speed, turn_rate = move
-        robot = self._robot
-        (robot[X], robot[Y]), robot[HEADING], robot[SPEED], robot[TURN_RATE] = world.robot_xy, world.robot_heading, speed, turn_rate
+        robot, (x, y), heading = self._robot, world.robot_xy, world.robot_heading
+        robot[:5] = x, y, heading, speed, turn_rate
         goal_fraction, min_gap, contact_fraction = drive(world, robot, self._segments, *self._goal)
-        end_x, end_y, _ = pose(*robot[:6].tolist(), 1.0)
+        end_x, end_y, _ = pose(x, y, heading, speed, turn_rate, world.scenario.dt, 1.0)
         return speed * world.scenario.dt, goal_fraction, min_gap, contact_fraction, (end_x, end_y), move
 
 
@@ -200,9 +198,9 @@ def drive(world, robot: np.ndarray, segments: np.ndarray, goal_x: float, goal_y:
     """
     scenario, n = world.scenario, world.substeps
     world.begin_step()
-    statics = StepStatics(*step_statics(robot, segments, goal_x, goal_y, goal_radius))
-    stop = min(statics.goal, statics.wall)  # NO_CONTACT (> 1) if neither
-    min_gap, first_contact = min(scenario.arena_diagonal, statics.gap), NO_CONTACT
+    goal, wall, wall_gap = step_statics(robot, segments, goal_x, goal_y, goal_radius)  # StepStatics' values
+    stop = min(goal, wall)  # NO_CONTACT (> 1) if neither
+    min_gap, first_contact = min(scenario.arena_diagonal, wall_gap), NO_CONTACT
     moving = True
     for k in range(1, n + 1):
         u_end = -1.0
@@ -217,8 +215,8 @@ def drive(world, robot: np.ndarray, segments: np.ndarray, goal_x: float, goal_y:
         if u <= 1.0:  # an obstacle first (at or before the goal and the walls): the robot stops touching
             first_contact, min_gap, moving = (k - 1 + u) / n, 0.0, False
         elif u_end < 1.0 or stop == k / n:  # the goal or a wall within this substep: the robot stops there
-            if statics.wall <= statics.goal:
-                first_contact, min_gap = statics.wall, 0.0
+            if wall <= goal:
+                first_contact, min_gap = wall, 0.0
             else:
                 min_gap = min(min_gap, gap)
             moving = False
@@ -232,7 +230,7 @@ def drive(world, robot: np.ndarray, segments: np.ndarray, goal_x: float, goal_y:
     world.robot_forward_speed, world.robot_angular_velocity = float(speed), float(turn_rate)
     world.robot_velocity_xy = (speed * math.cos(heading), speed * math.sin(heading))
     world.time += scenario.dt
-    return statics.goal, float(min_gap), float(first_contact)
+    return goal, float(min_gap), float(first_contact)
 
 
 def limits_of(env) -> UnicycleLimits:

@@ -30,12 +30,14 @@ ENTRIES = [
 ]
 
 
-def success_table(episodes: int, deltas: list[float], n_obstacles: int = 8) -> None:
+def success_table(episodes: int, deltas: list[float], n_obstacles: int = 8, only: list[str] | None = None) -> None:
     seeds = [int(s) for s in validation_seeds(0, episodes)]
     print(f"random scenes, {n_obstacles} obstacles, {episodes} validation episodes (seeds {seeds[0]}..{seeds[-1]})")
     print("| agent | robot | " + " | ".join(f"Δd {d}: success (collisions)" for d in deltas) + " | median plan ms |")
     print("|---|---|" + "---:|" * (len(deltas) + 1))
     for label, name, robot in ENTRIES:
+        if only and label not in only:
+            continue
         cells, plan_ms = [], []
         for delta_d in deltas:
             env = gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=n_obstacles, delta_d=delta_d, robot=robot)
@@ -77,11 +79,14 @@ def main(argv=None) -> None:
     parser.add_argument("--steps", type=int, default=20000)
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--skip-success", action="store_true")
+    parser.add_argument("--skip-speed", action="store_true")
+    parser.add_argument("--only", nargs="+", help="labels of the rows to run (default: all)")
     args = parser.parse_args(argv)
     start = time.perf_counter()
-    speed_table(args.steps, args.repeats)
+    if not args.skip_speed:
+        speed_table(args.steps, args.repeats)
     if not args.skip_success:
-        success_table(args.episodes, args.deltas)
+        success_table(args.episodes, args.deltas, only=args.only)
     print(f"\n({time.perf_counter() - start:.0f} s)")
 
 

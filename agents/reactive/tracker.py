@@ -4,8 +4,9 @@
 the unicycle's observation, reads the waypoint it would fly to and its ``last_plan`` (points, one a
 step for the space-time planners), and steers the unicycle toward the plan point ``lookahead_steps``
 ahead: curvature ``κ = 2 sin(α) / d`` for a target at distance ``d`` and bearing ``α`` off the
-heading, at the planner's own next-step speed slowed by ``cos α``; a target behind (``|α| > π/2``)
-turns the robot on the spot. It reads only the observation and public facts (the robot's limits,
+heading, at the planner's own next-step speed slowed by ``cos α``, to ``max_turn_rate / |κ|`` on a
+curve, and to what still lets it brake to the plan's later speeds (``min_k v_k + a k dt``); a target
+behind (``|α| > π/2``) turns the robot on the spot. It reads only the observation and public facts (the robot's limits,
 ``pathplan_env.unicycle.limits_of``).
 """
 
@@ -49,8 +50,14 @@ class TrackedAgent:
         plan = np.vstack([robot, waypoint]) if plan is None or len(plan) < 2 else np.asarray(plan, np.float64)[:, :2]
         self.last_plan = plan
         target = plan[min(self.lookahead_steps, len(plan) - 1)]
-        speed = min(float(np.hypot(*(waypoint - robot))) / self.dt, self.limits.max_speed)
+        speed = min(float(np.hypot(*(waypoint - robot))) / self.dt, self.limits.max_speed, self.brake_speed(plan))
         return to_action(*self.steer(robot, float(observation["robot_heading"][0]), target, speed), self.limits), state
+
+    def brake_speed(self, plan: np.ndarray) -> float:
+        """The fastest speed from which the robot can still slow to the plan's speed at every later
+        step (its points are one step apart): ``min_k (plan speed at step k + a k dt)``."""
+        speeds = np.hypot(*np.diff(plan, axis=0).T) / self.dt
+        return float(np.min(speeds + self.limits.max_acceleration * self.dt * np.arange(len(speeds)))) if len(speeds) else 0.0
 
     def steer(self, robot: np.ndarray, heading: float, target: np.ndarray, speed: float) -> tuple[float, float]:
         """``(v, ω)`` toward ``target`` (pure pursuit), at most ``speed``."""
@@ -61,10 +68,11 @@ class TrackedAgent:
         alpha = math.atan2(math.sin(math.atan2(dy, dx) - heading), math.cos(math.atan2(dy, dx) - heading))
         if abs(alpha) > 0.5 * math.pi:  # behind: turn on the spot
             return 0.0, math.copysign(self.limits.max_turn_rate, alpha)
+        curvature = 2.0 * math.sin(alpha) / distance
         v = speed * math.cos(alpha)
-        turn = 2.0 * math.sin(alpha) / distance * max(v, 1e-9)
-        if v < 1e-9:  # the plan waits: face the target
-            turn = alpha / self.dt
+        if abs(curvature) > 0.0:  # slow down to take the curve rather than cut it
+            v = min(v, self.limits.max_turn_rate / abs(curvature))
+        turn = curvature * v if v > 1e-9 else alpha / self.dt  # the plan waits: face the target
         return v, max(-self.limits.max_turn_rate, min(self.limits.max_turn_rate, turn))
 
 

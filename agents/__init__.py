@@ -36,9 +36,11 @@ register("tracked", TrackedAgent)  # agents.make("tracked", env, planner="pso-sp
 for _planner in ("astar-spacetime", "astar-crowd", "pso-spacetime", "abc-spacetime", "pso", "abc", "velocity-obstacle", "orca",
                  "oracle-static", "straight"):  # fmt: skip
     register(f"tracked-{_planner}", partial(TrackedAgent, planner=_planner))
+#: The registered agents that drive only a unicycle (``gym.make(..., robot="unicycle")``).
+UNICYCLE_AGENTS = frozenset(name for name in available() if name == "dwa" or name.startswith("tracked"))
 
 __all__ = [
     "Agent", "ClairvoyantOracle", "DWAAgent", "TrackedAgent", "MetaheuristicAgent", "ORCAAgent", "RLAgent", "SpacetimeAStarAgent",
-    "SpacetimeMetaheuristicAgent", "StaticOracleAgent", "StraightAgent", "VelocityObstacleAgent",
+    "SpacetimeMetaheuristicAgent", "StaticOracleAgent", "StraightAgent", "UNICYCLE_AGENTS", "VelocityObstacleAgent",
     "available", "make", "register", "rollout",
 ]  # fmt: skip

@@ -61,8 +61,8 @@ class DynamicObstacleEnv(gym.Env):
     a normalised target (forward speed in ``[min_speed, max_speed]``, turn rate ``± max_turn_rate``)
     reached within ``max_acceleration * dt`` and ``max_angular_acceleration * dt`` at each step's start and
     held over the step (one exact arc; no reversing). ``robot_params`` sets any of the five; defaults
-    for robot speed ``V`` and radius ``r``: ``max_speed = V``, ``max_turn_rate = V / (2 r)``, both reached
-    from rest in 0.5 s, ``min_speed = 0``. It starts at rest facing the goal; the arena's edges are walls
+    for robot speed ``V`` and radius ``r``: ``max_speed = V``, ``max_turn_rate = max_speed / (2 r)``, both
+    reached from rest in 0.5 s, ``min_speed = 0``. It starts at rest facing the goal; the arena's edges are walls
     to it; the observation adds ``robot_heading`` (1,) and ``robot_angular_velocity`` (1,), and
     ``robot_velocity`` is its velocity now. ``env.unwrapped.action_type.limits`` holds the episode's limits.
 

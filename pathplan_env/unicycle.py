@@ -12,11 +12,11 @@ stay in ``[0, max_speed]`` (targets in ``[min_speed, max_speed]``). Contact alon
 moving obstacles, walls, polygons and the arena's edges is exact (``pathplan_env.arc_contact``): the
 arena's edges are walls to a robot that can drive into them. The robot starts at rest facing the goal.
 
-Defaults (:func:`default_limits`), a small differential-drive base scaled to the scenario's robot
-speed ``V`` and radius ``r``: ``max_speed = V``; ``max_turn_rate = V / (2 r)`` (at full speed its
-tightest turn has the robot's diameter as radius); ``max_acceleration = 2 V`` per second and
-``max_angular_acceleration = 2 max_turn_rate`` per second (full speed, full turn rate in 0.5 s);
-``min_speed = 0``.
+Defaults (:func:`default_limits`, :func:`resolve_limits`), a small differential-drive base scaled to
+the scenario's robot speed ``V`` and radius ``r``: ``max_speed = V``; ``max_turn_rate = max_speed / (2 r)``
+(at full speed its tightest turn has the robot's diameter as radius); ``max_acceleration =
+max_speed / 0.5 s`` and ``max_angular_acceleration = max_turn_rate / 0.5 s`` (full speed, full turn
+rate from rest in 0.5 s); ``min_speed = 0``. Each default follows the given values before it.
 """
 
 from __future__ import annotations
@@ -85,7 +85,9 @@ def resolve_limits(params: dict[str, float], scenario) -> UnicycleLimits:
     :raises ValueError: naming the field: a minimum speed above the maximum, a top speed that crosses
         the arena in a step, a turn rate above half a turn a step (the observation's bound).
     """
-    limits = default_limits(scenario.robot_speed, scenario.robot_radius)._replace(**params)
+    speed = params.get("max_speed", scenario.robot_speed)  # a given top speed or turn rate scales the defaults after it
+    turn = params.get("max_turn_rate", default_limits(speed, scenario.robot_radius).max_turn_rate)
+    limits = UnicycleLimits(speed, turn, speed / DEFAULT_RAMP_SECONDS, turn / DEFAULT_RAMP_SECONDS, 0.0)._replace(**params)
     if limits.min_speed > limits.max_speed:
         raise ValueError(f"robot_params.min_speed {limits.min_speed} is above max_speed {limits.max_speed}")
     if limits.max_speed * scenario.dt > scenario.arena_diagonal:

@@ -217,6 +217,14 @@ def test_acceleration_and_turn_limits_hold():
     assert np.allclose(turned, np.array(turns[1:]) * dt, atol=1e-9)  # the heading integrates the turn rate
 
 
+def test_defaults_follow_the_given_limits():
+    limits = _unicycle(max_speed=1.0, min_speed=0.2).action_type
+    env = _unicycle(max_speed=1.0, min_speed=0.2)
+    env.reset(seed=0)
+    assert env.action_type.limits == (1.0, 1.0 / (2 * env.robot_radius), 2.0, 1.0 / (2 * env.robot_radius) / 0.5, 0.2)
+    assert limits.params == {"max_speed": 1.0, "min_speed": 0.2}
+
+
 def test_full_action_reaches_top_speed_and_observation_reports_it():
     env = gym.make("DynamicObstacle-v0", robot="unicycle", scenario="random", delta_d=0.0, n_obstacles=1)
     obs, _ = env.reset(seed=1)

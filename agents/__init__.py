@@ -9,6 +9,8 @@ from .base import Agent, available, make, register, rollout
 from .oracles import ClairvoyantOracle, StaticOracleAgent
 from .planners import MetaheuristicAgent, SpacetimeAStarAgent, SpacetimeMetaheuristicAgent
 from .reactive import ORCAAgent, StraightAgent, VelocityObstacleAgent
+from .reactive.dwa import DWAAgent
+from .reactive.tracker import TrackedAgent
 from .rl import RLAgent
 from .rl.sb3_model import SB3Agent, trained_agent
 
@@ -28,9 +30,17 @@ for _optimizer in ("pso", "abc"):
     register(f"{_optimizer}-predictive", partial(MetaheuristicAgent, optimizer=_optimizer, variant="paper", predictive=True))
 register("pso-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="pso"))
 register("abc-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="abc", population=40))  # 20 food sources
+# the unicycle (robot="unicycle"): the dynamic window approach, and any waypoint planner driven by pure pursuit
+register("dwa", DWAAgent)
+register("tracked", TrackedAgent)  # agents.make("tracked", env, planner="pso-spacetime")
+for _planner in ("astar-spacetime", "astar-crowd", "pso-spacetime", "abc-spacetime", "pso", "abc", "velocity-obstacle", "orca",
+                 "oracle-static", "straight"):  # fmt: skip
+    register(f"tracked-{_planner}", partial(TrackedAgent, planner=_planner))
+#: The registered agents that drive only a unicycle (``gym.make(..., robot="unicycle")``).
+UNICYCLE_AGENTS = frozenset(name for name in available() if name == "dwa" or name.startswith("tracked"))
 
 __all__ = [
-    "Agent", "ClairvoyantOracle", "MetaheuristicAgent", "ORCAAgent", "RLAgent", "SpacetimeAStarAgent",
-    "SpacetimeMetaheuristicAgent", "StaticOracleAgent", "StraightAgent", "VelocityObstacleAgent",
+    "Agent", "ClairvoyantOracle", "DWAAgent", "TrackedAgent", "MetaheuristicAgent", "ORCAAgent", "RLAgent", "SpacetimeAStarAgent",
+    "SpacetimeMetaheuristicAgent", "StaticOracleAgent", "StraightAgent", "UNICYCLE_AGENTS", "VelocityObstacleAgent",
     "available", "make", "register", "rollout",
 ]  # fmt: skip

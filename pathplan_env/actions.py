@@ -9,6 +9,8 @@ one from ``action="<name>"`` (:data:`ACTION_TYPES`), so a new robot model touche
 
 from __future__ import annotations
 
+import math
+
 import numba
 import numpy as np
 from gymnasium import spaces
@@ -19,6 +21,10 @@ from .kinematics import move_and_goal
 #: What ``act`` returns: the robot's move ``(dx, dy)`` (m), the fraction of it at which the robot
 #: reaches the goal (> 1 if it does not), and the point ``(x, y)`` it headed for.
 Move = tuple[float, float, float, tuple[float, float]]
+#: What ``advance`` returns: the step's path length if flown in full (m), the fraction of the step
+#: at which the goal is reached (> 1: not), the smallest gap and the first contact's fraction (as
+#: ``World.step``), the point headed for, and the move to record (what ``replay`` takes).
+Step = tuple[float, float, float, float, tuple[float, float], tuple]
 
 
 class ActionType:
@@ -29,6 +35,10 @@ class ActionType:
 
     #: The name ``action=`` takes (:data:`ACTION_TYPES`).
     name = ""
+    #: Whether the robot has a heading (the renderer draws it).
+    turns = False
+    #: Whether ``__init__`` takes ``robot_params`` (a robot model's limits) after the arena.
+    takes_params = False
 
     def __init__(self, arena: Arena):
         self.arena = arena
@@ -48,6 +58,28 @@ class ActionType:
         :raises ValueError: for an action that is not one of this type's.
         """
         raise NotImplementedError
+
+    def advance(self, action, world) -> Step:
+        """Move the robot and the world by one step (the action validated first): a straight move
+        (:meth:`act`) by default; a robot that flies other paths overrides this and :meth:`replay`."""
+        dx, dy, goal_fraction, waypoint = self.act(action, world.robot_xy)
+        min_gap, contact_fraction = world.step(dx, dy, goal_fraction)
+        return math.hypot(dx, dy), goal_fraction, min_gap, contact_fraction, waypoint, (dx, dy, goal_fraction)
+
+    def replay(self, world, move) -> None:
+        """Step ``world`` again by a recorded ``move`` (the last item of :meth:`advance`'s result)."""
+        world.step(*move)
+
+    def check(self, scenario) -> None:
+        """Raise ``ValueError`` if this type cannot drive the robot of ``scenario`` (before a reset)."""
+
+    def robot_entries(self, dt: float) -> dict[str, spaces.Space]:
+        """Entries this robot adds to a ``Dict`` observation (its heading, say); none by default."""
+        return {}
+
+    def observe_robot(self, world) -> dict[str, np.ndarray]:
+        """The values of :meth:`robot_entries` now."""
+        return {}
 
 
 class WaypointAction(ActionType):
@@ -105,18 +137,56 @@ def parse_action(action) -> np.ndarray:
     return array.astype(np.float64)
 
 
-#: Action types by the name ``DynamicObstacleEnv(action=...)`` takes.
+#: Action types by the name ``DynamicObstacleEnv(action=...)`` takes (``pathplan_env.unicycle`` adds "unicycle").
 ACTION_TYPES: dict[str, type[ActionType]] = {WaypointAction.name: WaypointAction}
+#: Robot models by the name ``DynamicObstacleEnv(robot=...)`` takes, each with its action type: a
+#: robot's action is how it is driven, so ``robot`` picks the action type and ``action`` may only repeat it.
+ROBOTS: dict[str, str] = {"holonomic": WaypointAction.name, "unicycle": "unicycle"}
 
 
-def make_action_type(name, arena: Arena) -> ActionType:
-    """The action type registered as ``name``.
+def with_robot_entries(observation_type, action_type: ActionType, dt: float):
+    """``(space, observe)``: the observation type's, with the robot's own entries (a unicycle's heading
+    and turn rate, :meth:`ActionType.robot_entries`) added to its ``Dict``; unchanged without any.
 
-    :raises ValueError: naming the ``action`` argument and the known types.
+    :raises ValueError: naming ``observation`` when the robot adds entries to a space that is no ``Dict``.
     """
+    space, observe, extra = observation_type.space(), observation_type.observe, action_type.robot_entries(dt)
+    if not extra:
+        return space, observe
+    if not isinstance(space, spaces.Dict):
+        raise ValueError(f"observation {observation_type.name!r} is no Dict: it cannot carry the {action_type.name} robot's {sorted(extra)}")
+    return spaces.Dict(dict(space.spaces) | extra), _WithRobot(observe, action_type.observe_robot)
+
+
+class _WithRobot:
+    """An observation with the robot's own entries added (a class, not a closure: envs pickle)."""
+
+    def __init__(self, observe, robot):
+        self.observe, self.robot = observe, robot
+
+    def __call__(self, world):
+        return self.observe(world) | self.robot(world)
+
+
+def make_action_type(name, arena: Arena, robot: str = "holonomic", robot_params: dict | None = None) -> ActionType:
+    """The action type registered as ``name`` (``None``: the robot's own), for the robot model ``robot``.
+
+    :raises ValueError: naming the ``action``, ``robot`` or ``robot_params`` argument and the known values.
+    """
+    if not isinstance(robot, str) or robot not in ROBOTS:
+        raise ValueError(f"robot must be one of {sorted(ROBOTS)}, got {robot!r}")
+    if name is None:
+        name = ROBOTS[robot]
     if not isinstance(name, str) or name not in ACTION_TYPES:
         raise ValueError(f"action must be one of {sorted(ACTION_TYPES)}, got {name!r}")
-    return ACTION_TYPES[name](arena)
+    if ROBOTS.get(robot) != name:
+        raise ValueError(f"action {name!r} does not drive robot {robot!r} (its action is {ROBOTS[robot]!r}; leave action=None)")
+    cls = ACTION_TYPES[name]
+    if cls.takes_params:
+        return cls(arena, robot_params)
+    if robot_params:
+        raise ValueError(f"robot_params: robot {robot!r} takes no parameters, got {robot_params!r}")
+    return cls(arena)
 
 
-__all__ = ["ACTION_TYPES", "ActionType", "Move", "WaypointAction", "make_action_type", "parse_action"]
+__all__ = ["ACTION_TYPES", "ROBOTS", "ActionType", "Move", "Step", "WaypointAction", "make_action_type", "parse_action", "with_robot_entries"]

@@ -9,8 +9,8 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from . import lidar, visibility  # noqa: F401  (register the "lidar" and "visible-state" observation types)
-from .actions import make_action_type
+from . import lidar, unicycle, visibility  # noqa: F401  (register the "lidar", "visible-state" observations, the "unicycle" action)
+from .actions import make_action_type, with_robot_entries
 from .arena import Arena
 from .observations import make_observation_type
 from .presets import make_scenario
@@ -56,6 +56,15 @@ class DynamicObstacleEnv(gym.Env):
     is closer than one step. The waypoint is clipped so that the robot's disc stays inside the arena.
     Out-of-range actions are clipped to [-1, 1]; a NaN or infinite action raises ``ValueError``.
     Convert with ``env.unwrapped.waypoint_to_action(xy)`` and ``env.unwrapped.action_to_waypoint(a)``.
+
+    ``robot="unicycle"`` (``pathplan_env.unicycle``; ``robot`` picks the action type): ``Box(-1, 1, (2,))``,
+    a normalised target (forward speed in ``[min_speed, max_speed]``, turn rate ``± max_turn_rate``)
+    reached within ``max_acceleration * dt`` and ``max_angular_acceleration * dt`` at each step's start and
+    held over the step (one exact arc; no reversing). ``robot_params`` sets any of the five; defaults
+    for robot speed ``V`` and radius ``r``: ``max_speed = V``, ``max_turn_rate = max_speed / (2 r)``, both
+    reached from rest in 0.5 s, ``min_speed = 0``. It starts at rest facing the goal; the arena's edges are walls
+    to it; the observation adds ``robot_heading`` (1,) and ``robot_angular_velocity`` (1,), and
+    ``robot_velocity`` is its velocity now. ``env.unwrapped.action_type.limits`` holds the episode's limits.
 
     ## Observation Space
     ``observation="state"`` (``pathplan_env.observations``): a ``Dict`` in the world frame (metres,
@@ -118,7 +127,8 @@ class DynamicObstacleEnv(gym.Env):
     ## Arguments
     ```python
     gym.make("DynamicObstacle-v0", scenario="random", delta_d=None, n_obstacles=None, max_obstacles=None,
-             robot_visible=None, observation="state", observation_params=None, action="waypoint", render_mode=None)
+             robot_visible=None, observation="state", observation_params=None, action=None, robot="holonomic",
+             robot_params=None, render_mode=None)
     ```
     - ``scenario``: a preset name, a ``pathplan_env.Scenario`` or its dict form
       (``pathplan_env.scenario_files.load_scenario`` reads one from a JSON or YAML file).
@@ -169,7 +179,9 @@ class DynamicObstacleEnv(gym.Env):
         proximity_distance: float = 0.5,
         observation: str = "state",
         observation_params: dict | None = None,
-        action: str = "waypoint",
+        action: str | None = None,
+        robot: str = "holonomic",
+        robot_params: dict | None = None,
         render_mode: str | None = None,
     ):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
@@ -195,12 +207,15 @@ class DynamicObstacleEnv(gym.Env):
         #: The arena's bounds, the box where the robot's disc fits, and the waypoint <-> action mapping.
         self.arena = Arena.of(self.scenario)
         self.observation_type = make_observation_type(observation, self.arena, self.scenario.dt, self.max_obstacles, observation_params)
-        self.action_type = make_action_type(action, self.arena)
-        self.observation_space = self.observation_type.space()
+        self.action_type = make_action_type(action, self.arena, robot, robot_params)
+        self.action_type.check(self.scenario)
+        self.robot = robot
         self.action_space = self.action_type.space()
-        self._observe, self._act = self.observation_type.observe, self.action_type.act  # bound once: step calls them
+        # bound once: step calls them (a robot that turns adds its heading and turn rate to the observation)
+        self.observation_space, self._observe = with_robot_entries(self.observation_type, self.action_type, self.scenario.dt)
+        self._advance = self.action_type.advance
         self._world: World | None = None
-        self._moves: list[tuple[float, float, float]] | None = None
+        self._moves: list[tuple] | None = None
         self._renderer = None
         self.trail: list[tuple[float, float]] = []
         self.waypoint: tuple[float, float] | None = None
@@ -282,15 +297,13 @@ class DynamicObstacleEnv(gym.Env):
         world = self._world
         if world is None:
             raise RuntimeError("call reset() before step()")
-        # act: the robot's move toward the action's target (the action validated first)
-        dx, dy, goal_fraction, self.waypoint = self._act(action, world.robot_xy)
-        # simulate: the robot stops where the episode ends (the goal, or the first contact); the
-        # step's quantities are read at its end: the robot resting there, path_length up to there
-        min_gap, contact_fraction = world.step(dx, dy, goal_fraction)
-        self._moves.append((dx, dy, goal_fraction))
+        # act and simulate (the action validated first): the robot stops where the episode ends (the
+        # goal, or the first contact); the step's quantities are read at its end: the robot resting there
+        length, goal_fraction, min_gap, contact_fraction, self.waypoint, move = self._advance(action, world)
+        self._moves.append(move)
         collision = contact_fraction <= 1.0
         success = goal_fraction <= 1.0 and not collision
-        self._path_length += math.hypot(dx, dy) * (goal_fraction if success else contact_fraction if collision else 1.0)
+        self._path_length += length * (goal_fraction if success else contact_fraction if collision else 1.0)
         (rx, ry), (gx, gy) = world.robot_xy, self._goal_xy
         distance = 0.0 if success else math.hypot(rx - gx, ry - gy)
         rewards = self._rewards(success, collision, distance, min_gap)
@@ -322,7 +335,8 @@ class DynamicObstacleEnv(gym.Env):
         world = self._world
         return self._renderer.draw(scenario=self.scenario, obstacle_state=world.obstacle_state, radii=world.radii,
                                    robot_position=world.robot_position, trail=self.trail, waypoint=self.waypoint,
-                                   plan=self.planned_path, caption=self.caption)  # fmt: skip
+                                   plan=self.planned_path, caption=self.caption,
+                                   heading=world.robot_heading if self.action_type.turns else None)  # fmt: skip
 
     def close(self):
         if self._renderer is not None:
@@ -377,6 +391,7 @@ class DynamicObstacleEnv(gym.Env):
             raise ValueError(f"scenario has {scenario.n_obstacles} obstacles, more than max_obstacles={self.max_obstacles}")
         if physics:
             scenario_substeps(scenario)  # (World checks it again when built)
+            self.action_type.check(scenario)  # (a robot's limits that the scenario's defaults break)
 
     def __getstate__(self):
         # The world travels as its scenario and the robot's moves since reset, and is replayed on
@@ -391,6 +406,7 @@ class DynamicObstacleEnv(gym.Env):
         self.__dict__.update(state)
         if self._moves is not None:
             world = World(self.scenario)
-            for dx, dy, goal_fraction in self._moves:
-                world.step(dx, dy, goal_fraction)
+            self.action_type.reset(world, self.arena)
+            for move in self._moves:
+                self.action_type.replay(world, move)
             self._world = world

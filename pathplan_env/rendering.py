@@ -10,6 +10,7 @@ STATIC = (110, 110, 118)  # the scene's walls and polygons
 OBSTACLE = (214, 96, 77)
 ARROW = (120, 40, 30)
 ROBOT = (52, 101, 164)
+HEADING = (250, 250, 247)  # a light radius across the robot's disc
 TRAIL = (120, 160, 210)
 GOAL = (46, 160, 67)
 WAYPOINT = (240, 170, 20)
@@ -44,8 +45,9 @@ class Renderer:
         x, y = xy
         return int(round((x - self.origin[0]) * self.scale)), int(round((self.origin[1] - y) * self.scale))
 
-    def draw(self, scenario, obstacle_state, radii, robot_position, trail, waypoint, plan=None, caption=None):
-        """One frame. ``plan``: points of a planned path to draw (e.g. a planner's); ``caption``: text at the top left."""
+    def draw(self, scenario, obstacle_state, radii, robot_position, trail, waypoint, plan=None, caption=None, heading=None):
+        """One frame. ``plan``: points of a planned path to draw (e.g. a planner's); ``caption``: text at the top
+        left; ``heading``: a robot that turns, drawn with a radius toward it (rad)."""
         pygame, canvas, s = self._pygame, self.canvas, self.scale
         canvas.fill(BACKGROUND)
         pygame.draw.rect(canvas, WALL, canvas.get_rect(), width=3)
@@ -71,6 +73,10 @@ class Renderer:
             pygame.draw.line(canvas, WAYPOINT, self.to_screen(robot_position), wp, 1)
             pygame.draw.circle(canvas, WAYPOINT, wp, 4)
         pygame.draw.circle(canvas, ROBOT, self.to_screen(robot_position), max(2, int(scenario.robot_radius * s)))
+        if heading is not None:
+            (x, y), r = robot_position, scenario.robot_radius
+            tip = (x + r * np.cos(heading), y + r * np.sin(heading))
+            pygame.draw.line(canvas, HEADING, self.to_screen(robot_position), self.to_screen(tip), max(2, int(0.25 * r * s)))
         if caption:
             if self.font is None:
                 pygame.font.init()

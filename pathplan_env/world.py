@@ -29,11 +29,8 @@ from .chipmunk import READ_BODY, WRITE_BODY, BatchBuffer, each_body, ffi, set_ma
 from .geometry import NO_CONTACT, swept_contact
 from .scenarios import Scenario
 from .statics import capsules_clearance, pymunk_segments, static_stop
+from .substeps import MAX_SUBSTEP_DISPLACEMENT, MAX_SUBSTEPS, SUBSTEP_SLACK, scenario_substeps, substeps_for  # noqa: F401 (their old home)
 
-#: Largest obstacle displacement per substep, in units of the smallest obstacle radius. Keeps
-#: Chipmunk's discrete collision detection from missing obstacle-obstacle and obstacle-wall
-#: contacts; robot contacts are exact at any substep size.
-MAX_SUBSTEP_DISPLACEMENT = 0.5
 #: Relative speed change that counts as a bounce to undo (Chipmunk's elastic impulses change speeds
 #: by far more; numerical drift of a free body is far less).
 SPEED_TOLERANCE = 1e-9
@@ -41,40 +38,6 @@ _STATE_FIELDS = pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.VELOC
 
 
 _NO_ROBOT = np.empty(0)  # what humans see of an invisible robot
-
-#: Most substeps a step may take. A scene past it (an obstacle much faster than the smallest one is
-#: large) is rejected with a ``ValueError`` rather than simulated for seconds a step.
-MAX_SUBSTEPS = 200
-#: Relative slack of the substep rule: far above float32's rounding, far below any physical effect.
-SUBSTEP_SLACK = 1e-6
-
-
-def substeps_for(speeds: np.ndarray, radii: np.ndarray, dt: float) -> int:
-    """Substeps per step: the fastest obstacle moves at most ``MAX_SUBSTEP_DISPLACEMENT`` of the
-    smallest radius in one (scale-free: only the ratio of displacement to radius counts).
-
-    :raises ValueError: when more than ``MAX_SUBSTEPS`` would be needed.
-    """
-    if len(radii) == 0:
-        return 1
-    ratio = max(speeds.tolist()) * dt / min(radii.tolist())  # Python's max: numpy 2's reductions cost more on a few rows
-    # the relative slack keeps round Δd values (ratio 2.0000000000000004 in float64, 2.0000001 from
-    # float32 observations) on one side of the ceiling, so planners derive the env's count
-    needed = max(1, math.ceil(ratio / MAX_SUBSTEP_DISPLACEMENT * (1.0 - SUBSTEP_SLACK)))
-    if needed > MAX_SUBSTEPS:
-        raise ValueError(
-            f"Scenario.obstacles: the fastest obstacle moves {ratio:.3g} radii of the smallest one per step, which needs "
-            f"{needed} physics substeps (at most {MAX_SUBSTEPS}); lower delta_d or make the radii more alike"
-        )
-    return needed
-
-
-def scenario_substeps(scenario: Scenario) -> int:
-    """:func:`substeps_for` a scenario's fastest obstacles (what ``World`` takes), without building it.
-
-    :raises ValueError: when more than ``MAX_SUBSTEPS`` would be needed.
-    """
-    return substeps_for(scenario.top_speeds(), scenario.arrays()["radii"], scenario.dt)
 
 
 @numba.njit(cache=True)
@@ -138,6 +101,9 @@ class World:
         # the robot's state as Python floats: the env's per-step arithmetic on numpy scalars cost more
         self.robot_xy = (float(scenario.start[0]), float(scenario.start[1]))
         self.robot_velocity_xy = (0.0, 0.0)
+        #: A robot that turns (``pathplan_env.unicycle``) keeps its heading (rad), forward speed (m/s)
+        #: and turn rate (rad/s) here; the holonomic robot leaves them 0 (sensors read the heading).
+        self.robot_heading, self.robot_forward_speed, self.robot_angular_velocity = 0.0, 0.0, 0.0
         self.time = 0.0
 
         top_speeds = self._speeds if not self._drivers else scenario.top_speeds()
@@ -369,6 +335,26 @@ class World:
         self.robot_velocity_xy = (dx / dt, dy / dt) if moving else (0.0, 0.0)
         self.time += dt
         return float(min_gap), float(first_contact)
+
+    def begin_step(self) -> None:
+        """The start of a step driven from outside :meth:`step` (a robot flying arcs): goal-directed
+        obstacles choose their velocities."""
+        if self._drivers:
+            self._steer()
+
+    def advance_obstacles(self) -> tuple[np.ndarray, np.ndarray]:
+        """One physics substep of the obstacles: ``(before, after)``, their (N, 4) states (``after`` as
+        Chipmunk left it). The caller tests the robot between them and then restores the speeds into
+        ``after`` and copies it into ``before`` (``_finish_substep``), calling :meth:`write_bodies` if
+        any was restored: the obstacles' half of :meth:`step`'s substep, unchanged."""
+        space_step(self.space._space, self.scenario.dt / self.substeps)
+        self._buffer._float_arr.num = 0
+        each_body(self.space._space, READ_BODY, self._request)
+        return self.obstacle_state, self._pymunk_state
+
+    def write_bodies(self) -> None:
+        """Write the restored obstacle states back into pymunk (after :meth:`advance_obstacles`)."""
+        self._write_bodies()
 
     def obstacle_trajectory(self, n_steps: int) -> np.ndarray:
         """Advance the obstacles by ``n_steps`` steps and return their state at every substep.

@@ -27,10 +27,10 @@ def test_the_default_types_are_chosen_by_name():
 
 @pytest.mark.parametrize("kwargs, argument", [
     (dict(observation="sonar"), "observation"), (dict(observation=None), "observation"),
-    (dict(action="unicycle"), "action"), (dict(action=StateObservation), "action"),
+    (dict(action="tank"), "action"), (dict(action=StateObservation), "action"),
 ])  # fmt: skip
 def test_unknown_type_names_are_rejected_naming_the_argument_and_the_known_ones(kwargs, argument):
-    known = "'lidar', 'state', 'visible-state'" if argument == "observation" else "'waypoint'"
+    known = "'lidar', 'state', 'visible-state'" if argument == "observation" else "'unicycle', 'waypoint'"
     with pytest.raises(ValueError, match=rf"^{argument} must be one of \[{known}\]"):
         gym.make("DynamicObstacle-v0", **kwargs)
 

@@ -1,0 +1,94 @@
+"""What turning costs: success of the unicycle's agents beside the same planners on the holonomic robot,
+and the unicycle env's speed beside CartPole-v1.
+
+Random scenes (8 obstacles), validation seeds (``pathplan_env.splits.validation_seeds``, never the
+test split), the same episodes for every agent; ``tracked-<planner>`` is the planner driven by pure
+pursuit (``agents.reactive.tracker``), ``dwa`` the dynamic window approach (``agents.reactive.dwa``).
+
+    python scripts/bench_unicycle.py [--episodes 40] [--deltas 0.25 0.5] [--steps 20000]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import gymnasium as gym
+import numpy as np
+
+import agents
+import pathplan_env  # noqa: F401
+from pathplan_env.splits import validation_seeds
+
+#: (label, agent, robot)
+ENTRIES = [
+    ("dwa", "dwa", "unicycle"),
+    ("tracked-astar-spacetime", "tracked-astar-spacetime", "unicycle"),
+    ("tracked-pso-spacetime", "tracked-pso-spacetime", "unicycle"),
+    ("astar-spacetime (holonomic)", "astar-spacetime", "holonomic"),
+    ("pso-spacetime (holonomic)", "pso-spacetime", "holonomic"),
+]
+
+
+def success_table(episodes: int, deltas: list[float], n_obstacles: int = 8, only: list[str] | None = None) -> None:
+    seeds = [int(s) for s in validation_seeds(0, episodes)]
+    print(f"random scenes, {n_obstacles} obstacles, {episodes} validation episodes (seeds {seeds[0]}..{seeds[-1]})")
+    print("| agent | robot | " + " | ".join(f"Δd {d}: success (collisions)" for d in deltas) + " | median plan ms |")
+    print("|---|---|" + "---:|" * (len(deltas) + 1))
+    for label, name, robot in ENTRIES:
+        if only and label not in only:
+            continue
+        cells, plan_ms = [], []
+        for delta_d in deltas:
+            env = gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=n_obstacles, delta_d=delta_d, robot=robot)
+            agent = agents.make(name, env, seed=0)
+            outcomes = []
+            for seed in seeds:
+                agent.reset()
+                obs, info = env.reset(seed=seed)
+                while True:
+                    action, _ = agent.predict(obs, deterministic=True)
+                    plan_ms.append(1e3 * agent.last_plan_seconds)
+                    obs, _, terminated, truncated, info = env.step(action)
+                    if terminated or truncated:
+                        break
+                outcomes.append((info["is_success"], info["collision"]))
+            won, hit = np.mean(outcomes, axis=0)
+            cells.append(f"{won:.3f} ({hit:.3f})")
+        print(f"| {label} | {robot} | " + " | ".join(cells) + f" | {np.median(plan_ms):.1f} |", flush=True)
+
+
+def speed_table(steps: int, repeats: int) -> None:
+    from bench_env import best_of, paired_ratio  # scripts/bench_env.py, next to this file
+
+    reference = gym.make("CartPole-v1")
+    cartpole = best_of(lambda: reference, steps, repeats)
+    print(f"\nCartPole-v1: {cartpole:.0f} steps/s; ratios are medians of {repeats} paired runs (random actions, 5 obstacles, Δd 0.25)")
+    print("| robot | steps/s | ratio to CartPole-v1 |")
+    print("|---|---:|---:|")
+    for robot in ("holonomic", "unicycle"):
+        make = lambda robot=robot: gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=5, delta_d=0.25, robot=robot)
+        rate, ratio = paired_ratio(make, reference, steps, repeats)
+        print(f"| {robot} | {rate:.0f} | {ratio:.3f}x |", flush=True)
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--episodes", type=int, default=40)
+    parser.add_argument("--deltas", type=float, nargs="+", default=[0.25, 0.5])
+    parser.add_argument("--steps", type=int, default=20000)
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--skip-success", action="store_true")
+    parser.add_argument("--skip-speed", action="store_true")
+    parser.add_argument("--only", nargs="+", help="labels of the rows to run (default: all)")
+    args = parser.parse_args(argv)
+    start = time.perf_counter()
+    if not args.skip_speed:
+        speed_table(args.steps, args.repeats)
+    if not args.skip_success:
+        success_table(args.episodes, args.deltas, only=args.only)
+    print(f"\n({time.perf_counter() - start:.0f} s)")
+
+
+if __name__ == "__main__":
+    main()

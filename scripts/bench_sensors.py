@@ -116,7 +116,7 @@ def per_call_us(function, calls: int, repeats: int) -> float:
     return 1e6 * best
 
 
-def main(argv=None) -> None:
+def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--repeats", type=int, default=7)
     parser.add_argument("--steps", type=int, default=20000, help="env steps per timed run")
@@ -125,7 +125,11 @@ def main(argv=None) -> None:
     parser.add_argument("--limit", action="store_true", help="with --planning: the clairvoyant oracle's success too")
     parser.add_argument("--n-obstacles", type=int, default=None, help="with --planning: obstacles per random scene (default: the preset's)")
     parser.add_argument("--skip-timing", action="store_true", help="only --planning")
-    args = parser.parse_args(argv)
+    return parser.parse_args(argv)
+
+
+def main(argv=None) -> None:
+    args = parse_args(argv)
     if not args.skip_timing:
         timing(args)
     if args.planning:

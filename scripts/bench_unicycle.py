@@ -72,7 +72,7 @@ def speed_table(steps: int, repeats: int) -> None:
         print(f"| {robot} | {rate:.0f} | {ratio:.3f}x |", flush=True)
 
 
-def main(argv=None) -> None:
+def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--episodes", type=int, default=40)
     parser.add_argument("--deltas", type=float, nargs="+", default=[0.25, 0.5])
@@ -81,7 +81,11 @@ def main(argv=None) -> None:
     parser.add_argument("--skip-success", action="store_true")
     parser.add_argument("--skip-speed", action="store_true")
     parser.add_argument("--only", nargs="+", help="labels of the rows to run (default: all)")
-    args = parser.parse_args(argv)
+    return parser.parse_args(argv)
+
+
+def main(argv=None) -> None:
+    args = parse_args(argv)
     start = time.perf_counter()
     if not args.skip_speed:
         speed_table(args.steps, args.repeats)

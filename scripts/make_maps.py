@@ -118,10 +118,14 @@ def draw_office(out: Path) -> None:
     canvas.save(out, "office", (-(width / 2 + band), -(height / 2 + band)), "six rooms off a 2 m corridor, 1 m doors, tables, unknown band")
 
 
-def main(argv=None) -> None:
+def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=ROOT / "pathplan_env" / "map_data", help="folder to write the maps into")
-    args = parser.parse_args(argv)
+    return parser.parse_args(argv)
+
+
+def main(argv=None) -> None:
+    args = parse_args(argv)
     draw_maze(args.out)
     draw_office(args.out)
     print(f"wrote {', '.join(sorted(p.name for p in args.out.iterdir()))} in {args.out}")

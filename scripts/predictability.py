@@ -48,13 +48,17 @@ def errors(n_obstacles: int, delta_d: float, scenes: int, steps: int, warmup: in
     return np.array(from_obs), np.array(from_state)
 
 
-def main(argv=None) -> None:
+def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--n-obstacles", default="8,30")
     parser.add_argument("--delta-d", default="1,2,4")
     parser.add_argument("--scenes", type=int, default=20)
     parser.add_argument("--steps", type=int, default=12)
-    args = parser.parse_args(argv)
+    return parser.parse_args(argv)
+
+
+def main(argv=None) -> None:
+    args = parse_args(argv)
     shown = [s for s in (1, 2, 3, 4, 5, 6, 8, 10, 12, 16, 20) if s <= args.steps]
     print(f"largest centre error over the obstacles k steps ahead, in radii of the smallest obstacle (median over {args.scenes} scenes)")
     print("| obstacles | Δd | predicted from | " + " | ".join(f"k={s}" for s in shown) + " | steps until 0.1 radius |")

@@ -1,7 +1,8 @@
 """ORCA (van den Berg et al. 2011), compiled: one agent's new velocity among others.
 
-The algorithm of RVO2's ``Agent::computeNewVelocity`` for agent neighbours (no polygon obstacles,
-as in CrowdNav): one half-plane of permitted velocities per neighbour, then the velocity closest to
+The algorithm of RVO2's ``Agent::computeNewVelocity``: one half-plane of permitted velocities per
+static obstacle edge (RVO2's obstacle ORCA lines, hard constraints: :class:`ORCAObstacles`, its
+polygons' vertices with their convexity and neighbours) and per neighbouring agent, then the velocity closest to
 the preferred one inside all of them and the speed circle (a 2D linear program; when infeasible,
 the velocity that violates them least). Written here rather than called through a binding because
 the ORCA humans run it once per human per step inside the env's step, where a binding's per-call
@@ -28,6 +29,21 @@ class ORCAParams(NamedTuple):
     neighbor_dist: float  # m, centre to centre: farther agents are ignored
     max_neighbors: int  # at most this many neighbours, nearest first
     time_horizon: float  # s: the chosen velocity avoids every neighbour for this long
+    time_horizon_obst: float = 5.0  # s: ... and every static obstacle for this long (RVO2's timeHorizonObst)
+
+
+class ORCAObstacles(NamedTuple):
+    """Static obstacles as RVO2 holds them: vertices, each the start of an edge to ``next``.
+
+    A polygon's vertices run counter-clockwise (the obstacle on the left of each edge), a hole's
+    clockwise; a two-vertex obstacle is a line, seen from both sides. Built by :func:`obstacle_vertices`.
+    """
+
+    point: np.ndarray  # (k, 2) m
+    direction: np.ndarray  # (k, 2): unit vector toward the next vertex
+    next: np.ndarray  # (k,) int64
+    prev: np.ndarray  # (k,) int64
+    convex: np.ndarray  # (k,) bool: RVO2's isConvex_ (left turn or straight at the vertex)
 
 
 class ORCAAgentState(NamedTuple):
@@ -44,6 +60,38 @@ class ORCAAgentState(NamedTuple):
 
 #: RVO2's threshold for (almost) parallel constraint lines.
 RVO_EPSILON = 1e-5
+
+
+def obstacle_vertices(rings) -> ORCAObstacles:
+    """:class:`ORCAObstacles` of vertex rings (RVO2's ``addObstacle`` for each): a ring of >= 3
+    vertices counter-clockwise around an obstacle (clockwise around a hole in one), or 2 vertices for
+    a line. Convexity and directions as RVO2 computes them.
+
+    :raises ValueError: naming ``rings`` for a ring of fewer than 2 vertices or a zero-length edge.
+    """
+    points, nexts, prevs, convex = [], [], [], []
+    for r, ring in enumerate(rings):
+        ring = [(float(x), float(y)) for x, y in ring]
+        n, base = len(ring), len(points)
+        if n < 2:
+            raise ValueError(f"rings[{r}] must have at least 2 vertices, got {n}")
+        for i, (x, y) in enumerate(ring):
+            (px, py), (nx, ny) = ring[i - 1], ring[(i + 1) % n]
+            points.append((x, y))
+            nexts.append(base + (i + 1) % n)
+            prevs.append(base + (i - 1) % n)
+            # RVO2: leftOf(previous, this, next) >= 0; a line's two ends are convex
+            convex.append(n == 2 or (px - nx) * (y - py) - (py - ny) * (x - px) >= 0.0)
+    point = np.array(points, np.float64).reshape(-1, 2)
+    nxt = np.array(nexts, np.int64)
+    edge = point[nxt] - point if len(point) else np.empty((0, 2))
+    length = np.hypot(edge[:, 0], edge[:, 1])
+    if (length <= 0.0).any():
+        raise ValueError("rings: an edge has zero length (repeated vertex)")
+    return ORCAObstacles(point, edge / length[:, None] if len(point) else edge, nxt, np.array(prevs, np.int64), np.array(convex, np.bool_))
+
+
+NO_OBSTACLES = obstacle_vertices([])
 
 
 @numba.njit(cache=True)
@@ -105,14 +153,16 @@ def _linear_program2(lines, n_lines, radius, opt_x, opt_y, direction_opt, result
 
 
 @numba.njit(cache=True)
-def _linear_program3(lines, n_lines, begin_line, radius, result):
-    """Infeasible case: the velocity that minimises the largest violation of lines ``begin_line..``."""
+def _linear_program3(lines, n_lines, n_obstacle_lines, begin_line, radius, result):
+    """Infeasible case: the velocity that minimises the largest violation of the agents' lines
+    ``begin_line..``, keeping the obstacles' lines (the first ``n_obstacle_lines``) hard."""
     distance = 0.0
     projected = np.empty((n_lines, 4))
     for i in range(begin_line, n_lines):
         if _det(lines[i, 2], lines[i, 3], lines[i, 0] - result[0], lines[i, 1] - result[1]) > distance:
-            n_proj = 0
-            for j in range(i):
+            projected[:n_obstacle_lines] = lines[:n_obstacle_lines]
+            n_proj = n_obstacle_lines
+            for j in range(n_obstacle_lines, i):
                 determinant = _det(lines[i, 2], lines[i, 3], lines[j, 2], lines[j, 3])
                 if abs(determinant) <= RVO_EPSILON:
                     if lines[i, 2] * lines[j, 2] + lines[i, 3] * lines[j, 3] > 0.0:
@@ -133,8 +183,183 @@ def _linear_program3(lines, n_lines, begin_line, radius, result):
 
 
 @numba.njit(cache=True)
+def _obstacle_neighbours(x, y, obstacles, range_sq):
+    """The edges within ``range_sq`` (squared distance to the segment) that the agent sees from their
+    outer side, nearest first (RVO2's k-d tree query and ``insertObstacleNeighbor``)."""
+    point, nxt = obstacles.point, obstacles.next
+    k = point.shape[0]
+    order, dist_sq = np.empty(k, np.int64), np.empty(k)
+    count = 0
+    for e in range(k):
+        ax, ay = point[e, 0], point[e, 1]
+        ex, ey = point[nxt[e], 0] - ax, point[nxt[e], 1] - ay
+        if _det(ax - x, ay - y, ex, ey) >= 0.0:  # leftOf(p1, p2, agent) >= 0: the agent is behind the edge
+            continue
+        r = ((x - ax) * ex + (y - ay) * ey) / (ex * ex + ey * ey)
+        if r < 0.0:
+            d = (x - ax) ** 2 + (y - ay) ** 2
+        elif r > 1.0:
+            d = (x - ax - ex) ** 2 + (y - ay - ey) ** 2
+        else:
+            d = (x - ax - r * ex) ** 2 + (y - ay - r * ey) ** 2
+        if d >= range_sq:
+            continue
+        i = count
+        count += 1
+        while i != 0 and d < dist_sq[i - 1]:
+            order[i], dist_sq[i] = order[i - 1], dist_sq[i - 1]
+            i -= 1
+        order[i], dist_sq[i] = e, d
+    return order, count
+
+
+@numba.njit(cache=True)
+def _leg(rx, ry, dist_sq, radius, left):
+    """Unit direction of the left (or right) tangent from the agent to a disc of ``radius`` at ``r``."""
+    leg = math.sqrt(dist_sq - radius * radius)
+    if left:
+        return (rx * leg - ry * radius) / dist_sq, (rx * radius + ry * leg) / dist_sq
+    return (rx * leg + ry * radius) / dist_sq, (-rx * radius + ry * leg) / dist_sq
+
+
+@numba.njit(cache=True)
+def _obstacle_lines(agent, obstacles, order, inv_horizon, lines):
+    """RVO2's obstacle ORCA lines of the edges ``order`` (neighbours, nearest first) into ``lines``
+    (rows ``point_x, point_y, dir_x, dir_y``); returns their count. Follows
+    ``Agent::computeNewVelocity`` case for case (the comments name its cases)."""
+    x, y, vx, vy, radius = agent.x, agent.y, agent.vx, agent.vy, agent.radius
+    point, direction, nxt, prv, convex = obstacles.point, obstacles.direction, obstacles.next, obstacles.prev, obstacles.convex
+    count = order.shape[0]
+    radius_sq = radius * radius
+    n = 0
+    for k in range(count):
+        o1 = order[k]
+        o2 = nxt[o1]
+        r1x, r1y = point[o1, 0] - x, point[o1, 1] - y
+        r2x, r2y = point[o2, 0] - x, point[o2, 1] - y
+        covered = False  # already taken care of by an earlier obstacle line
+        for j in range(n):
+            if (_det(inv_horizon * r1x - lines[j, 0], inv_horizon * r1y - lines[j, 1], lines[j, 2], lines[j, 3]) - inv_horizon * radius >= -RVO_EPSILON
+                    and _det(inv_horizon * r2x - lines[j, 0], inv_horizon * r2y - lines[j, 1], lines[j, 2], lines[j, 3]) - inv_horizon * radius >= -RVO_EPSILON):  # fmt: skip
+                covered = True
+                break
+        if covered:
+            continue
+        dist_sq1, dist_sq2 = r1x * r1x + r1y * r1y, r2x * r2x + r2y * r2y
+        ox, oy = point[o2, 0] - point[o1, 0], point[o2, 1] - point[o1, 1]
+        s = (-r1x * ox - r1y * oy) / (ox * ox + oy * oy)
+        dist_sq_line = (-r1x - s * ox) ** 2 + (-r1y - s * oy) ** 2
+        if s < 0.0 and dist_sq1 <= radius_sq:  # collision with the left vertex (ignored if non-convex)
+            if convex[o1]:
+                norm = math.sqrt(dist_sq1)
+                lines[n, 0], lines[n, 1], lines[n, 2], lines[n, 3] = 0.0, 0.0, -r1y / norm, r1x / norm
+                n += 1
+            continue
+        if s > 1.0 and dist_sq2 <= radius_sq:  # collision with the right vertex
+            if convex[o2] and _det(r2x, r2y, direction[o2, 0], direction[o2, 1]) >= 0.0:
+                norm = math.sqrt(dist_sq2)
+                lines[n, 0], lines[n, 1], lines[n, 2], lines[n, 3] = 0.0, 0.0, -r2y / norm, r2x / norm
+                n += 1
+            continue
+        if 0.0 <= s <= 1.0 and dist_sq_line <= radius_sq:  # collision with the segment
+            lines[n, 0], lines[n, 1], lines[n, 2], lines[n, 3] = 0.0, 0.0, -direction[o1, 0], -direction[o1, 1]
+            n += 1
+            continue
+        # no collision: the legs (both from one vertex when viewed obliquely)
+        if s < 0.0 and dist_sq_line <= radius_sq:
+            if not convex[o1]:
+                continue
+            o2 = o1
+            llx, lly = _leg(r1x, r1y, dist_sq1, radius, True)
+            rlx, rly = _leg(r1x, r1y, dist_sq1, radius, False)
+        elif s > 1.0 and dist_sq_line <= radius_sq:
+            if not convex[o2]:
+                continue
+            o1 = o2
+            llx, lly = _leg(r2x, r2y, dist_sq2, radius, True)
+            rlx, rly = _leg(r2x, r2y, dist_sq2, radius, False)
+        else:
+            if convex[o1]:
+                llx, lly = _leg(r1x, r1y, dist_sq1, radius, True)
+            else:  # non-convex left vertex: the left leg extends the cut-off line
+                llx, lly = -direction[o1, 0], -direction[o1, 1]
+            if convex[o2]:
+                rlx, rly = _leg(r2x, r2y, dist_sq2, radius, False)
+            else:
+                rlx, rly = direction[o1, 0], direction[o1, 1]
+        # a leg never points into the neighbouring edge at a convex vertex: take that edge's cut-off
+        # line instead, and add no line if the velocity projects on such a "foreign" leg
+        left_neighbour = prv[o1]
+        left_foreign = right_foreign = False
+        if convex[o1] and _det(llx, lly, -direction[left_neighbour, 0], -direction[left_neighbour, 1]) >= 0.0:
+            llx, lly = -direction[left_neighbour, 0], -direction[left_neighbour, 1]
+            left_foreign = True
+        if convex[o2] and _det(rlx, rly, direction[o2, 0], direction[o2, 1]) <= 0.0:
+            rlx, rly = direction[o2, 0], direction[o2, 1]
+            right_foreign = True
+        lcx, lcy = inv_horizon * (point[o1, 0] - x), inv_horizon * (point[o1, 1] - y)  # cut-off centres
+        rcx, rcy = inv_horizon * (point[o2, 0] - x), inv_horizon * (point[o2, 1] - y)
+        cx, cy = rcx - lcx, rcy - lcy
+        same = o1 == o2
+        t = 0.5 if same else ((vx - lcx) * cx + (vy - lcy) * cy) / (cx * cx + cy * cy)
+        t_left = (vx - lcx) * llx + (vy - lcy) * lly
+        t_right = (vx - rcx) * rlx + (vy - rcy) * rly
+        if (t < 0.0 and t_left < 0.0) or (same and t_left < 0.0 and t_right < 0.0):  # the left cut-off circle
+            wx, wy = vx - lcx, vy - lcy
+            norm = math.hypot(wx, wy)
+            ux, uy = wx / norm, wy / norm
+            lines[n, 0], lines[n, 1], lines[n, 2], lines[n, 3] = lcx + radius * inv_horizon * ux, lcy + radius * inv_horizon * uy, uy, -ux
+            n += 1
+            continue
+        if t > 1.0 and t_right < 0.0:  # the right cut-off circle
+            wx, wy = vx - rcx, vy - rcy
+            norm = math.hypot(wx, wy)
+            ux, uy = wx / norm, wy / norm
+            lines[n, 0], lines[n, 1], lines[n, 2], lines[n, 3] = rcx + radius * inv_horizon * ux, rcy + radius * inv_horizon * uy, uy, -ux
+            n += 1
+            continue
+        # the left leg, the right leg or the cut-off line, whichever is closest to the velocity
+        d_cut = math.inf if (t < 0.0 or t > 1.0 or same) else (vx - lcx - t * cx) ** 2 + (vy - lcy - t * cy) ** 2
+        d_left = math.inf if t_left < 0.0 else (vx - lcx - t_left * llx) ** 2 + (vy - lcy - t_left * lly) ** 2
+        d_right = math.inf if t_right < 0.0 else (vx - rcx - t_right * rlx) ** 2 + (vy - rcy - t_right * rly) ** 2
+        if d_cut <= d_left and d_cut <= d_right:
+            dx, dy, px, py = -direction[o1, 0], -direction[o1, 1], lcx, lcy
+        elif d_left <= d_right:
+            if left_foreign:
+                continue
+            dx, dy, px, py = llx, lly, lcx, lcy
+        else:
+            if right_foreign:
+                continue
+            dx, dy, px, py = -rlx, -rly, rcx, rcy
+        lines[n, 0], lines[n, 1] = px + radius * inv_horizon * -dy, py + radius * inv_horizon * dx
+        lines[n, 2], lines[n, 3] = dx, dy
+        n += 1
+    return n
+
+
+@numba.njit(cache=True)
 def orca_velocity(agent, skip, positions, velocities, radii, params, dt):
-    """The ORCA velocity of ``agent`` (an :class:`ORCAAgentState`) among the agents of the arrays
+    """:func:`orca_velocity_among` without static obstacles (what CrowdNav's humans know)."""
+    none = ORCAObstacles(np.empty((0, 2)), np.empty((0, 2)), np.empty(0, np.int64), np.empty(0, np.int64), np.empty(0, np.bool_))
+    return orca_velocity_among(agent, skip, positions, velocities, radii, none, params, dt)
+
+
+@numba.njit(cache=True)
+def orca_velocity_among(agent, skip, positions, velocities, radii, obstacles, params, dt):
+    """:func:`orca_velocity_ordered` with the obstacle edges within reach, nearest first (ties: by index)."""
+    reach = params.time_horizon_obst * agent.max_speed + agent.radius
+    order, count = _obstacle_neighbours(agent.x, agent.y, obstacles, reach * reach)
+    return orca_velocity_ordered(agent, skip, positions, velocities, radii, obstacles, order[:count], params, dt)
+
+
+@numba.njit(cache=True)
+def orca_velocity_ordered(agent, skip, positions, velocities, radii, obstacles, obstacle_order, params, dt):
+    """The ORCA velocity of ``agent`` (an :class:`ORCAAgentState`) among the static ``obstacles``
+    (:class:`ORCAObstacles`; ``obstacle_order``: the edges within ``time_horizon_obst * max_speed +
+    radius`` that the agent sees from outside, nearest first, each a hard constraint as in RVO2; the
+    order matters only for ties, two edges nearest at their shared vertex, which RVO2 orders by its
+    k-d tree: the tests pass its order here) and the agents of the arrays
     (``positions``, ``velocities`` (m, 2) and ``radii`` (m,); row ``skip`` is the agent itself, or
     ``-1`` if it is not in them), with :class:`ORCAParams`.
 
@@ -165,7 +390,10 @@ def orca_velocity(agent, skip, positions, velocities, radii, params, dt):
         order[i], dist_sq[i] = j, d
         if count == max_neighbors:
             range_sq = dist_sq[count - 1]
-    lines = np.empty((max(count, 1), 4))
+    lines = np.empty((obstacle_order.shape[0] + count + 1, 4))
+    n_obst = 0
+    if obstacle_order.shape[0] > 0:
+        n_obst = _obstacle_lines(agent, obstacles, obstacle_order, 1.0 / params.time_horizon_obst, lines)
     inv_horizon = 1.0 / time_horizon
     for k in range(count):
         j = order[k]
@@ -200,12 +428,13 @@ def orca_velocity(agent, skip, positions, velocities, radii, params, dt):
             dx, dy = uy_, -ux_
             scale = combined * inv_dt - w_len
             ux, uy = scale * ux_, scale * uy_
-        lines[k, 0], lines[k, 1] = vx + 0.5 * ux, vy + 0.5 * uy
-        lines[k, 2], lines[k, 3] = dx, dy
+        lines[n_obst + k, 0], lines[n_obst + k, 1] = vx + 0.5 * ux, vy + 0.5 * uy
+        lines[n_obst + k, 2], lines[n_obst + k, 3] = dx, dy
+    n_lines = n_obst + count
     result = np.empty(2)
-    fail = _linear_program2(lines, count, agent.max_speed, agent.pref_vx, agent.pref_vy, False, result)
-    if fail < count:
-        _linear_program3(lines, count, fail, agent.max_speed, result)
+    fail = _linear_program2(lines, n_lines, agent.max_speed, agent.pref_vx, agent.pref_vy, False, result)
+    if fail < n_lines:
+        _linear_program3(lines, n_lines, n_obst, fail, agent.max_speed, result)
     return result[0], result[1]
 
 

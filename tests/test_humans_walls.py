@@ -68,3 +68,66 @@ def test_orca_with_obstacles_matches_rvo2():
         ties += np.abs(ours - theirs).max() > 1e-4
     assert worst < 1e-4
     assert ties <= 2  # 2 of 1,500 in the seeds tried
+
+
+def _walled(behaviour):
+    from pathplan_env import Obstacle, Scenario
+
+    # a wall from the floor to 2 m short of the top stands between both humans and their goals
+    return Scenario(bounds=(0, 0, 10, 10), start=(9, 9), goal=(9, 7), walls=(((5.0, 0.0), (5.0, 8.0)),), behaviour=behaviour,
+                    obstacles=(Obstacle((2.0, 2.0), 0.3, goal=(8.0, 2.0), preferred_speed=1.0), Obstacle((2.0, 4.0), 0.3, goal=(8.0, 5.0), preferred_speed=1.0)),
+                    dt=0.25, robot_radius=0.3, robot_speed=1.0)  # fmt: skip
+
+
+@pytest.mark.parametrize("behaviour", ["orca", "social-force"])
+def test_humans_route_around_a_wall_to_their_goals_and_keep_off_it(behaviour):
+    from pathplan_env.statics import points_clearance
+    from pathplan_env.world import World
+
+    scenario = _walled(behaviour)
+    trajectory = World(scenario).obstacle_trajectory(120)  # 30 s: the way round is ~15 m at 1 m/s
+    xy = trajectory[:, :, :2]
+    goals = np.array([ob.goal for ob in scenario.obstacles])
+    assert np.hypot(*(xy[-1] - goals).T).max() < 0.1
+    gap = points_clearance(xy.reshape(-1, 2), scenario.static_segments).min() - 0.3
+    assert gap > (0.0 if behaviour == "orca" else 0.1)  # social force: repelled well before contact
+
+
+def test_without_routes_a_human_presses_into_the_wall():
+    """The routes make the difference: the same human aimed straight at its goal stays behind the wall."""
+    from pathplan_env.world import World
+
+    world = World(_walled("orca"))
+    world._human_statics.routes.row_of[:] = -1  # no route: straight for the goal, as before walls were known
+    xy = world.obstacle_trajectory(120)[-1, :, :2]
+    assert (xy[:, 0] < 5.0).all()
+
+
+CROWD_NAMES = ["corridor-crowd", "doorway-crowd", "intersection-crowd", "cluttered-room-crowd", "maze", "maze-crowd"]
+
+
+@pytest.mark.parametrize("name", CROWD_NAMES)
+def test_crowd_presets_are_seeded_and_run(name):
+    import gymnasium as gym
+
+    import pathplan_env
+
+    a, b = (pathplan_env.make_scenario(name, np.random.default_rng(4)) for _ in range(2))
+    assert a == b and a != pathplan_env.make_scenario(name, np.random.default_rng(5))
+    assert a.delta_d == pytest.approx(0.25)
+    assert pathplan_env.make_scenario(name, np.random.default_rng(4), n_obstacles=3, delta_d=0.5).n_obstacles == 3
+    env = gym.make("DynamicObstacle-v0", scenario=name)
+    runs = []
+    for _ in range(2):
+        obs, _ = env.reset(seed=9)
+        still = env.unwrapped.waypoint_to_action(obs["robot_position"])
+        track = []
+        for _ in range(30):
+            obs, _, terminated, truncated, _ = env.step(still)
+            track.append(obs["obstacle_positions"].copy())
+            if terminated or truncated:
+                break
+        runs.append(np.array(track))
+    assert np.array_equal(runs[0], runs[1])
+    if name != "maze":
+        assert np.abs(runs[0][-1] - runs[0][0]).max() > 0.5  # the humans walk

@@ -73,9 +73,9 @@ class ORCA:
     neighbor_dist: float = 10.0
     max_neighbors: int = 10
     time_horizon: float = 5.0
-    time_horizon_obst: float = 5.0
     safety_space: float = 0.0
     radius_padding: float = 0.01
+    time_horizon_obst: float = 5.0  # last: positional construction (agents' ORCA) keeps its meaning
     model: str = field(default="orca", init=False)
     goal_directed = True
 

@@ -25,7 +25,6 @@ discomfort distance), 0.1 m clear of walls and polygons, and clear of the robot'
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from functools import cache
 

@@ -223,6 +223,48 @@ def _leg(rx, ry, dist_sq, radius, left):
 
 
 @numba.njit(cache=True)
+def _project(x, y, vx, vy, radius, inv_horizon, point, direction, o1, o2, llx, lly, rlx, rly, left_foreign, right_foreign, line):
+    """The end of RVO2's obstacle case without collision: the velocity projected on the left or right
+    cut-off circle, the cut-off line or a leg; writes ``line`` and returns 1, or 0 for a foreign leg."""
+    lcx, lcy = inv_horizon * (point[o1, 0] - x), inv_horizon * (point[o1, 1] - y)  # cut-off centres
+    rcx, rcy = inv_horizon * (point[o2, 0] - x), inv_horizon * (point[o2, 1] - y)
+    cx, cy = rcx - lcx, rcy - lcy
+    same = o1 == o2
+    t = 0.5 if same else ((vx - lcx) * cx + (vy - lcy) * cy) / (cx * cx + cy * cy)
+    t_left = (vx - lcx) * llx + (vy - lcy) * lly
+    t_right = (vx - rcx) * rlx + (vy - rcy) * rly
+    if (t < 0.0 and t_left < 0.0) or (same and t_left < 0.0 and t_right < 0.0):  # the left cut-off circle
+        wx, wy = vx - lcx, vy - lcy
+        norm = math.hypot(wx, wy)
+        ux, uy = wx / norm, wy / norm
+        line[0], line[1], line[2], line[3] = lcx + radius * inv_horizon * ux, lcy + radius * inv_horizon * uy, uy, -ux
+        return 1
+    if t > 1.0 and t_right < 0.0:  # the right cut-off circle
+        wx, wy = vx - rcx, vy - rcy
+        norm = math.hypot(wx, wy)
+        ux, uy = wx / norm, wy / norm
+        line[0], line[1], line[2], line[3] = rcx + radius * inv_horizon * ux, rcy + radius * inv_horizon * uy, uy, -ux
+        return 1
+    # the left leg, the right leg or the cut-off line, whichever is closest to the velocity
+    d_cut = math.inf if (t < 0.0 or t > 1.0 or same) else (vx - lcx - t * cx) ** 2 + (vy - lcy - t * cy) ** 2
+    d_left = math.inf if t_left < 0.0 else (vx - lcx - t_left * llx) ** 2 + (vy - lcy - t_left * lly) ** 2
+    d_right = math.inf if t_right < 0.0 else (vx - rcx - t_right * rlx) ** 2 + (vy - rcy - t_right * rly) ** 2
+    if d_cut <= d_left and d_cut <= d_right:
+        dx, dy, px, py = -direction[o1, 0], -direction[o1, 1], lcx, lcy
+    elif d_left <= d_right:
+        if left_foreign:
+            return 0
+        dx, dy, px, py = llx, lly, lcx, lcy
+    else:
+        if right_foreign:
+            return 0
+        dx, dy, px, py = -rlx, -rly, rcx, rcy
+    line[0], line[1] = px + radius * inv_horizon * -dy, py + radius * inv_horizon * dx
+    line[2], line[3] = dx, dy
+    return 1
+
+
+@numba.njit(cache=True)
 def _obstacle_lines(agent, obstacles, order, inv_horizon, lines):
     """RVO2's obstacle ORCA lines of the edges ``order`` (neighbours, nearest first) into ``lines``
     (rows ``point_x, point_y, dir_x, dir_y``); returns their count. Follows
@@ -239,8 +281,9 @@ def _obstacle_lines(agent, obstacles, order, inv_horizon, lines):
         r2x, r2y = point[o2, 0] - x, point[o2, 1] - y
         covered = False  # already taken care of by an earlier obstacle line
         for j in range(n):
-            if (_det(inv_horizon * r1x - lines[j, 0], inv_horizon * r1y - lines[j, 1], lines[j, 2], lines[j, 3]) - inv_horizon * radius >= -RVO_EPSILON
-                    and _det(inv_horizon * r2x - lines[j, 0], inv_horizon * r2y - lines[j, 1], lines[j, 2], lines[j, 3]) - inv_horizon * radius >= -RVO_EPSILON):  # fmt: skip
+            px, py, dx, dy = lines[j, 0], lines[j, 1], lines[j, 2], lines[j, 3]
+            if (_det(inv_horizon * r1x - px, inv_horizon * r1y - py, dx, dy) - inv_horizon * radius >= -RVO_EPSILON
+                    and _det(inv_horizon * r2x - px, inv_horizon * r2y - py, dx, dy) - inv_horizon * radius >= -RVO_EPSILON):  # fmt: skip
                 covered = True
                 break
         if covered:
@@ -297,44 +340,7 @@ def _obstacle_lines(agent, obstacles, order, inv_horizon, lines):
         if convex[o2] and _det(rlx, rly, direction[o2, 0], direction[o2, 1]) <= 0.0:
             rlx, rly = direction[o2, 0], direction[o2, 1]
             right_foreign = True
-        lcx, lcy = inv_horizon * (point[o1, 0] - x), inv_horizon * (point[o1, 1] - y)  # cut-off centres
-        rcx, rcy = inv_horizon * (point[o2, 0] - x), inv_horizon * (point[o2, 1] - y)
-        cx, cy = rcx - lcx, rcy - lcy
-        same = o1 == o2
-        t = 0.5 if same else ((vx - lcx) * cx + (vy - lcy) * cy) / (cx * cx + cy * cy)
-        t_left = (vx - lcx) * llx + (vy - lcy) * lly
-        t_right = (vx - rcx) * rlx + (vy - rcy) * rly
-        if (t < 0.0 and t_left < 0.0) or (same and t_left < 0.0 and t_right < 0.0):  # the left cut-off circle
-            wx, wy = vx - lcx, vy - lcy
-            norm = math.hypot(wx, wy)
-            ux, uy = wx / norm, wy / norm
-            lines[n, 0], lines[n, 1], lines[n, 2], lines[n, 3] = lcx + radius * inv_horizon * ux, lcy + radius * inv_horizon * uy, uy, -ux
-            n += 1
-            continue
-        if t > 1.0 and t_right < 0.0:  # the right cut-off circle
-            wx, wy = vx - rcx, vy - rcy
-            norm = math.hypot(wx, wy)
-            ux, uy = wx / norm, wy / norm
-            lines[n, 0], lines[n, 1], lines[n, 2], lines[n, 3] = rcx + radius * inv_horizon * ux, rcy + radius * inv_horizon * uy, uy, -ux
-            n += 1
-            continue
-        # the left leg, the right leg or the cut-off line, whichever is closest to the velocity
-        d_cut = math.inf if (t < 0.0 or t > 1.0 or same) else (vx - lcx - t * cx) ** 2 + (vy - lcy - t * cy) ** 2
-        d_left = math.inf if t_left < 0.0 else (vx - lcx - t_left * llx) ** 2 + (vy - lcy - t_left * lly) ** 2
-        d_right = math.inf if t_right < 0.0 else (vx - rcx - t_right * rlx) ** 2 + (vy - rcy - t_right * rly) ** 2
-        if d_cut <= d_left and d_cut <= d_right:
-            dx, dy, px, py = -direction[o1, 0], -direction[o1, 1], lcx, lcy
-        elif d_left <= d_right:
-            if left_foreign:
-                continue
-            dx, dy, px, py = llx, lly, lcx, lcy
-        else:
-            if right_foreign:
-                continue
-            dx, dy, px, py = -rlx, -rly, rcx, rcy
-        lines[n, 0], lines[n, 1] = px + radius * inv_horizon * -dy, py + radius * inv_horizon * dx
-        lines[n, 2], lines[n, 3] = dx, dy
-        n += 1
+        n += _project(x, y, vx, vy, radius, inv_horizon, point, direction, o1, o2, llx, lly, rlx, rly, left_foreign, right_foreign, lines[n])
     return n
 
 

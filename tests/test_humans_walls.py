@@ -75,7 +75,8 @@ def _walled(behaviour):
 
     # a wall from the floor to 2 m short of the top stands between both humans and their goals
     return Scenario(bounds=(0, 0, 10, 10), start=(9, 9), goal=(9, 7), walls=(((5.0, 0.0), (5.0, 8.0)),), behaviour=behaviour,
-                    obstacles=(Obstacle((2.0, 2.0), 0.3, goal=(8.0, 2.0), preferred_speed=1.0), Obstacle((2.0, 4.0), 0.3, goal=(8.0, 5.0), preferred_speed=1.0)),
+                    obstacles=(Obstacle((2.0, 2.0), 0.3, goal=(8.0, 2.0), preferred_speed=1.0),
+                               Obstacle((2.0, 4.0), 0.3, goal=(8.0, 5.0), preferred_speed=1.0)),
                     dt=0.25, robot_radius=0.3, robot_speed=1.0)  # fmt: skip
 
 

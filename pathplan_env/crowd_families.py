@@ -13,8 +13,8 @@ the walls (ORCA with RVO2's obstacle lines, routes: ``routing.py``):
 - intersection: from the end of one arm to the end of another;
 - cluttered room: between two points of the room at least 4 m apart, among its boxes.
 
-``maze`` (bouncing obstacles of radius 0.3 m) and ``maze-crowd`` (humans between free points 2 to 4 m
-apart) are drawn on the shipped ROS-format maze map (``ros_maps``: the map's polygons, starts,
+``maze`` (bouncing obstacles of radius 0.3 m) and ``maze-crowd`` (humans between free points 2 to 5 m
+apart, at most 9 m along the maze) are drawn on the shipped ROS-format maze map (``ros_maps``: the map's polygons, starts,
 goals and obstacles sampled in its free space with clearance).
 
 Humans start and end at least 0.8 m apart (CrowdNav's spacing rule: two radii plus its 0.2 m
@@ -33,6 +33,7 @@ import numpy as np
 from . import families
 from .crowdnav import DISCOMFORT_DISTANCE, HUMAN_ORCA, HUMAN_RADIUS
 from .scenarios import Obstacle, Scenario, check_count
+from .routing import path_lengths
 from .statics import points_clearance, polygon_shapes
 
 #: Preferred speed at construction (m/s): what Δd 0.25 gives a 0.3 m human at dt 0.1 s (make_scenario sets it).
@@ -154,6 +155,9 @@ def cluttered_room_crowd(rng: np.random.Generator, n: int | None = None) -> Scen
 
 # -- the maze: the shipped ROS map ----------------------------------------------------------
 MAZE_OBSTACLE_RADIUS = 0.3  # the maze's corridors are 1.6 m: the families' 0.5 m discs would block them
+#: Longest human trip in the maze (m, along the maze, ``routing.path_lengths``): 12 s at 0.75 m/s, so
+#: that the 20 s episode leaves time for the crowd's detours and waits.
+MAZE_TRIP = 9.0
 
 
 @cache
@@ -174,8 +178,8 @@ def maze(rng: np.random.Generator, n: int | None = None) -> Scenario:
 
 
 def maze_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:
-    """The maze with ``n`` (6) humans between free points 2 to 4 m apart (straight line; the path
-    between them through the maze may be several times that)."""
+    """The maze with ``n`` (6) humans between free points 2 to 5 m apart (straight) and at most
+    :data:`MAZE_TRIP` (9 m) apart along the maze."""
     n = 6 if n is None else check_count(n, "n_obstacles")
     layout = maze(rng, 0)
     occupancy = _maze_map()
@@ -186,11 +190,11 @@ def maze_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:
     cols = occupancy.occupied.shape[1]
 
     def draw(rng, k):
-        picks = cells[rng.integers(len(cells), size=2 * k)]
-        points = (np.column_stack([picks % cols, picks // cols]) + rng.random((2 * k, 2))) * occupancy.resolution + occupancy.origin
-        starts, goals = points[:k], points[k:].copy()
-        apart = np.hypot(*(goals - starts).T)
-        goals[(apart < 2.0) | (apart > 4.0)] = np.nan  # (straight; a maze's paths are longer: see the docstring)
+        picks = cells[rng.integers(len(cells), size=k)]
+        starts = (np.column_stack([picks % cols, picks // cols]) + rng.random((k, 2))) * occupancy.resolution + occupancy.origin
+        angle, reach = 2.0 * np.pi * rng.random(k), 2.0 + 3.0 * rng.random(k)  # goals 2-5 m away (straight)
+        goals = starts + reach[:, None] * np.column_stack([np.cos(angle), np.sin(angle)])
+        goals[path_lengths(layout, starts, goals, clearance) > MAZE_TRIP] = np.nan
         return starts, goals
 
     return _crowd(rng, n, layout, draw)

@@ -187,6 +187,27 @@ def human_statics(scenario, goals: np.ndarray, routed: np.ndarray, clearance: fl
     return HumanStatics(orca_obstacles(scenario), scenario.static_segments, routes, grid.graph, goal_cells)
 
 
+@lru_cache(maxsize=4)
+def _all_pairs(key: tuple, clearance: float, cell: float) -> tuple[_Grid, np.ndarray]:
+    from scipy.sparse.csgraph import dijkstra
+
+    grid = _grid(key, clearance, cell)
+    return grid, dijkstra(grid.graph, directed=False)
+
+
+def path_lengths(scenario, starts: np.ndarray, goals: np.ndarray, clearance: float, cell: float = 0.25) -> np.ndarray:
+    """Approximate shortest path lengths (m; inf if none) from ``starts[k]`` to ``goals[k]`` for a disc
+    of ``clearance`` around the scenario's geometry: all pairs of a ``cell`` grid, computed once per
+    geometry (for samplers of fixed maps: 1,600 cells on the maze)."""
+    grid, dist = _all_pairs(_geometry_key(scenario), float(clearance), float(cell))
+    ok = np.isfinite(starts).all(axis=1) & np.isfinite(goals).all(axis=1)
+    out = np.full(len(starts), np.inf)
+    a = np.array([grid.nearest[_cell_of(grid, x, y)] for x, y in starts[ok].tolist()], np.int64)
+    b = np.array([grid.nearest[_cell_of(grid, x, y)] for x, y in goals[ok].tolist()], np.int64)
+    out[ok] = dist[a, b] if len(a) else out[ok]
+    return out
+
+
 def drivers_statics(scenario, drivers: list) -> HumanStatics:
     """:func:`human_statics` for a world's drivers (``(behaviour, idx, goals, preferred)`` each, the
     goals array shared): every goal-directed obstacle routed, free cells sized for the largest."""
@@ -261,4 +282,4 @@ def route_targets(routes, idx, state, goals, targets, missing):
     return n_missing
 
 
-__all__ = ["GRID_CELL", "HumanStatics", "ROUTE_MARGIN", "Routes", "drivers_statics", "human_statics", "orca_obstacles", "route_targets"]
+__all__ = ["GRID_CELL", "HumanStatics", "ROUTE_MARGIN", "Routes", "drivers_statics", "human_statics", "path_lengths", "orca_obstacles", "route_targets"]

@@ -32,8 +32,8 @@ import numpy as np
 
 from . import families
 from .crowdnav import DISCOMFORT_DISTANCE, HUMAN_ORCA, HUMAN_RADIUS
-from .scenarios import Obstacle, Scenario, check_count
 from .routing import path_lengths
+from .scenarios import Obstacle, Scenario, check_count
 from .statics import points_clearance, polygon_shapes
 
 #: Preferred speed at construction (m/s): what Δd 0.25 gives a 0.3 m human at dt 0.1 s (make_scenario sets it).

@@ -3,7 +3,7 @@
 time limit (200 steps, 20 s at dt 0.1 s), and the count of humans stuck (not at the goal, moving less
 than 0.25 m in 5 s) at some point.
 
-    python scripts/crowd_throughput.py [--seeds 100] [--families corridor-crowd doorway-crowd ...]
+    python scripts/crowd_throughput.py [--seeds 100] [--steps 200] [--families corridor-crowd doorway-crowd ...]
 """
 
 from __future__ import annotations
@@ -43,12 +43,13 @@ def episode(name: str, seed: int, steps: int = STEPS) -> tuple[int, int, int, fl
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--seeds", type=int, default=100)
+    parser.add_argument("--steps", type=int, default=STEPS, help="episode length (200: the env's limit; more shows who is late, not lost)")
     parser.add_argument("--families", nargs="+", default=[f for f in CROWD_FAMILIES if f.endswith("-crowd")])
     args = parser.parse_args()
     print(f"{'family':22s} {'humans':>7s} {'reached':>8s} {'fraction':>8s} {'stuck>5s':>8s} {'min wall gap (m)':>16s} {'s':>6s}")
     for name in args.families:
         start = time.perf_counter()
-        rows = np.array([episode(name, seed) for seed in range(args.seeds)])
+        rows = np.array([episode(name, seed, args.steps) for seed in range(args.seeds)])
         humans, reached, stuck = rows[:, 0].sum(), rows[:, 1].sum(), rows[:, 2].sum()
         gap, seconds = rows[:, 3].min(), time.perf_counter() - start
         print(f"{name:22s} {int(humans):7d} {int(reached):8d} {reached / humans:8.3f} {int(stuck):8d} {gap:16.3f} {seconds:6.1f}")

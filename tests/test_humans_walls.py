@@ -132,3 +132,23 @@ def test_crowd_presets_are_seeded_and_run(name):
     assert np.array_equal(runs[0], runs[1])
     if name != "maze":
         assert np.abs(runs[0][-1] - runs[0][0]).max() > 0.5  # the humans walk
+
+
+def test_existing_presets_replay_their_episodes():
+    """The wall families, random and a visible CrowdNav crowd give the episodes of before humans knew
+    walls (digest computed on main at 52a7dfb)."""
+    import hashlib
+
+    import gymnasium as gym
+
+    h = hashlib.sha256()
+    for name in ("corridor", "doorway", "intersection", "cluttered-room", "random", "crowdnav-square-crossing-visible"):
+        env = gym.make("DynamicObstacle-v0", scenario=name)
+        env.action_space.seed(1)
+        obs, _ = env.reset(seed=5)
+        for _ in range(150):
+            obs, _, terminated, truncated, _ = env.step(env.action_space.sample())
+            h.update(np.concatenate([np.ravel(obs[k]) for k in sorted(obs)]).tobytes())
+            if terminated or truncated:
+                obs, _ = env.reset()
+    assert h.hexdigest() == "a1d46f791f9bb3c6f3648ea039e1a8865a9b01590cbc5f80902fd8b5dd7cfe67"

@@ -152,3 +152,21 @@ def test_existing_presets_replay_their_episodes():
             if terminated or truncated:
                 obs, _ = env.reset()
     assert h.hexdigest() == "a1d46f791f9bb3c6f3648ea039e1a8865a9b01590cbc5f80902fd8b5dd7cfe67"
+
+
+def test_a_copied_walled_crowd_env_continues_exactly():
+    """The routes filled on the way (lazy Dijkstra rows) travel with a copy or a pickle."""
+    import copy
+    import pickle
+
+    import gymnasium as gym
+
+    env = gym.make("DynamicObstacle-v0", scenario="doorway-crowd")
+    obs, _ = env.reset(seed=3)
+    still = env.unwrapped.waypoint_to_action(obs["robot_position"])
+    for _ in range(20):
+        env.step(still)
+    runs = []
+    for e in (env, copy.deepcopy(env), pickle.loads(pickle.dumps(env))):
+        runs.append(np.concatenate([e.step(still)[0]["obstacle_positions"].ravel() for _ in range(40)]))
+    assert np.array_equal(runs[0], runs[1]) and np.array_equal(runs[0], runs[2])

@@ -11,7 +11,13 @@ body either way, and contacts still bounce.
   ``Scenario.robot_visible``, the robot, which it assumes reciprocates (it does not). CrowdNav's
   humans, with its defaults.
 - :class:`SocialForce`: Helbing & Molnar's social force model, as CrowdNav++ implements it: a pull
-  toward the goal at the preferred speed plus exponential repulsion from every other agent.
+  toward the goal at the preferred speed plus exponential repulsion from every other agent, and
+  (Helbing's wall term) from every wall and polygon edge.
+
+In a scene with walls or polygons the world hands every behaviour its
+:class:`~pathplan_env.routing.HumanStatics`: ORCA gets RVO2's obstacle lines, and both head for their
+next visible waypoint around the walls (``routing.py``) instead of straight for a goal behind one.
+Scenes without static geometry take exactly the code paths (and the episodes) of before.
 
 For goal-directed behaviours Δd is ``preferred_speed * dt / radius``: no speed they choose exceeds it.
 """
@@ -26,7 +32,9 @@ from functools import cached_property
 import numba
 import numpy as np
 
-from .orca import ORCAAgentState, ORCAParams, orca_velocity, preferred_velocity
+from .orca import NO_OBSTACLES, ORCAAgentState, ORCAParams, orca_velocity_among, preferred_velocity
+
+_NO_SEGMENTS = np.empty((0, 5))
 
 #: Goal-directed agents slow down within this time of their goal (CrowdNav's rule: 1 s at 1 m/s).
 SLOW_DOWN_TIME = 1.0
@@ -56,6 +64,8 @@ class ORCA:
     :param neighbor_dist: only agents closer than this (m, centre to centre) are considered.
     :param max_neighbors: at most this many of them, nearest first.
     :param time_horizon: velocities are chosen collision-free for this long (s).
+    :param time_horizon_obst: ... and free of walls and polygons for this long (s; RVO2's
+        ``timeHorizonObst``, CrowdNav's 5).
     :param safety_space: extra radius (m) added to every agent, on top of ``radius_padding``.
     :param radius_padding: CrowdNav adds 1 cm to every radius in its ORCA calls.
     """
@@ -65,6 +75,7 @@ class ORCA:
     time_horizon: float = 5.0
     safety_space: float = 0.0
     radius_padding: float = 0.01
+    time_horizon_obst: float = 5.0  # last: positional construction (agents' ORCA) keeps its meaning
     model: str = field(default="orca", init=False)
     goal_directed = True
 
@@ -76,18 +87,24 @@ class ORCA:
             raise ValueError(f"ORCA.max_neighbors must be an integer >= 1, got {n!r}")
         set_("max_neighbors", int(n))
         set_("time_horizon", _positive("ORCA", "time_horizon", self.time_horizon))
+        set_("time_horizon_obst", _positive("ORCA", "time_horizon_obst", self.time_horizon_obst))
         set_("safety_space", _positive("ORCA", "safety_space", self.safety_space, allow_zero=True))
         set_("radius_padding", _positive("ORCA", "radius_padding", self.radius_padding, allow_zero=True))
 
     @cached_property
     def params(self) -> ORCAParams:
         """The compiled kernel's record, built once (not per step)."""
-        return ORCAParams(self.neighbor_dist, self.max_neighbors, self.time_horizon)
+        return ORCAParams(self.neighbor_dist, self.max_neighbors, self.time_horizon, self.time_horizon_obst)
 
-    def steer(self, idx, state, body_state, speeds, radii, goals, preferred, robot, dt) -> None:
-        """Set the velocities of obstacles ``idx`` for this step (see :func:`_write_velocities`)."""
+    def steer(self, idx, state, body_state, speeds, radii, goals, preferred, robot, dt, statics=None) -> None:
+        """Set the velocities of obstacles ``idx`` for this step (see :func:`_write_velocities`);
+        ``statics``: the scene's :class:`~pathplan_env.routing.HumanStatics`, if it has walls."""
         pad = self.radius_padding + self.safety_space
-        _orca_step(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, self.params, pad)
+        if statics is None:
+            _orca_step(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, self.params, pad, NO_OBSTACLES)
+        else:
+            targets = statics.targets(idx, state, goals)
+            _orca_step(idx, state, body_state, speeds, radii, targets, preferred, robot, dt, self.params, pad, statics.obstacles)
 
 
 @dataclass(frozen=True)
@@ -95,29 +112,41 @@ class SocialForce:
     """Helbing & Molnar's social force model with CrowdNav++'s parameters as defaults.
 
     Acceleration: ``(v_desired - v) / relaxation_time`` toward the goal plus
-    ``strength * exp((r_i + r_j - d) / range)`` away from every other agent ``j`` at distance ``d``;
+    ``strength * exp((r_i + r_j - d) / range)`` away from every other agent ``j`` at distance ``d``,
+    plus ``wall_strength * exp((r_i - d_w) / wall_range)`` away from the nearest point of every wall
+    and polygon edge at distance ``d_w`` from the agent's centre to its surface (Helbing's wall term);
     the new speed is capped at the preferred speed.
 
     :param relaxation_time: seconds to reach the desired velocity (CrowdNav++'s ``1 / KI``).
     :param strength: repulsion magnitude at contact (m/s², CrowdNav++'s ``A``).
     :param range: repulsion decay length (m, CrowdNav++'s ``B``).
+    :param wall_strength: wall repulsion at contact (m/s²; CrowdNav++ has no walls: ours).
+    :param wall_range: wall repulsion decay length (m; Helbing et al. 2000 use 0.08, ours is 0.2 so
+        that a human a step away from a wall already turns).
     """
 
     relaxation_time: float = 1.0
     strength: float = 2.0
     range: float = 1.0
+    wall_strength: float = 5.0
+    wall_range: float = 0.2
     model: str = field(default="social-force", init=False)
     goal_directed = True
 
     def __post_init__(self):
-        for name in ("relaxation_time", "range"):
+        for name in ("relaxation_time", "range", "wall_range"):
             object.__setattr__(self, name, _positive("SocialForce", name, getattr(self, name)))
-        object.__setattr__(self, "strength", _positive("SocialForce", "strength", self.strength, allow_zero=True))
+        for name in ("strength", "wall_strength"):
+            object.__setattr__(self, name, _positive("SocialForce", name, getattr(self, name), allow_zero=True))
 
-    def steer(self, idx, state, body_state, speeds, radii, goals, preferred, robot, dt) -> None:
-        """Set the velocities of obstacles ``idx`` for this step (see :func:`_write_velocities`)."""
+    def steer(self, idx, state, body_state, speeds, radii, goals, preferred, robot, dt, statics=None) -> None:
+        """Set the velocities of obstacles ``idx`` for this step (see :func:`_write_velocities`);
+        ``statics``: the scene's :class:`~pathplan_env.routing.HumanStatics`, if it has walls."""
+        segments = _NO_SEGMENTS
+        if statics is not None:
+            goals, segments = statics.targets(idx, state, goals), statics.segments
         _social_force_step(idx, state, body_state, speeds, radii, goals, preferred, robot, dt,
-                           self.relaxation_time, self.strength, self.range)  # fmt: skip
+                           self.relaxation_time, self.strength, self.range, segments, self.wall_strength, self.wall_range)  # fmt: skip
 
 
 BEHAVIOURS = {"bounce": Bounce, "orca": ORCA, "social-force": SocialForce}
@@ -181,22 +210,25 @@ def _agents(state, radii, robot, pad):
 
 
 @numba.njit(cache=True)
-def _orca_step(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, params, pad):
-    """ORCA velocities (:class:`~pathplan_env.orca.ORCAParams` ``params``, every radius plus ``pad``)
-    for obstacles ``idx``, written by :func:`_write_velocities`."""
+def _orca_step(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, params, pad, obstacles):
+    """ORCA velocities (:class:`~pathplan_env.orca.ORCAParams` ``params``, every radius plus ``pad``,
+    the static :class:`~pathplan_env.orca.ORCAObstacles` ``obstacles``) for obstacles ``idx``, written
+    by :func:`_write_velocities`."""
     positions, velocities, padded = _agents(state, radii, robot, pad)
     out = np.empty((idx.shape[0], 2))
     for k in range(idx.shape[0]):  # every agent decides from the same snapshot, as CrowdNav's humans do
         i = idx[k]
         px, py = preferred_velocity(state[i, 0], state[i, 1], goals[i, 0], goals[i, 1], preferred[i], SLOW_DOWN_TIME)
         agent = ORCAAgentState(state[i, 0], state[i, 1], state[i, 2], state[i, 3], padded[i], preferred[i], px, py)
-        out[k, 0], out[k, 1] = orca_velocity(agent, i, positions, velocities, padded, params, dt)
+        out[k, 0], out[k, 1] = orca_velocity_among(agent, i, positions, velocities, padded, obstacles, params, dt)
     _write_velocities(idx, out, state, body_state, speeds)
 
 
 @numba.njit(cache=True)
-def _social_force_step(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, relaxation_time, strength, decay):
-    """Social-force velocities for obstacles ``idx``, written by :func:`_write_velocities`."""
+def _social_force_step(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, relaxation_time, strength, decay,
+                       segments, wall_strength, wall_decay):  # fmt: skip
+    """Social-force velocities for obstacles ``idx`` (walls and polygon edges: the capsule rows
+    ``segments``), written by :func:`_write_velocities`."""
     positions, velocities, padded = _agents(state, radii, robot, 0.0)
     m = positions.shape[0]
     out = np.empty((idx.shape[0], 2))
@@ -213,6 +245,14 @@ def _social_force_step(idx, state, body_state, speeds, radii, goals, preferred, 
             dx, dy = x - positions[j, 0], y - positions[j, 1]
             d = max(math.hypot(dx, dy), 1e-9)
             push = strength * math.exp((padded[i] + padded[j] - d) / decay)
+            ax += push * dx / d
+            ay += push * dy / d
+        for w in range(segments.shape[0]):  # Helbing's wall term, from each capsule's nearest point
+            x0, y0, ex, ey = segments[w, 0], segments[w, 1], segments[w, 2] - segments[w, 0], segments[w, 3] - segments[w, 1]
+            t = min(max(((x - x0) * ex + (y - y0) * ey) / max(ex * ex + ey * ey, 1e-18), 0.0), 1.0)
+            dx, dy = x - (x0 + t * ex), y - (y0 + t * ey)
+            d = max(math.hypot(dx, dy), 1e-9)
+            push = wall_strength * math.exp((radii[i] - (d - segments[w, 4])) / wall_decay)
             ax += push * dx / d
             ay += push * dy / d
         nvx, nvy = vx + ax * dt, vy + ay * dt

@@ -104,13 +104,13 @@ def corridor(rng: np.random.Generator, n: int | None = None) -> Scenario:
 DOOR_WIDTH = 1.2
 
 
-def doorway(rng: np.random.Generator, n: int | None = None) -> Scenario:
-    """Two 6 m x 8 m rooms joined by a door 1.2 m wide (its centre uniform in y in [2, 6]) in a wall
-    0.2 m thick at x = 6; the robot goes from one room to the other among ``n`` (6) obstacles, which
-    start at least 1 m from that wall."""
+def doorway(rng: np.random.Generator, n: int | None = None, door_width: float = DOOR_WIDTH) -> Scenario:
+    """Two 6 m x 8 m rooms joined by a door 1.2 m wide (``door_width``, at most 2 m; its centre uniform
+    in y in [2, 6]) in a wall 0.2 m thick at x = 6; the robot goes from one room to the other among
+    ``n`` (6) obstacles, which start at least 1 m from that wall."""
     n = 6 if n is None else check_count(n, "n_obstacles")
     door = 2.0 + 4.0 * float(rng.random())
-    walls = (((6.0, 0.0), (6.0, door - DOOR_WIDTH / 2)), ((6.0, door + DOOR_WIDTH / 2), (6.0, 8.0)))
+    walls = (((6.0, 0.0), (6.0, door - door_width / 2)), ((6.0, door + door_width / 2), (6.0, 8.0)))
     start, goal = _swap(rng, _uniform(rng, (0.5, 0.5, 4.5, 7.5)), _uniform(rng, (7.5, 0.5, 11.5, 7.5)))
     rooms = [(0.0, 0.0, 5.0, 8.0), (7.0, 0.0, 12.0, 8.0)]  # obstacles start 1 m clear of the door's wall: none blocks it at rest
     return _scenario(rng, n, rooms, bounds=(0.0, 0.0, 12.0, 8.0), start=start, goal=goal, walls=walls, wall_thickness=0.2,

@@ -1,7 +1,8 @@
 """ORCA (van den Berg et al. 2011), compiled: one agent's new velocity among others.
 
-The algorithm of RVO2's ``Agent::computeNewVelocity`` for agent neighbours (no polygon obstacles,
-as in CrowdNav): one half-plane of permitted velocities per neighbour, then the velocity closest to
+The algorithm of RVO2's ``Agent::computeNewVelocity``: one half-plane of permitted velocities per
+static obstacle edge (RVO2's obstacle ORCA lines, hard constraints: :class:`ORCAObstacles`, its
+polygons' vertices with their convexity and neighbours) and per neighbouring agent, then the velocity closest to
 the preferred one inside all of them and the speed circle (a 2D linear program; when infeasible,
 the velocity that violates them least). Written here rather than called through a binding because
 the ORCA humans run it once per human per step inside the env's step, where a binding's per-call
@@ -21,6 +22,8 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
+from .orca_obstacles import NO_OBSTACLES, RVO_EPSILON, ORCAObstacles, _det, _obstacle_lines, _obstacle_neighbours, obstacle_vertices
+
 
 class ORCAParams(NamedTuple):
     """An agent's constant ORCA parameters (RVO2's ``neighborDist``, ``maxNeighbors``, ``timeHorizon``)."""
@@ -28,6 +31,7 @@ class ORCAParams(NamedTuple):
     neighbor_dist: float  # m, centre to centre: farther agents are ignored
     max_neighbors: int  # at most this many neighbours, nearest first
     time_horizon: float  # s: the chosen velocity avoids every neighbour for this long
+    time_horizon_obst: float = 5.0  # s: ... and every static obstacle for this long (RVO2's timeHorizonObst)
 
 
 class ORCAAgentState(NamedTuple):
@@ -41,15 +45,6 @@ class ORCAAgentState(NamedTuple):
     max_speed: float  # m/s: the chosen velocity stays within this circle
     pref_vx: float  # m/s: the preferred velocity
     pref_vy: float  # m/s
-
-#: RVO2's threshold for (almost) parallel constraint lines.
-RVO_EPSILON = 1e-5
-
-
-@numba.njit(cache=True)
-def _det(ax, ay, bx, by):
-    return ax * by - ay * bx
-
 
 @numba.njit(cache=True)
 def _linear_program1(lines, line_no, radius, opt_x, opt_y, direction_opt, result):
@@ -105,14 +100,16 @@ def _linear_program2(lines, n_lines, radius, opt_x, opt_y, direction_opt, result
 
 
 @numba.njit(cache=True)
-def _linear_program3(lines, n_lines, begin_line, radius, result):
-    """Infeasible case: the velocity that minimises the largest violation of lines ``begin_line..``."""
+def _linear_program3(lines, n_lines, n_obstacle_lines, begin_line, radius, result):
+    """Infeasible case: the velocity that minimises the largest violation of the agents' lines
+    ``begin_line..``, keeping the obstacles' lines (the first ``n_obstacle_lines``) hard."""
     distance = 0.0
     projected = np.empty((n_lines, 4))
     for i in range(begin_line, n_lines):
         if _det(lines[i, 2], lines[i, 3], lines[i, 0] - result[0], lines[i, 1] - result[1]) > distance:
-            n_proj = 0
-            for j in range(i):
+            projected[:n_obstacle_lines] = lines[:n_obstacle_lines]
+            n_proj = n_obstacle_lines
+            for j in range(n_obstacle_lines, i):
                 determinant = _det(lines[i, 2], lines[i, 3], lines[j, 2], lines[j, 3])
                 if abs(determinant) <= RVO_EPSILON:
                     if lines[i, 2] * lines[j, 2] + lines[i, 3] * lines[j, 3] > 0.0:
@@ -134,7 +131,26 @@ def _linear_program3(lines, n_lines, begin_line, radius, result):
 
 @numba.njit(cache=True)
 def orca_velocity(agent, skip, positions, velocities, radii, params, dt):
-    """The ORCA velocity of ``agent`` (an :class:`ORCAAgentState`) among the agents of the arrays
+    """:func:`orca_velocity_among` without static obstacles (what CrowdNav's humans know)."""
+    none = ORCAObstacles(np.empty((0, 2)), np.empty((0, 2)), np.empty(0, np.int64), np.empty(0, np.int64), np.empty(0, np.bool_))
+    return orca_velocity_among(agent, skip, positions, velocities, radii, none, params, dt)
+
+
+@numba.njit(cache=True)
+def orca_velocity_among(agent, skip, positions, velocities, radii, obstacles, params, dt):
+    """:func:`orca_velocity_ordered` with the obstacle edges within reach, nearest first (ties: by index)."""
+    reach = params.time_horizon_obst * agent.max_speed + agent.radius
+    order, count = _obstacle_neighbours(agent.x, agent.y, obstacles, reach * reach)
+    return orca_velocity_ordered(agent, skip, positions, velocities, radii, obstacles, order[:count], params, dt)
+
+
+@numba.njit(cache=True)
+def orca_velocity_ordered(agent, skip, positions, velocities, radii, obstacles, obstacle_order, params, dt):
+    """The ORCA velocity of ``agent`` (an :class:`ORCAAgentState`) among the static ``obstacles``
+    (:class:`ORCAObstacles`; ``obstacle_order``: the edges within ``time_horizon_obst * max_speed +
+    radius`` that the agent sees from outside, nearest first, each a hard constraint as in RVO2; the
+    order matters only for ties, two edges nearest at their shared vertex, which RVO2 orders by its
+    k-d tree: the tests pass its order here) and the agents of the arrays
     (``positions``, ``velocities`` (m, 2) and ``radii`` (m,); row ``skip`` is the agent itself, or
     ``-1`` if it is not in them), with :class:`ORCAParams`.
 
@@ -165,7 +181,10 @@ def orca_velocity(agent, skip, positions, velocities, radii, params, dt):
         order[i], dist_sq[i] = j, d
         if count == max_neighbors:
             range_sq = dist_sq[count - 1]
-    lines = np.empty((max(count, 1), 4))
+    lines = np.empty((obstacle_order.shape[0] + count + 1, 4))
+    n_obst = 0
+    if obstacle_order.shape[0] > 0:
+        n_obst = _obstacle_lines(agent, obstacles, obstacle_order, 1.0 / params.time_horizon_obst, lines)
     inv_horizon = 1.0 / time_horizon
     for k in range(count):
         j = order[k]
@@ -200,12 +219,13 @@ def orca_velocity(agent, skip, positions, velocities, radii, params, dt):
             dx, dy = uy_, -ux_
             scale = combined * inv_dt - w_len
             ux, uy = scale * ux_, scale * uy_
-        lines[k, 0], lines[k, 1] = vx + 0.5 * ux, vy + 0.5 * uy
-        lines[k, 2], lines[k, 3] = dx, dy
+        lines[n_obst + k, 0], lines[n_obst + k, 1] = vx + 0.5 * ux, vy + 0.5 * uy
+        lines[n_obst + k, 2], lines[n_obst + k, 3] = dx, dy
+    n_lines = n_obst + count
     result = np.empty(2)
-    fail = _linear_program2(lines, count, agent.max_speed, agent.pref_vx, agent.pref_vy, False, result)
-    if fail < count:
-        _linear_program3(lines, count, fail, agent.max_speed, result)
+    fail = _linear_program2(lines, n_lines, agent.max_speed, agent.pref_vx, agent.pref_vy, False, result)
+    if fail < n_lines:
+        _linear_program3(lines, n_lines, n_obst, fail, agent.max_speed, result)
     return result[0], result[1]
 
 
@@ -219,3 +239,7 @@ def preferred_velocity(x, y, gx, gy, speed, slow_down_time):
         return 0.0, 0.0
     s = min(speed, dist / slow_down_time)
     return dx / dist * s, dy / dist * s
+
+
+__all__ = ["NO_OBSTACLES", "ORCAAgentState", "ORCAObstacles", "ORCAParams", "obstacle_vertices", "orca_velocity", "orca_velocity_among",
+           "orca_velocity_ordered", "preferred_velocity"]

@@ -9,6 +9,7 @@ from collections.abc import Callable
 import numba
 import numpy as np
 
+from .crowd_families import CROWD_FAMILIES
 from .crowdnav import CROWDNAV_PRESETS
 from .families import FAMILIES
 from .scenarios import Obstacle, Scenario, Vec2, check_count
@@ -159,11 +160,13 @@ PRESETS: dict[str, Callable[[np.random.Generator, int | None], Scenario]] = {
     "random": lambda rng, n: sample_random_scenario(rng, RANDOM_DEFAULT_OBSTACLES if n is None else n),
     **CROWDNAV_PRESETS,
     **FAMILIES,  # static geometry: corridor, doorway, intersection, cluttered-room (families.py)
+    **CROWD_FAMILIES,  # their -crowd versions (ORCA humans), maze and maze-crowd (crowd_families.py)
 }
 #: The presets whose obstacle count ``n_obstacles`` sets; every other scenario has its own obstacles.
-COUNTED_PRESETS = frozenset({"random", *CROWDNAV_PRESETS, *FAMILIES})
+COUNTED_PRESETS = frozenset({"random", *CROWDNAV_PRESETS, *FAMILIES, *CROWD_FAMILIES})
 #: The presets' own Δd, applied when ``make_scenario`` gets none (presets not listed keep their speeds).
-PRESET_DELTA_D: dict[str, float] = {**dict.fromkeys(PAPER_CASES, DEFAULT_DELTA_D), "random": DEFAULT_DELTA_D, **dict.fromkeys(FAMILIES, DEFAULT_DELTA_D)}
+PRESET_DELTA_D: dict[str, float] = {**dict.fromkeys(PAPER_CASES, DEFAULT_DELTA_D), "random": DEFAULT_DELTA_D, **dict.fromkeys(FAMILIES, DEFAULT_DELTA_D),
+                                 **dict.fromkeys(CROWD_FAMILIES, DEFAULT_DELTA_D)}  # fmt: skip
 
 
 def make_scenario(

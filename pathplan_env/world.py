@@ -27,6 +27,7 @@ import pymunk.batch
 
 from .chipmunk import READ_BODY, WRITE_BODY, BatchBuffer, each_body, ffi, set_mass, space_add, space_remove, space_step
 from .geometry import NO_CONTACT, swept_contact
+from .routing import drivers_statics
 from .scenarios import Scenario
 from .statics import capsules_clearance, pymunk_segments, static_stop
 from .substeps import MAX_SUBSTEP_DISPLACEMENT, MAX_SUBSTEPS, SUBSTEP_SLACK, scenario_substeps, substeps_for  # noqa: F401 (their old home)
@@ -130,6 +131,8 @@ class World:
             # (before the state view below is attached: a body added later would make the batch read
             # reallocate the array under the view)
             space_add(self.space, pymunk_segments(self.static_segments.tolist()))
+        # what goal-directed obstacles know of the walls: RVO2 obstacles, routes (routing.py)
+        self._human_statics = drivers_statics(scenario, self._drivers) if self._drivers and self._has_statics else None
         spare = recycle._release_moving_obstacles() if recycle is not None else []
         objects, self._moving = [], []
         for r, speed in zip(self.radii.tolist(), top_speeds.tolist()):  # a goal-directed obstacle is dynamic even at rest
@@ -183,7 +186,7 @@ class World:
             robot = _NO_ROBOT
         state, dt = self.obstacle_state, self.scenario.dt
         for behaviour, idx, goals, preferred in self._drivers:
-            behaviour.steer(idx, state, self._pymunk_state, self._speeds, self.radii, goals, preferred, robot, dt)
+            behaviour.steer(idx, state, self._pymunk_state, self._speeds, self.radii, goals, preferred, robot, dt, self._human_statics)
         self._write_bodies()
 
     def _release_moving_obstacles(self) -> list:

@@ -1,0 +1,213 @@
+"""Crowd families: the wall families with ORCA humans, and the maze from the shipped ROS map.
+
+``corridor-crowd``, ``doorway-crowd``, ``intersection-crowd`` and ``cluttered-room-crowd`` take the
+layout, the robot's start and goal of their bouncing family (``families.py``, the same draws) and put
+``n`` humans in it instead of bouncing obstacles: CrowdNav's humans (radius 0.3 m, ORCA with its
+parameters, the robot invisible to them), each with a goal across the scene, which they reach around
+the walls (ORCA with RVO2's obstacle lines, routes: ``routing.py``):
+
+- corridor: a two-way corridor, each human walking 8 m along it, either way;
+- doorway: people crossing the door both ways, from one room to a point of the other; the door is
+  2 m wide (the bouncing family's 1.2 m lets one 0.3 m human through at a time, and ORCA humans
+  meeting in it from both sides deadlock: 68 % of 4 humans through in 20 seeds);
+- intersection: from the end of one arm to the end of another;
+- cluttered room: between two points of the room at least 4 m apart, among its boxes.
+
+``maze`` (bouncing obstacles of radius 0.3 m) and ``maze-crowd`` (humans between free points 2 to 5 m
+apart, at most 9 m along the maze) are drawn on the shipped ROS-format maze map (``ros_maps``: the map's polygons, starts,
+goals and obstacles sampled in its free space with clearance).
+
+Humans start and end at least 0.8 m apart (CrowdNav's spacing rule: two radii plus its 0.2 m
+discomfort distance), 0.1 m clear of walls and polygons, and clear of the robot's start and goal by
+0.5 m beyond the two radii. ``make_scenario`` sets their preferred speed from Δd (0.25 unless told:
+0.75 m/s at dt 0.1 s) as for the bouncing families' speeds.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from functools import cache
+
+import numpy as np
+
+from . import families
+from .crowdnav import DISCOMFORT_DISTANCE, HUMAN_ORCA, HUMAN_RADIUS
+from .routing import path_lengths
+from .scenarios import Obstacle, Scenario, check_count
+from .statics import points_clearance, polygon_shapes
+
+#: Preferred speed at construction (m/s): what Δd 0.25 gives a 0.3 m human at dt 0.1 s (make_scenario sets it).
+HUMAN_SPEED = 0.25 * HUMAN_RADIUS / families.DT
+WALL_CLEARANCE = 0.1
+SPACING = 2 * HUMAN_RADIUS + DISCOMFORT_DISTANCE
+_CANDIDATES = 64
+
+
+def _free(points: np.ndarray, layout: Scenario) -> np.ndarray:
+    """Which points a human's disc fits at: clear of walls and polygons, inside the arena."""
+    import shapely
+
+    xmin, ymin, xmax, ymax = layout.bounds
+    reach = HUMAN_RADIUS + WALL_CLEARANCE
+    ok = (points[:, 0] >= xmin + reach) & (points[:, 0] <= xmax - reach) & (points[:, 1] >= ymin + reach) & (points[:, 1] <= ymax - reach)
+    if len(layout.static_segments):
+        ok &= points_clearance(points, layout.static_segments) > reach
+    for shape in polygon_shapes(layout):
+        ok &= ~shapely.contains_xy(shape, points[:, 0], points[:, 1])
+    return ok
+
+
+def _humans(rng, n: int, layout: Scenario, draw: Callable) -> tuple[Obstacle, ...]:
+    """``n`` humans whose (start, goal) pairs come from ``draw(rng, k) -> (starts (k, 2), goals (k, 2))``:
+    each takes the first of its candidates that keeps the rules of the module docstring.
+
+    :raises ValueError: naming ``n_obstacles`` when one finds no place.
+    """
+    starts, goals = draw(rng, n * _CANDIDATES)
+    ok = _free(starts, layout) & _free(goals, layout)
+    keep = HUMAN_RADIUS + layout.robot_radius + families.START_CLEARANCE
+    for end in (layout.start, layout.goal):
+        ok &= np.hypot(starts[:, 0] - end[0], starts[:, 1] - end[1]) > keep
+    starts, goals, ok = starts.reshape(n, _CANDIDATES, 2), goals.reshape(n, _CANDIDATES, 2), ok.reshape(n, _CANDIDATES)
+    humans = []
+    for i in range(n):
+        fits = ok[i].copy()
+        for h in humans:
+            fits &= np.hypot(*(starts[i] - h.center).T) >= SPACING
+            fits &= np.hypot(*(goals[i] - h.goal).T) >= SPACING
+        if not fits.any():
+            raise ValueError(f"n_obstacles: could not place {n} humans in the {layout.name!r} layout (placed {i})")
+        k = int(np.argmax(fits))
+        humans.append(Obstacle(tuple(starts[i, k].tolist()), HUMAN_RADIUS, goal=tuple(goals[i, k].tolist()), preferred_speed=HUMAN_SPEED))
+    return tuple(humans)
+
+
+def _crowd(rng, n: int, layout: Scenario, draw: Callable) -> Scenario:
+    return Scenario(**{**{name: getattr(layout, name) for name in Scenario.__dataclass_fields__},
+                       "obstacles": _humans(rng, n, layout, draw), "behaviour": HUMAN_ORCA, "name": layout.name + "-crowd"})  # fmt: skip
+
+
+def _uniform(rng, box, k: int) -> np.ndarray:
+    xmin, ymin, xmax, ymax = box
+    return np.array([xmin, ymin]) + rng.random((k, 2)) * np.array([xmax - xmin, ymax - ymin])
+
+
+def corridor_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:
+    """The corridor with ``n`` (10) humans, each walking 8 m along it, either way (drawn)."""
+    n = 10 if n is None else check_count(n, "n_obstacles")
+    layout = families.corridor(rng, 0)
+
+    def draw(rng, k):
+        way = np.where(rng.random(k) < 0.5, -1.0, 1.0)
+        starts = _uniform(rng, (0.8, 1.5, 7.2, 4.5), k)
+        starts[:, 0] = np.where(way > 0, starts[:, 0], 16.0 - starts[:, 0])
+        goals = np.column_stack([starts[:, 0] + 8.0 * way, 1.5 + 3.0 * rng.random(k)])
+        return starts, goals
+
+    return _crowd(rng, n, layout, draw)
+
+
+CROWD_DOOR_WIDTH = 2.0
+
+
+def doorway_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:
+    """The doorway with ``n`` (8) humans crossing it both ways, from a point of one room to one of the other."""
+    n = 8 if n is None else check_count(n, "n_obstacles")
+    layout = families.doorway(rng, 0, door_width=CROWD_DOOR_WIDTH)
+
+    def draw(rng, k):
+        a, b = _uniform(rng, (0.5, 0.5, 5.0, 7.5), k), _uniform(rng, (7.0, 0.5, 11.5, 7.5), k)
+        flip = (rng.random(k) < 0.5)[:, None]
+        return np.where(flip, b, a), np.where(flip, a, b)
+
+    return _crowd(rng, n, layout, draw)
+
+
+def intersection_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:
+    """The intersection with ``n`` (10) humans, each from the end of one arm to the end of another."""
+    n = 10 if n is None else check_count(n, "n_obstacles")
+    layout = families.intersection(rng, 0)
+    arms = np.array([(0.5, 5.4, 3.5, 8.6), (10.5, 5.4, 13.5, 8.6), (5.4, 0.5, 8.6, 3.5), (5.4, 10.5, 8.6, 13.5)])
+
+    def draw(rng, k):
+        first = rng.integers(4, size=k)
+        second = (first + 1 + rng.integers(3, size=k)) % 4
+        unit = rng.random((2, k, 2))
+        lo, hi = arms[:, :2], arms[:, 2:]
+        return lo[first] + unit[0] * (hi - lo)[first], lo[second] + unit[1] * (hi - lo)[second]
+
+    return _crowd(rng, n, layout, draw)
+
+
+def cluttered_room_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:
+    """The cluttered room with ``n`` (6) humans between points at least 4 m apart."""
+    n = 6 if n is None else check_count(n, "n_obstacles")
+    layout = families.cluttered_room(rng, 0)
+
+    def draw(rng, k):
+        starts, goals = _uniform(rng, (0.4, 0.4, 9.6, 9.6), k), _uniform(rng, (0.4, 0.4, 9.6, 9.6), k)
+        far = np.hypot(*(goals - starts).T) >= 4.0
+        goals[~far] = np.nan  # never free: the candidate is refused
+        return starts, goals
+
+    return _crowd(rng, n, layout, draw)
+
+
+# -- the maze: the shipped ROS map ----------------------------------------------------------
+MAZE_OBSTACLE_RADIUS = 0.3  # the maze's corridors are 1.6 m: the families' 0.5 m discs would block them
+#: Longest human trip in the maze (m, along the maze, ``routing.path_lengths``): 12 s at 0.75 m/s, so
+#: that the 20 s episode leaves time for the crowd's detours and waits.
+MAZE_TRIP = 9.0
+
+
+@cache
+def _maze_map():
+    from .ros_maps import load_shipped_map
+
+    return load_shipped_map("maze")  # immutable: one load per process (~0.1 s)
+
+
+def maze(rng: np.random.Generator, n: int | None = None) -> Scenario:
+    """The shipped maze (a 6 x 6 maze of 1.6 m cells, 9.8 m square) with ``n`` (6) obstacles of radius
+    0.3 m at rest (``make_scenario`` gives them Δd), start and goal drawn by ``ros_maps.scenario_kwargs``."""
+    from .ros_maps import scenario_kwargs
+
+    n = 6 if n is None else check_count(n, "n_obstacles")
+    kwargs = scenario_kwargs(_maze_map(), rng, n_obstacles=n, obstacle_radius=MAZE_OBSTACLE_RADIUS, robot_radius=families.ROBOT_RADIUS)
+    return Scenario(**kwargs, robot_radius=families.ROBOT_RADIUS, robot_speed=families.ROBOT_SPEED, dt=families.DT, name="maze")
+
+
+def maze_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:
+    """The maze with ``n`` (6) humans between free points 2 to 5 m apart (straight) and at most
+    :data:`MAZE_TRIP` (9 m) apart along the maze."""
+    n = 6 if n is None else check_count(n, "n_obstacles")
+    layout = maze(rng, 0)
+    occupancy = _maze_map()
+    clearance = HUMAN_RADIUS + WALL_CLEARANCE
+
+    # cells that may hold a human (as OccupancyMap.sample_free chooses them; _humans tests the exact clearance)
+    cells = np.flatnonzero(occupancy._free_distance.ravel() >= clearance - 2.0 * occupancy.resolution)
+    cols = occupancy.occupied.shape[1]
+
+    def draw(rng, k):
+        picks = cells[rng.integers(len(cells), size=k)]
+        starts = (np.column_stack([picks % cols, picks // cols]) + rng.random((k, 2))) * occupancy.resolution + occupancy.origin
+        angle, reach = 2.0 * np.pi * rng.random(k), 2.0 + 3.0 * rng.random(k)  # goals 2-5 m away (straight)
+        goals = starts + reach[:, None] * np.column_stack([np.cos(angle), np.sin(angle)])
+        goals[path_lengths(layout, starts, goals, clearance) > MAZE_TRIP] = np.nan
+        return starts, goals
+
+    return _crowd(rng, n, layout, draw)
+
+
+#: Every crowd family and the maze: ``(rng, n_obstacles or None for the family's own count) -> Scenario``.
+CROWD_FAMILIES: dict[str, Callable[[np.random.Generator, int | None], Scenario]] = {
+    "corridor-crowd": corridor_crowd,
+    "doorway-crowd": doorway_crowd,
+    "intersection-crowd": intersection_crowd,
+    "cluttered-room-crowd": cluttered_room_crowd,
+    "maze": maze,
+    "maze-crowd": maze_crowd,
+}
+
+__all__ = ["CROWD_FAMILIES", "cluttered_room_crowd", "corridor_crowd", "doorway_crowd", "intersection_crowd", "maze", "maze_crowd"]

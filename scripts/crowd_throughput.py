@@ -40,12 +40,16 @@ def episode(name: str, seed: int, steps: int = STEPS) -> tuple[int, int, int, fl
     return n, int(reached.sum()), int(stuck.sum()), float(gap)
 
 
-def main() -> None:
+def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--seeds", type=int, default=100)
     parser.add_argument("--steps", type=int, default=STEPS, help="episode length (200: the env's limit; more shows who is late, not lost)")
     parser.add_argument("--families", nargs="+", default=[f for f in CROWD_FAMILIES if f.endswith("-crowd")])
-    args = parser.parse_args()
+    return parser.parse_args(argv)
+
+
+def main(argv=None) -> None:
+    args = parse_args(argv)
     print(f"{'family':22s} {'humans':>7s} {'reached':>8s} {'fraction':>8s} {'stuck>5s':>8s} {'min wall gap (m)':>16s} {'s':>6s}")
     for name in args.families:
         start = time.perf_counter()

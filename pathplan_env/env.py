@@ -336,7 +336,8 @@ class DynamicObstacleEnv(gym.Env):
         return self._renderer.draw(scenario=self.scenario, obstacle_state=world.obstacle_state, radii=world.radii,
                                    robot_position=world.robot_position, trail=self.trail, waypoint=self.waypoint,
                                    plan=self.planned_path, caption=self.caption,
-                                   heading=world.robot_heading if self.action_type.turns else None)  # fmt: skip
+                                   heading=world.robot_heading if self.action_type.turns else None,
+                                   **self.observation_type.overlay(world))  # fmt: skip
 
     def close(self):
         if self._renderer is not None:

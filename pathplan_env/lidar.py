@@ -111,6 +111,10 @@ class LidarObservation(ObservationType):
                    self._ranges, self._hits)  # fmt: skip
         return self._ranges
 
+    def overlay(self, world) -> dict[str, np.ndarray]:
+        p = self.params
+        return {"beams": beam_endpoints(world.robot_xy, self.scan(world), robot_heading(world), p.lidar_fov)}
+
     @property
     def hits(self) -> np.ndarray:
         """What each beam of the last scan hit first: obstacle ``k``, ``N + m`` for wall ``m``, -1 for

@@ -53,6 +53,12 @@ class ObservationType:
         """The observation of the world as it is now (an element of :meth:`space`)."""
         raise NotImplementedError
 
+    def overlay(self, world) -> dict[str, np.ndarray]:
+        """What the renderer draws of this sensor after :meth:`observe`: ``beams`` ((B, 2) points where
+        a scan's beams end) and ``hidden`` ((N,) bool: obstacles the last observation left out, greyed).
+        None by default."""
+        return {}
+
 
 class StateLayout(NamedTuple):
     """Where each entry of the state observation starts in its one float32 block, and the block's

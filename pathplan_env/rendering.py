@@ -8,6 +8,8 @@ BACKGROUND = (250, 250, 247)
 WALL = (60, 60, 60)
 STATIC = (110, 110, 118)  # the scene's walls and polygons
 OBSTACLE = (214, 96, 77)
+HIDDEN = (205, 200, 196)  # an obstacle the robot's sensor does not see
+BEAM = (170, 205, 235)
 ARROW = (120, 40, 30)
 ROBOT = (52, 101, 164)
 HEADING = (250, 250, 247)  # a light radius across the robot's disc
@@ -45,16 +47,22 @@ class Renderer:
         x, y = xy
         return int(round((x - self.origin[0]) * self.scale)), int(round((self.origin[1] - y) * self.scale))
 
-    def draw(self, scenario, obstacle_state, radii, robot_position, trail, waypoint, plan=None, caption=None, heading=None):
+    def draw(self, scenario, obstacle_state, radii, robot_position, trail, waypoint, plan=None, caption=None, heading=None,
+             beams=None, hidden=None):  # fmt: skip
         """One frame. ``plan``: points of a planned path to draw (e.g. a planner's); ``caption``: text at the top
-        left; ``heading``: a robot that turns, drawn with a radius toward it (rad)."""
+        left; ``heading``: a robot that turns, drawn with a radius toward it (rad); ``beams``: where a
+        scan's beams end (drawn from the robot); ``hidden``: obstacles the sensor does not see (greyed)."""
         pygame, canvas, s = self._pygame, self.canvas, self.scale
         canvas.fill(BACKGROUND)
         pygame.draw.rect(canvas, WALL, canvas.get_rect(), width=3)
+        if beams is not None:
+            origin = self.to_screen(robot_position)
+            for end in beams:
+                pygame.draw.line(canvas, BEAM, origin, self.to_screen(end), 1)
         self._draw_statics(scenario)
-        for (x, y, vx, vy), r in zip(obstacle_state, radii):
+        for i, ((x, y, vx, vy), r) in enumerate(zip(obstacle_state, radii)):
             centre = self.to_screen((x, y))
-            pygame.draw.circle(canvas, OBSTACLE, centre, max(2, int(r * s)))
+            pygame.draw.circle(canvas, HIDDEN if hidden is not None and hidden[i] else OBSTACLE, centre, max(2, int(r * s)))
             # the arrow shows where the obstacle will be one step from now
             tip = self.to_screen((x + vx * scenario.dt, y + vy * scenario.dt))
             if tip != centre:

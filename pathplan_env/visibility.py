@@ -290,5 +290,8 @@ class VisibleStateObservation(StateObservation):
         _hide(obs["obstacle_positions"], obs["obstacle_velocities"], obs["obstacle_radii"], obs["obstacle_mask"], self.visible, low_x, low_y)
         return obs
 
+    def overlay(self, world) -> dict[str, np.ndarray]:
+        return {"hidden": ~self.visible} if len(self.visible) == world.n_obstacles else {}
+
 
 __all__ = ["VisibleStateObservation", "visible_obstacles"]

@@ -374,3 +374,22 @@ def test_a_pickled_sensing_env_observes_as_the_original(kwargs):
     a, b = env.step(np.float32([0.1, 0.9]))[0], copy.step(np.float32([0.1, 0.9]))[0]
     for key in a:
         np.testing.assert_array_equal(a[key], b[key])
+
+
+def test_the_renderer_draws_the_scan_and_greys_what_the_sensor_does_not_see():
+    from pathplan_env.rendering import BEAM, HIDDEN
+
+    def colours(observation, params=None):
+        env = gym.make("DynamicObstacle-v0", scenario="cluttered-room", observation=observation, observation_params=params,
+                       render_mode="rgb_array")  # fmt: skip
+        env.reset(seed=2)
+        frame = env.render()
+        return {tuple(c) for c in frame.reshape(-1, 3)}, env
+
+    lidar, _ = colours("lidar", {"lidar_range": 4.0})
+    assert BEAM in lidar
+    seen, env = colours("visible-state", {"lidar_range": 2.0})
+    hidden = ~env.unwrapped.observation_type.visible
+    assert hidden.any() and HIDDEN in seen
+    plain, _ = colours("state")
+    assert BEAM not in plain and HIDDEN not in plain

@@ -38,7 +38,10 @@ from pathplan_env.splits import SPLITS
 
 #: gym.make keywords with a flag of their own: ``--NAME`` (a registered type's name) and ``--NAME-params``
 #: (its parameters as JSON), into the env options ``NAME`` and ``NAME_params``. (``robot`` joins the same way.)
-ENV_OPTION_FLAGS = {"observation": "the observation type (pathplan_env.observations)"}
+ENV_OPTION_FLAGS = {
+    "observation": "the observation type (pathplan_env.observations)",
+    "robot": "the robot model (holonomic, unicycle; pathplan_env.actions.ROBOTS)",
+}
 
 
 def parse_args(argv=None) -> argparse.Namespace:

@@ -9,6 +9,7 @@
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import sys
 from pathlib import Path
@@ -59,6 +60,9 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--delta-d", type=_delta, default=0.5, help="Δd, or 'own' for the scenario's own obstacle speeds")
     parser.add_argument("--n-obstacles", type=int, help="obstacles of the random (default 8) and CrowdNav (default 5) presets")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--observation", default="state", help="the observation type: the frames show what a sensor sees")
+    parser.add_argument("--observation-params", type=json.loads, default=None, help="JSON: the observation's parameters")
+    parser.add_argument("--robot", default="holonomic", help="the robot model (holonomic, unicycle)")
     parser.add_argument("--fps", type=int, default=10)
     parser.add_argument("--out", default="results/episode.gif")
     return parser.parse_args(argv)
@@ -70,7 +74,8 @@ def main(argv=None) -> None:
     scenario = resolve_scenarios([args.scenario], argument="--scenario")[0]
     args.agent, args.scenario, delta = spec.label, scenario.label, delta_text(args.delta_d)  # labels in captions
 
-    env = gym.make("DynamicObstacle-v0", scenario=scenario.scenario, delta_d=args.delta_d, n_obstacles=args.n_obstacles, render_mode="rgb_array")
+    env = gym.make("DynamicObstacle-v0", scenario=scenario.scenario, delta_d=args.delta_d, n_obstacles=args.n_obstacles, render_mode="rgb_array",
+                   observation=args.observation, observation_params=args.observation_params, robot=args.robot)  # fmt: skip
     obs, info = env.reset(seed=args.seed)
     agent, act = episode_policy(spec, env, args.seed)  # as the harness plays it: the rendered episode is the scored one
     view = env.unwrapped  # the renderer draws the agent's planned path and a caption when they are set

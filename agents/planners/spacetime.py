@@ -23,7 +23,8 @@ import numpy as np
 
 from pathplan_env.wrappers import EnvFacts
 
-from ..base import Agent, real_obstacles
+from ..base import Agent, real_obstacles, real_static_segments
+from .costtogo import CostToGo, cost_to_go
 from .metaheuristic import MetaheuristicAgent
 from .objective import TimedScene, walk_along
 from .prediction import predict_obstacles, substeps_for
@@ -53,6 +54,21 @@ class SpacetimeModel:
         # the env's action mapping (``robot_move``'s box), from the static facts
         self.arena = facts.arena
         self.bounds = np.array(facts.bounds, np.float64)
+
+    def statics(self, obs, memory: dict) -> tuple[np.ndarray, CostToGo]:
+        """The scene's walls and polygon edges from the observation (:func:`agents.base.real_static_segments`)
+        and the static cost-to-go to the goal around them and the obstacles at rest (zero velocity:
+        the env's kinematic bodies, which never move), computed once while they stay the same."""
+        segments = real_static_segments(obs)
+        centers, velocities, radii = real_obstacles(obs)
+        still = (velocities == 0.0).all(axis=1)
+        goal = np.asarray(obs["goal"], np.float64)
+        key = (segments.tobytes(), centers[still].tobytes(), radii[still].tobytes(), goal.tobytes())
+        if memory.get("cost_to_go_key") != key:
+            memory["cost_to_go_key"] = key
+            memory["cost_to_go"] = cost_to_go(goal, self.facts.goal_radius, self.arena.box, segments, self.facts.robot_radius,
+                                              centers[still], radii[still])  # fmt: skip
+        return segments, memory["cost_to_go"]
 
     def predict_scene(self, obs):
         """``(trajectory, substeps, contact_radii, robot, goal)`` for one observation."""
@@ -111,8 +127,9 @@ class SpacetimeAStarAgent(Agent):
     def plan(self, obs, memory):
         trajectory, n, radii, robot, goal = self.model.predict_scene(obs)
         f = self.facts
+        segments, ctg = self.model.statics(obs, memory)
         problem = SpacetimeProblem(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.model.arena.box,
-                                   self.step_length)  # fmt: skip
+                                   self.step_length, segments, ctg)  # fmt: skip
         targets = memory.get("plan")
         if targets is not None and len(targets) > 0:  # keep the previous plan while it still holds
             free, reached = replay(problem, targets)

@@ -126,3 +126,74 @@ def cost_to_go(goal, goal_radius: float, box, segments: np.ndarray, robot_radius
     grid = dijkstra(graph, directed=False, indices=sources, min_only=True).reshape(gx, gy)
     field = np.where(free, grid / GRID_STRETCH - 2.0 * half_diag, np.inf)
     return CostToGo(np.ascontiguousarray(field), float(box.fit_xmin), float(box.fit_ymin), float(cell))
+
+
+@numba.njit(cache=True)
+def _descend(field, i, j, max_cells):
+    """Grid cells from ``(i, j)`` down the field to a cell where it is 0 (the goal's) or no
+    neighbour (of 8) is lower; ``(K, 2)`` indices."""
+    out = np.empty((max_cells, 2), np.int64)
+    out[0, 0], out[0, 1] = i, j
+    count = 1
+    while count < max_cells and field[i, j] > 0.0:
+        bi, bj, best = i, j, field[i, j]
+        for di in range(-1, 2):
+            for dj in range(-1, 2):
+                a, b = i + di, j + dj
+                if 0 <= a < field.shape[0] and 0 <= b < field.shape[1] and field[a, b] < best:
+                    bi, bj, best = a, b, field[a, b]
+        if bi == i and bj == j:
+            break
+        i, j = bi, bj
+        out[count, 0], out[count, 1] = i, j
+        count += 1
+    return out[:count]
+
+
+def route(ctg: CostToGo, start, goal, tolerance: float) -> np.ndarray:
+    """The way to the goal the cost-to-go points out: its steepest descent from ``start``, simplified
+    (shapely, ``tolerance`` m) to its corners; ``(P, 2)`` points from ``start`` to ``goal``. The
+    straight segment when there is no field or it cannot lead (``start`` cut off from the goal)."""
+    import shapely
+
+    start, goal = np.asarray(start, np.float64), np.asarray(goal, np.float64)
+    field = ctg.field
+    if field.shape[0] == 0:
+        return np.array([start, goal])
+    i = min(max(int((start[0] - ctg.x0) / ctg.cell), 0), field.shape[0] - 1)
+    j = min(max(int((start[1] - ctg.y0) / ctg.cell), 0), field.shape[1] - 1)
+    if not np.isfinite(field[i, j]):
+        return np.array([start, goal])
+    cells = _descend(field, i, j, field.shape[0] * field.shape[1])
+    points = np.vstack([start, ctg.x0 + (cells + 0.5) * ctg.cell, goal])
+    return np.asarray(shapely.LineString(points).simplify(tolerance).coords)
+
+
+def waypoints_on(path: np.ndarray, k: int) -> np.ndarray:
+    """``k`` intermediate waypoints (k, 2) for a path robot -> w1 -> ... -> wk -> goal that follows
+    the polyline ``path``: its first ``k`` corners, then points spread evenly along its last leg."""
+    corners = path[1:-1][:k]
+    if len(corners) == k:
+        return corners.copy()
+    a = corners[-1] if len(corners) else path[0]
+    extra = k - len(corners)
+    fractions = np.arange(1, extra + 1) / (extra + 1)
+    return np.vstack([corners.reshape(-1, 2), a + fractions[:, None] * (path[-1] - a)])
+
+
+def observed_cost_to_go(obs: dict, facts, memory: dict) -> tuple[np.ndarray, CostToGo]:
+    """The scene's walls and polygon edges from an observation (:func:`agents.base.real_static_segments`)
+    and the cost-to-go to its goal around them and the obstacles at rest (zero velocity: the env's
+    kinematic bodies, which never move), for an agent with :class:`~pathplan_env.wrappers.EnvFacts`
+    ``facts``; computed once while they stay the same (kept in the agent's ``memory``)."""
+    from ..base import real_obstacles, real_static_segments
+
+    segments = real_static_segments(obs)
+    centers, velocities, radii = real_obstacles(obs)
+    still = (velocities == 0.0).all(axis=1)
+    goal = np.asarray(obs["goal"], np.float64)
+    key = (segments.tobytes(), centers[still].tobytes(), radii[still].tobytes(), goal.tobytes())
+    if memory.get("cost_to_go_key") != key:
+        memory["cost_to_go_key"] = key
+        memory["cost_to_go"] = cost_to_go(goal, facts.goal_radius, facts.arena.box, segments, facts.robot_radius, centers[still], radii[still])
+    return segments, memory["cost_to_go"]

@@ -6,8 +6,9 @@ world ahead, which gives every obstacle's position at every substep of the episo
 never moves an obstacle, so that future does not depend on what the robot does). It then searches
 (step, position) for the earliest collision-free arrival (:mod:`agents.planners.spacetime_search`:
 the scene's walls and polygons in its contact test and its lost-episode proof, its heuristic the
-static cost-to-go around them and the obstacles that never move) and flies the plan, which replays exactly because every move was made with the env's own kinematics and
-contact test. The evaluation harness runs it on every cell's episodes to report the ``limit``.
+static cost-to-go around them and the obstacles that never move) and flies the plan, which
+replays exactly because every move was made with the env's own kinematics and contact test. The
+evaluation harness runs it on every cell's episodes to report the ``limit``.
 
 Where goal-directed obstacles see the robot (``Scenario.robot_visible``), their future depends on
 what the robot does and no fixed trajectory bounds it: the oracle then plans against the future

@@ -173,6 +173,27 @@ def walk_along(pts, seg, px, py, distance):
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
+def _wall_contact(px, py, qx, qy, robot_radius, statics, reach, goal_t, step, touch, touch_depth):
+    """The robot's chord ``p -> q`` in step ``step`` (at most ``reach`` long) against the walls as
+    the env tests them (one swept test of the whole move): ``(when it first touches, in steps, and
+    the deepest overlap)``; ``(touch, touch_depth)`` as given if an earlier step touched already or
+    this one does not before the goal (at ``goal_t``)."""
+    if touch >= 0.0:  # only the first touch counts, as for an obstacle
+        return touch, touch_depth
+    t_first, depth = 2.0, 0.0
+    for w in range(statics.shape[0]):
+        x0, y0, x1, y1, half = statics[w, 0], statics[w, 1], statics[w, 2], statics[w, 3], statics[w, 4]
+        if segment_distance(px, py, px, py, x0, y0, x1, y1) - robot_radius - half > reach:
+            continue
+        gap, t_hit = swept_capsule(px, py, qx, qy, robot_radius, x0, y0, x1, y1, half)
+        if t_hit <= 1.0:
+            t_first, depth = min(t_first, t_hit), max(depth, -gap)
+    if t_first <= 1.0 and t_first <= goal_t:
+        return step + t_first, depth
+    return touch, touch_depth
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
 def timed_path_cost(x, scene):
     """Space-time objective of ``x`` = ``k`` waypoints (2k) then ``k + 1`` segment speeds (fractions of
     the robot's top speed) for a :class:`TimedScene`: ``(cost, penalty)`` in metres (arrival time x
@@ -247,16 +268,7 @@ def timed_path_cost(x, scene):
                     touched[o] = near[o] = True
                     depth[o] = max(depth[o], -gap)
                 ax, ay = bx, by
-        if wall_touch < 0.0:  # the walls as the env tests them: one swept test of the whole move
-            for w in range(statics.shape[0]):
-                half = statics[w, 4]
-                gap0 = segment_distance(px, py, px, py, statics[w, 0], statics[w, 1], statics[w, 2], statics[w, 3]) - robot_radius - half
-                if gap0 > reach:
-                    continue
-                gap, t_hit = swept_capsule(px, py, qx, qy, robot_radius, statics[w, 0], statics[w, 1], statics[w, 2], statics[w, 3], half)
-                if t_hit <= 1.0 and t_hit <= goal_t:
-                    wall_touch = step + t_hit
-                    wall_depth = max(wall_depth, -gap)
+        wall_touch, wall_depth = _wall_contact(px, py, qx, qy, robot_radius, statics, reach, goal_t, step, wall_touch, wall_depth)
         if goal_t <= 1.0:
             arrival = step + goal_t
             break
@@ -283,7 +295,7 @@ def timed_path_cost(x, scene):
         arrival = horizon_steps + max(rest - goal_radius, to_go, 0.0) / reach
     penalty = 0.0  # the constraint: contacts within the horizon
     if wall_touch >= 0.0:  # Eq. 4 for the wall, the rest of the horizon, and the feasibility offset
-        penalty += TWO_PI * robot_radius + penalty_weight * wall_depth + (horizon_steps - wall_touch) * reach + INFEASIBLE
+        penalty = TWO_PI * robot_radius + penalty_weight * wall_depth + (horizon_steps - wall_touch) * reach + INFEASIBLE
     for o in range(n_obs):
         if near[o]:  # Eq. 4, plus the rest of the horizon (a later touch costs less), plus the feasibility offset
             penalty += (TWO_PI * (contact_radii[o] + robot_radius) + penalty_weight * depth[o]

@@ -188,6 +188,17 @@ def _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, gx, gy
     return 1 if goal <= 1.0 else 0
 
 
+@numba.njit(cache=True, inline="always")
+def _near_statics(x, y, statics, robot_radius, reach, near_s):
+    """Write to ``near_s`` the capsules within ``reach`` plus the contact distance of ``(x, y)``; their count."""
+    count = 0
+    for w in range(statics.shape[0]):
+        if _segment_distance(x, y, x, y, statics[w, 0], statics[w, 1], statics[w, 2], statics[w, 3]) - robot_radius - statics[w, 4] <= reach:
+            near_s[count] = w
+            count += 1
+    return count
+
+
 @numba.njit(cache=True)
 def search(problem, settings):
     """Earliest-arrival A* from ``problem.start`` at substep 0 of ``problem.trajectory`` (a
@@ -222,9 +233,7 @@ def search(problem, settings):
     paths = step_paths(traj, n)
 
     def h(x, y):  # steps still needed at top speed along the static cost-to-go (a lower bound)
-        d = distance_to_goal(ctg, x, y, goal[0], goal[1], goal_radius)
-        if d == np.inf:
-            return 1e9  # no way around the walls from here: last in the queue, never a plan
+        d = min(distance_to_goal(ctg, x, y, goal[0], goal[1], goal_radius), 1e9 * reach)  # inf: walled off
         return 0.0 if d <= 0.0 else math.ceil(d / reach - 1e-9)
 
     node_x[0], node_y[0], node_k[0], node_parent[0] = start[0], start[1], 0, -1
@@ -256,12 +265,7 @@ def search(problem, settings):
             if gap <= reach + deviation[o] + slack:
                 near[n_near] = o
                 n_near += 1
-        n_near_s = 0  # the same for the walls: one within reach plus the contact distance
-        for w in range(statics.shape[0]):
-            gap = _segment_distance(x, y, x, y, statics[w, 0], statics[w, 1], statics[w, 2], statics[w, 3]) - robot_radius - statics[w, 4]
-            if gap <= reach + slack:
-                near_s[n_near_s] = w
-                n_near_s += 1
+        n_near_s = _near_statics(x, y, statics, robot_radius, reach + slack, near_s)
         m_total = moves.shape[0] + 2
         for m in range(m_total):
             if m < moves.shape[0]:
@@ -353,7 +357,8 @@ def provably_lost(problem: SpacetimeProblem, cell: float = 0.005, max_steps: int
     metres: a cell is kept if its centre lies within one substep's reach plus one cell diagonal of a
     kept cell's centre, and inside the box where the robot's disc fits; it is dropped only if the
     whole cell lies inside an obstacle or a static capsule (``problem.statics``) inflated by the
-    robot radius. The true set is inside the kept
+    robot radius. When nothing moves and the kept set stops changing, it never will: lost too (a
+    robot walled in). The true set is inside the kept
     one, so when the kept set empties the episode is lost whatever the robot does.
 
     :param history: if given, receives ``(cell_centres_x, cell_centres_y, kept)`` after every
@@ -380,6 +385,8 @@ def provably_lost(problem: SpacetimeProblem, cell: float = 0.005, max_steps: int
     kept = np.ones((1, 1), bool)
     grow = int(math.ceil(move / cell)) + 1
     last = min(len(trajectory) - 1, max_steps * substeps)
+    # nothing moves: a set that stops changing has reached its fixed point (walled in, for good)
+    frozen = bool(np.all(trajectory[:, :, :2] == trajectory[:1, :, :2])) if len(radii) else True
     for s in range(1, last + 1):
         new_lo = np.maximum(lo - grow, 0)
         new_hi = np.minimum(hi + grow, [gx, gy])
@@ -400,7 +407,10 @@ def provably_lost(problem: SpacetimeProblem, cell: float = 0.005, max_steps: int
         if not candidate.any():
             return True, (s - 1) // substeps + 1
         rows, cols = np.nonzero(candidate)
+        new_kept = candidate[rows.min() : rows.max() + 1, cols.min() : cols.max() + 1]
+        if frozen and np.array_equal(lo, new_lo + [rows.min(), cols.min()]) and np.array_equal(new_kept, kept):
+            return True, (s - 1) // substeps + 1
         lo = new_lo + [rows.min(), cols.min()]
         hi = new_lo + [rows.max() + 1, cols.max() + 1]
-        kept = candidate[rows.min() : rows.max() + 1, cols.min() : cols.max() + 1]
+        kept = new_kept
     return (True, last // substeps) if last == len(trajectory) - 1 else (None, max_steps)

@@ -36,10 +36,14 @@ def wall_contact_times(robot: np.ndarray, velocities: np.ndarray, segments: np.n
 
 def aim(obs: dict, facts, memory: dict) -> tuple[np.ndarray, np.ndarray]:
     """``(segments, point)``: the scene's walls from the observation and the point to head for: the
-    first corner of the way around them (the goal when nothing static stands between)."""
+    first corner of the way around them and the resting obstacles (the goal when nothing static
+    stands between). In a scene without walls, the goal: the reactive agents stay as they were there
+    (the route squeezes through gaps between resting discs that their margin does not fit)."""
+    goal = np.asarray(obs["goal"], np.float64)
+    if "static_segments" not in obs or not np.any(obs["static_mask"]):
+        return np.zeros((0, 5)), goal
     segments, ctg = observed_cost_to_go(obs, facts, memory)
     robot = np.asarray(obs["robot_position"], np.float64)
-    goal = np.asarray(obs["goal"], np.float64)
     if ctg.field.size == 0:
         return segments, goal
     return segments, route(ctg, robot, goal, 0.5 * facts.robot_radius)[1]

@@ -21,6 +21,23 @@ def real_obstacles(obs: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray, 
     )
 
 
+_NO_SEGMENTS = np.zeros((0, 5))
+
+
+def real_static_segments(obs: dict[str, np.ndarray]) -> np.ndarray:
+    """The scene's walls and polygon edges as ``(M, 5)`` float64 capsule rows ``(x0, y0, x1, y1,
+    half_thickness)`` (``World.static_segments``' layout), from the observation's ``static_segments``
+    and ``static_mask``; none when the observation has no such entries (a scene without geometry).
+
+    The honest channel for the map: the env's "state" (and "visible-state") observation carries the
+    static geometry whenever the env's scene has any, so an agent knows the walls as a robot knows
+    its map, without reading the simulator."""
+    if "static_segments" not in obs:
+        return _NO_SEGMENTS
+    mask = np.asarray(obs["static_mask"]) > 0
+    return np.ascontiguousarray(np.asarray(obs["static_segments"])[mask], dtype=np.float64)
+
+
 def point_along(path: np.ndarray, distance: float) -> np.ndarray:
     """The point ``distance`` metres along a polyline (its end if it is shorter)."""
     seg = np.diff(path, axis=0)

@@ -206,7 +206,8 @@ class DynamicObstacleEnv(gym.Env):
         self.max_obstacles = int(max_obstacles)
         #: The arena's bounds, the box where the robot's disc fits, and the waypoint <-> action mapping.
         self.arena = Arena.of(self.scenario)
-        self.observation_type = make_observation_type(observation, self.arena, self.scenario.dt, self.max_obstacles, observation_params)
+        self.observation_type = make_observation_type(observation, self.arena, self.scenario.dt, self.max_obstacles, observation_params,
+                                                      static_segments=len(self.scenario.static_segments))  # fmt: skip
         self.action_type = make_action_type(action, self.arena, robot, robot_params)
         self.action_type.check(self.scenario)
         self.robot = robot
@@ -390,6 +391,7 @@ class DynamicObstacleEnv(gym.Env):
             )
         if scenario.n_obstacles > self.max_obstacles:
             raise ValueError(f"scenario has {scenario.n_obstacles} obstacles, more than max_obstacles={self.max_obstacles}")
+        self.observation_type.check_fits(scenario)  # e.g. its walls within the rows the observation reserved
         if physics:
             scenario_substeps(scenario)  # (World checks it again when built)
             self.action_type.check(scenario)  # (a robot's limits that the scenario's defaults break)

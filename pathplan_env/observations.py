@@ -59,6 +59,10 @@ class ObservationType:
         None by default."""
         return {}
 
+    def check_fits(self, scenario) -> None:
+        """Raise ``ValueError`` if the env's space cannot show ``scenario`` (called before a reset
+        changes anything); every scenario fits by default."""
+
 
 class StateLayout(NamedTuple):
     """Where each entry of the state observation starts in its one float32 block, and the block's
@@ -117,6 +121,10 @@ class StateObservation(ObservationType):
     """
 
     name = "state"
+    #: The fewest rows of ``static_segments`` an env whose scenario has walls or polygons reserves
+    #: (:func:`static_segment_capacity`): room for a family's varying count (``cluttered-room``: up
+    #: to 6 boxes, 24 edges) from the first scene's.
+    MIN_STATIC_SEGMENTS = 64
 
     def __init__(self, arena: Arena, dt: float, max_obstacles: int):
         super().__init__(arena, dt, max_obstacles)
@@ -124,6 +132,25 @@ class StateObservation(ObservationType):
         self._slices = self.layout.slices()
         self._pairs = (self.max_obstacles, 2)
         self._template = np.zeros(self.layout.size, np.float32)
+        self.reserve_static_segments(0)
+
+    def reserve_static_segments(self, count: int) -> None:
+        """Show the scene's walls and polygons (``World.static_segments``) in ``count`` padded rows:
+        the entries ``static_segments`` ``(count, 5)`` (``x0, y0, x1, y1, half_thickness``, m; a
+        polygon's edges have half-thickness 0) and ``static_mask`` ``(count,)`` (1 for a real row).
+        With ``count = 0`` (an env made with a scene without geometry) neither entry exists and the
+        observation is the one it always was. Called before :meth:`space`."""
+        if int(count) != count or count < 0:
+            raise ValueError(f"max_static_segments must be an integer >= 0, got {count!r}")
+        self.max_static_segments = int(count)
+        self._static = np.zeros((self.max_static_segments, 5), np.float32)
+        self._static_mask = np.zeros(self.max_static_segments, np.float32)
+
+    def check_fits(self, scenario) -> None:
+        count = len(scenario.static_segments)
+        if self.max_static_segments and count > self.max_static_segments:
+            raise ValueError(f"scenario has {count} static_segments (wall and polygon edges), more than the "
+                             f"{self.max_static_segments} rows this env's observation reserved; make a new env for it")  # fmt: skip
 
     def space(self) -> spaces.Dict:
         xmin, ymin, xmax, ymax = self.arena.bounds
@@ -141,12 +168,29 @@ class StateObservation(ObservationType):
                 "obstacle_radii": spaces.Box(0.0, min(xmax - xmin, ymax - ymin) / 2, shape=(n,), dtype=np.float32),
                 "obstacle_mask": spaces.Box(0.0, 1.0, shape=(n,), dtype=np.float32),
             }
+            | self._static_spaces()
         )
+
+    def _static_spaces(self) -> dict[str, spaces.Box]:
+        m = self.max_static_segments
+        if m == 0:
+            return {}
+        xmin, ymin, xmax, ymax = self.arena.bounds
+        low = np.tile(np.array([xmin, ymin, xmin, ymin, 0.0], np.float32), (m, 1))
+        high = np.tile(np.array([xmax, ymax, xmax, ymax, self.arena.diagonal], np.float32), (m, 1))
+        return {"static_segments": spaces.Box(low, high, dtype=np.float32), "static_mask": spaces.Box(0.0, 1.0, shape=(m,), dtype=np.float32)}
 
     def reset(self, world, rng: np.random.Generator | None) -> None:
         """The episode's template: its goal and radii, padding rows at the arena's lower corner."""
         gx, gy = world.scenario.goal
         _fill_template(self._template, gx, gy, self.arena.low, world.radii, self.max_obstacles)
+        if self.max_static_segments:  # padding rows at the arena's lower corner, as the obstacles'
+            segments = world.static_segments
+            self.check_fits(world.scenario)
+            self._static[:] = np.concatenate([self.arena.low, self.arena.low, [0.0]])
+            self._static[: len(segments)] = segments
+            self._static_mask[:] = 0.0
+            self._static_mask[: len(segments)] = 1.0
 
     def observe(self, world) -> dict[str, np.ndarray]:
         (x, y), (vx, vy) = world.robot_xy, world.robot_velocity_xy
@@ -161,7 +205,12 @@ class StateObservation(ObservationType):
             "obstacle_velocities": block[s.obstacle_velocities].reshape(pairs),
             "obstacle_radii": block[s.obstacle_radii],
             "obstacle_mask": block[s.obstacle_mask],
-        }
+        } | self._static_entries()
+
+    def _static_entries(self) -> dict[str, np.ndarray]:
+        if not self.max_static_segments:
+            return {}
+        return {"static_segments": self._static.copy(), "static_mask": self._static_mask.copy()}  # copies: a policy may write to them
 
 
 @numba.njit(cache=True)
@@ -208,8 +257,17 @@ def register_observation_type(cls: type[ObservationType]) -> type[ObservationTyp
     return cls
 
 
-def make_observation_type(name, arena: Arena, dt: float, max_obstacles: int, params=None) -> ObservationType:
-    """The observation type registered as ``name``, with its ``params`` (``observation_params``).
+def static_segment_capacity(count: int) -> int:
+    """The rows of ``static_segments`` an env reserves when its first scene has ``count``: none for a
+    scene without walls or polygons (its observation stays as it always was), else
+    ``max(count, StateObservation.MIN_STATIC_SEGMENTS)``. A later scene with more is a ``ValueError``."""
+    return 0 if count == 0 else max(int(count), StateObservation.MIN_STATIC_SEGMENTS)
+
+
+def make_observation_type(name, arena: Arena, dt: float, max_obstacles: int, params=None, static_segments: int = 0) -> ObservationType:
+    """The observation type registered as ``name``, with its ``params`` (``observation_params``);
+    a state-based type reserves :func:`static_segment_capacity` rows for ``static_segments``, the
+    wall and polygon edges of the env's first scene.
 
     :raises ValueError: naming the ``observation`` argument and the known types, or
         ``observation_params`` (not a dict, or a key the type does not take), or a parameter's field.
@@ -222,10 +280,14 @@ def make_observation_type(name, arena: Arena, dt: float, max_obstacles: int, par
         raise ValueError(f"observation_params must be a dict or None, got {params!r}")
     cls = OBSERVATION_TYPES[name]
     if cls.parameters:
-        return cls(arena, dt, max_obstacles, params=params)
-    if params:
+        made = cls(arena, dt, max_obstacles, params=params)
+    elif params:
         raise ValueError(f"observation_params: observation {name!r} takes no parameters, got keys {sorted(params, key=str)}")
-    return cls(arena, dt, max_obstacles)
+    else:
+        made = cls(arena, dt, max_obstacles)
+    if isinstance(made, StateObservation):
+        made.reserve_static_segments(static_segment_capacity(static_segments))
+    return made
 
 
 __all__ = [
@@ -236,4 +298,5 @@ __all__ = [
     "make_observation_type",
     "register_observation_type",
     "state_layout",
+    "static_segment_capacity",
 ]

@@ -4,9 +4,11 @@ Not a policy anyone could deploy, and the only agent allowed to look past the ob
 reads the episode's :class:`~pathplan_env.Scenario` from the env and steps a fresh copy of the
 world ahead, which gives every obstacle's position at every substep of the episode (the robot
 never moves an obstacle, so that future does not depend on what the robot does). It then searches
-(step, position) for the earliest collision-free arrival (:mod:`agents.planners.spacetime_search`) and flies
-the plan, which replays exactly because every move was made with the env's own kinematics and
-contact test. The evaluation harness runs it on every cell's episodes to report the ``limit``.
+(step, position) for the earliest collision-free arrival (:mod:`agents.planners.spacetime_search`:
+the scene's walls and polygons in its contact test and its lost-episode proof, its heuristic the
+static cost-to-go around them and the obstacles that never move) and flies the plan, which
+replays exactly because every move was made with the env's own kinematics and contact test. The
+evaluation harness runs it on every cell's episodes to report the ``limit``.
 
 Where goal-directed obstacles see the robot (``Scenario.robot_visible``), their future depends on
 what the robot does and no fixed trajectory bounds it: the oracle then plans against the future
@@ -25,6 +27,7 @@ from pathplan_env.env import DynamicObstacleEnv
 from pathplan_env.world import World
 
 from ..base import Agent
+from ..planners.costtogo import cost_to_go
 from ..planners.spacetime_search import BUDGET, FOUND, SearchSettings, SpacetimeProblem, heading_moves, provably_lost, search
 
 #: What the oracle concludes about an episode: a plan, provably no plan, a failed search, or no
@@ -83,6 +86,12 @@ class ClairvoyantOracle(Agent):
         trajectory = future.obstacle_trajectory(max_steps)[now * future.substeps :]
         problem = SpacetimeProblem(trajectory, future.substeps, scenario.robot_radius, world.radii, np.array(world.robot_xy),
                                    np.array(scenario.goal), scenario.goal_radius, env.arena.box, env.robot_step_length)  # fmt: skip
+        if len(world.static_segments) or len(world.radii):  # walls in the contact test, the cost-to-go as heuristic
+            still = (trajectory[:, :, :2] == trajectory[:1, :, :2]).all(axis=(0, 2))  # obstacles that never move
+            statics = np.ascontiguousarray(world.static_segments, np.float64).reshape(-1, 5)
+            problem = problem._replace(statics=statics, cost_to_go=cost_to_go(
+                problem.goal, problem.goal_radius, problem.box, statics, problem.robot_radius,
+                trajectory[0, still, :2], world.radii[still]))  # fmt: skip
         expansions = 0
         for weight, cell in self.searches:
             result = search(problem, SearchSettings(self.moves, remaining, cell, self.max_expansions, weight))

@@ -6,12 +6,14 @@ import numpy as np
 
 from pathplan_env.geometry import shortest_path
 
-from ..base import Agent, point_along, real_obstacles
+from ..base import Agent, point_along, real_obstacles, real_static_segments
 
 
 class StaticOracleAgent(Agent):
-    """Exact shortest collision-free path among the obstacles as they are now (tangent visibility
-    graph + Dijkstra, ``pathplan_env.geometry.shortest_path``); flies one step along it.
+    """Exact shortest collision-free path among the obstacles as they are now and the scene's walls
+    and polygons (from the observation's ``static_segments``: capsules inflated by the robot radius
+    and ``margin``; tangent visibility graph + Dijkstra, ``pathplan_env.geometry.shortest_path``);
+    flies one step along it.
 
     Blind to motion: it is the optimum of a static scene and the yardstick for optimality gaps.
     """
@@ -28,8 +30,19 @@ class StaticOracleAgent(Agent):
         # never plan around a disc the robot or the goal is already inside: shrink it to fit
         for point in (robot, goal):
             inflated = np.minimum(inflated, np.hypot(*(centers - point).T) - 1e-6)
-        path, _ = shortest_path(robot, goal, centers, inflated, bounds=self.arena.robot_box)
+        capsules = real_static_segments(obs).copy()
+        capsules[:, 4] += self.facts.robot_radius + self.margin
+        for point in (robot, goal):  # as the discs: never plan around a wall the robot or goal is inside
+            capsules[:, 4] = np.minimum(capsules[:, 4], _segment_distances(point, capsules) - 1e-6)
+        path, _ = shortest_path(robot, goal, centers, inflated, bounds=self.arena.robot_box, capsules=capsules)
         self.last_plan = path
         if path is None:  # boxed in: head for the goal and let replanning find a way when one opens
             return goal
         return point_along(path, self.step_length)
+
+
+def _segment_distances(point: np.ndarray, capsules: np.ndarray) -> np.ndarray:
+    """Distance from ``point`` to each capsule row's segment."""
+    from pathplan_env.geometry import point_segment_distance
+
+    return point_segment_distance(point[None], capsules[:, 0:2], capsules[:, 2:4])

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from ..base import Agent, point_along, real_obstacles
+from ..base import Agent, point_along, real_obstacles, real_static_segments
 from .bee_colony import ABCSettings, abc_run
 from .objective import Scene, TimedScene
 from .pso import PSOSettings, inertia_schedule, pso_run
@@ -91,7 +91,11 @@ class MetaheuristicAgent(Agent):
         self.last_scouted = 0
 
     def scene(self, obs: dict[str, np.ndarray]) -> Scene:
+        """The objective's problem; the scene's walls and polygon edges (from the observation) are
+        capsules inflated as the discs are, so that a path cutting into one pays Eq. 4 too."""
         centers, velocities, radii = real_obstacles(obs)
+        capsules = real_static_segments(obs).copy()
+        capsules[:, 4] += self.facts.robot_radius + self.margin
         return Scene(
             robot=np.asarray(obs["robot_position"], np.float64),
             goal=np.asarray(obs["goal"], np.float64),
@@ -101,6 +105,7 @@ class MetaheuristicAgent(Agent):
             speed=self.facts.robot_speed,
             horizon=self.horizon,
             penalty_weight=self.penalty_weight,
+            capsules=capsules,
         )
 
     def straight_line(self, robot: np.ndarray, goal: np.ndarray) -> np.ndarray:

@@ -29,6 +29,9 @@ from numba.extending import overload
 
 from pathplan_env.geometry import swept_pair
 from pathplan_env.kinematics import reach_fraction, substep_point
+from pathplan_env.statics import swept_capsule
+
+from .costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal
 
 TWO_PI = 2.0 * math.pi
 #: Added to a timed plan's cost per obstacle it is predicted to touch within the horizon (m): more
@@ -48,6 +51,7 @@ class Scene(NamedTuple):
     speed: float  # robot speed (m/s): maps path length to time in predictive mode
     horizon: float  # s: obstacles are extrapolated for at most this long
     penalty_weight: float  # penalty per metre of cut depth (dimensionless)
+    capsules: np.ndarray = np.zeros((0, 5))  # (M, 5) walls and polygon edges, column 4 inflated like ``radii``
 
 
 class TimedScene(NamedTuple):
@@ -65,6 +69,8 @@ class TimedScene(NamedTuple):
     horizon_steps: int  # steps checked against ``trajectory``
     penalty_weight: float  # penalty per metre of cut depth (dimensionless)
     travel: np.ndarray  # (horizon_steps, N) m: each obstacle's path length in each step
+    statics: np.ndarray = np.zeros((0, 5))  # (M, 5) walls and polygon edges (``World.static_segments`` rows)
+    cost_to_go: CostToGo = STRAIGHT_LINE  # the rest of the path past the horizon (:mod:`agents.planners.costtogo`)
 
 
 class OptimizerResult(NamedTuple):
@@ -91,6 +97,36 @@ def _segment_origin_distance_sq(ax, ay, bx, by):
     return px * px + py * py
 
 
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def segment_distance(ax, ay, bx, by, px, py, qx, qy):
+    """Distance between the segments ``ab`` and ``pq`` (0 where they cross)."""
+    ux, uy, vx, vy = bx - ax, by - ay, qx - px, qy - py
+    d1 = (px - ax) * uy - (py - ay) * ux
+    d2 = (qx - ax) * uy - (qy - ay) * ux
+    d3 = (ax - px) * vy - (ay - py) * vx
+    d4 = (bx - px) * vy - (by - py) * vx
+    if ((d1 > 0.0 and d2 < 0.0) or (d1 < 0.0 and d2 > 0.0)) and ((d3 > 0.0 and d4 < 0.0) or (d3 < 0.0 and d4 > 0.0)):
+        return 0.0
+    return math.sqrt(min(min(_segment_origin_distance_sq(ax - px, ay - py, bx - px, by - py),
+                             _segment_origin_distance_sq(ax - qx, ay - qy, bx - qx, by - qy)),
+                         min(_segment_origin_distance_sq(px - ax, py - ay, qx - ax, qy - ay),
+                             _segment_origin_distance_sq(px - bx, py - by, qx - bx, qy - by))))  # fmt: skip
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def capsule_penalty(ax, ay, bx, by, capsules, inflate, penalty_weight):
+    """The paper's Eq. 4 on walls: the segment ``ab`` pays each capsule (column 4 plus ``inflate``:
+    its inflated reach ``R``) it cuts into its perimeter (``2 pi R`` plus twice its length) plus ``penalty_weight``
+    times the depth of the cut."""
+    penalty = 0.0
+    for w in range(capsules.shape[0]):
+        x0, y0, x1, y1, r = capsules[w, 0], capsules[w, 1], capsules[w, 2], capsules[w, 3], capsules[w, 4] + inflate
+        d = segment_distance(ax, ay, bx, by, x0, y0, x1, y1)
+        if d < r:
+            penalty += TWO_PI * r + 2.0 * math.hypot(x1 - x0, y1 - y0) + penalty_weight * (r - d)
+    return penalty
+
+
 @numba.njit(cache=True, inline="always", error_model="numpy")  # inlined into the optimisers' loops
 def path_cost(x, scene):
     """Cost and penalty of one candidate ``x`` (2k,) for a :class:`Scene`: ``(length + penalty, penalty)``."""
@@ -115,6 +151,7 @@ def path_cost(x, scene):
             r = radii[o]
             if d2 < r * r:  # the square root only for the (rare) segments that cut in
                 penalty += TWO_PI * r + penalty_weight * (r - math.sqrt(d2))
+        penalty += capsule_penalty(ax, ay, bx, by, scene.capsules, 0.0, penalty_weight)
         length += seg
         t0 = t1
         ax, ay = bx, by
@@ -136,6 +173,27 @@ def walk_along(pts, seg, px, py, distance):
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
+def _wall_contact(px, py, qx, qy, robot_radius, statics, reach, goal_t, step, touch, touch_depth):
+    """The robot's chord ``p -> q`` in step ``step`` (at most ``reach`` long) against the walls as
+    the env tests them (one swept test of the whole move): ``(when it first touches, in steps, and
+    the deepest overlap)``; ``(touch, touch_depth)`` as given if an earlier step touched already or
+    this one does not before the goal (at ``goal_t``)."""
+    if touch >= 0.0:  # only the first touch counts, as for an obstacle
+        return touch, touch_depth
+    t_first, depth = 2.0, 0.0
+    for w in range(statics.shape[0]):
+        x0, y0, x1, y1, half = statics[w, 0], statics[w, 1], statics[w, 2], statics[w, 3], statics[w, 4]
+        if segment_distance(px, py, px, py, x0, y0, x1, y1) - robot_radius - half > reach:
+            continue
+        gap, t_hit = swept_capsule(px, py, qx, qy, robot_radius, x0, y0, x1, y1, half)
+        if t_hit <= 1.0:
+            t_first, depth = min(t_first, t_hit), max(depth, -gap)
+    if t_first <= 1.0 and t_first <= goal_t:
+        return step + t_first, depth
+    return touch, touch_depth
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
 def timed_path_cost(x, scene):
     """Space-time objective of ``x`` = ``k`` waypoints (2k) then ``k + 1`` segment speeds (fractions of
     the robot's top speed) for a :class:`TimedScene`: ``(cost, penalty)`` in metres (arrival time x
@@ -154,10 +212,19 @@ def timed_path_cost(x, scene):
     plan free of predicted contact costs less than any plan with one (Deb's feasibility rule in
     penalty form: in space-time a plan can always wait, and waiting must never look dearer than a
     touch). A cut past the horizon, where the prediction is a guess, adds to the cost only.
+
+    Walls and polygon edges (``statics``) are tested as the env tests them (each step's chord swept
+    against every capsule within reach): a touch within the horizon is the same constraint, and the
+    rest of the path cutting into a capsule inflated by the robot radius pays Eq. 4 (its perimeter
+    plus ``penalty_weight`` times the depth). The rest of the path counts as at least the static
+    cost-to-go (``cost_to_go``) from where the horizon leaves the robot, so that a path past the
+    horizon straight through a wall is not the cheap one; without walls that is the straight line,
+    never longer than the path's own rest, and the cost is the one it always was.
     """
     traj, n, robot_radius, contact_radii = scene.trajectory, scene.substeps, scene.robot_radius, scene.contact_radii
     robot, goal, goal_radius, reach = scene.robot, scene.goal, scene.goal_radius, scene.reach
     horizon_steps, penalty_weight, travel = scene.horizon_steps, scene.penalty_weight, scene.travel
+    statics = scene.statics
     k = (x.shape[0] - 1) // 3
     pts = np.empty((k + 2, 2))
     pts[0, 0], pts[0, 1] = robot[0], robot[1]
@@ -169,6 +236,8 @@ def timed_path_cost(x, scene):
     touched = np.zeros(n_obs, np.bool_)
     near = np.zeros(n_obs, np.bool_)  # touched within the horizon, against the step-by-step prediction
     first_touch = np.zeros(n_obs)  # when, in steps
+    wall_touch = -1.0  # the first predicted contact with a wall within the horizon (steps), if any
+    wall_depth = 0.0
     seg, px, py = 0, robot[0], robot[1]
     arrival = -1.0
     for step in range(horizon_steps):
@@ -199,10 +268,12 @@ def timed_path_cost(x, scene):
                     touched[o] = near[o] = True
                     depth[o] = max(depth[o], -gap)
                 ax, ay = bx, by
+        wall_touch, wall_depth = _wall_contact(px, py, qx, qy, robot_radius, statics, reach, goal_t, step, wall_touch, wall_depth)
         if goal_t <= 1.0:
             arrival = step + goal_t
             break
         seg, px, py = nseg, qx, qy
+    detour = 0.0  # past the horizon, a soft cost: where the obstacles will be is a guess
     if arrival < 0.0:  # past the horizon: the rest of the path at top speed, against the horizon's obstacles
         last = traj[horizon_steps * n]
         rest = 0.0
@@ -216,10 +287,15 @@ def timed_path_cost(x, scene):
                 if d2 < r * r:
                     touched[o] = True
                     depth[o] = max(depth[o], r - math.sqrt(d2))
+            detour += capsule_penalty(ax, ay, bx, by, statics, robot_radius, penalty_weight)  # through a wall: Eq. 4
             ax, ay = bx, by
-        arrival = horizon_steps + max(rest - goal_radius, 0.0) / reach
+        # and it is at least the static cost-to-go from where the horizon leaves the robot (the
+        # straight line without walls: then the path's own rest, always as long, decides as before)
+        to_go = distance_to_goal(scene.cost_to_go, px, py, goal[0], goal[1], goal_radius)
+        arrival = horizon_steps + max(rest - goal_radius, to_go, 0.0) / reach
     penalty = 0.0  # the constraint: contacts within the horizon
-    detour = 0.0  # past it, a soft cost: where the obstacles will be is a guess
+    if wall_touch >= 0.0:  # Eq. 4 for the wall, the rest of the horizon, and the feasibility offset
+        penalty = TWO_PI * robot_radius + penalty_weight * wall_depth + (horizon_steps - wall_touch) * reach + INFEASIBLE
     for o in range(n_obs):
         if near[o]:  # Eq. 4, plus the rest of the horizon (a later touch costs less), plus the feasibility offset
             penalty += (TWO_PI * (contact_radii[o] + robot_radius) + penalty_weight * depth[o]

@@ -24,6 +24,7 @@ import numpy as np
 from pathplan_env.wrappers import EnvFacts
 
 from ..base import Agent, real_obstacles
+from .costtogo import CostToGo, observed_cost_to_go, route, waypoints_on
 from .metaheuristic import MetaheuristicAgent
 from .objective import TimedScene, walk_along
 from .prediction import predict_obstacles, substeps_for
@@ -53,6 +54,10 @@ class SpacetimeModel:
         # the env's action mapping (``robot_move``'s box), from the static facts
         self.arena = facts.arena
         self.bounds = np.array(facts.bounds, np.float64)
+
+    def statics(self, obs, memory: dict) -> tuple[np.ndarray, CostToGo]:
+        """The scene's walls and the static cost-to-go (:func:`agents.planners.costtogo.observed_cost_to_go`)."""
+        return observed_cost_to_go(obs, self.facts, memory)
 
     def predict_scene(self, obs):
         """``(trajectory, substeps, contact_radii, robot, goal)`` for one observation."""
@@ -111,8 +116,9 @@ class SpacetimeAStarAgent(Agent):
     def plan(self, obs, memory):
         trajectory, n, radii, robot, goal = self.model.predict_scene(obs)
         f = self.facts
+        segments, ctg = self.model.statics(obs, memory)
         problem = SpacetimeProblem(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.model.arena.box,
-                                   self.step_length)  # fmt: skip
+                                   self.step_length, segments, ctg)  # fmt: skip
         targets = memory.get("plan")
         if targets is not None and len(targets) > 0:  # keep the previous plan while it still holds
             free, reached = replay(problem, targets)
@@ -180,21 +186,28 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         self._timed_lo = np.concatenate([self.search_lo, np.zeros(speeds)])
         self._timed_hi = np.concatenate([self.search_hi, np.ones(speeds)])
 
-    def timed_problem(self, obs) -> TimedScene:
-        """The space-time objective's problem for one observation (:func:`~agents.planners.objective.timed_path_cost`)."""
+    def timed_problem(self, obs, memory: dict | None = None) -> TimedScene:
+        """The space-time objective's problem for one observation (:func:`~agents.planners.objective.timed_path_cost`),
+        with the scene's walls and the static cost-to-go (kept in ``memory`` while the statics stay)."""
+        segments, ctg = self.model.statics(obs, {} if memory is None else memory)
         trajectory, n, radii, robot, goal = self.model.predict_scene(obs)
         # each obstacle's path length in each step: pairs farther apart than both can travel are skipped
         moves = np.hypot(*np.diff(trajectory[:, :, :2], axis=0).transpose(2, 0, 1))
         travel = np.ascontiguousarray(moves.reshape(self.model.horizon_steps, n, -1).sum(axis=1))
         f = self.facts
         return TimedScene(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.step_length,
-                          self.model.horizon_steps, self.penalty_weight, travel)  # fmt: skip
+                          self.model.horizon_steps, self.penalty_weight, travel, segments, ctg)  # fmt: skip
 
-    def seed_paths(self, robot: np.ndarray, goal: np.ndarray) -> np.ndarray:
+    def seed_paths(self, robot: np.ndarray, goal: np.ndarray, problem: TimedScene | None = None) -> np.ndarray:
         """Warm-start candidates at top speed: the straight line, then a first waypoint
-        ``dodge_steps`` steps away in each of ``n_dodges`` directions, the rest straight to the goal."""
+        ``dodge_steps`` steps away in each of ``n_dodges`` directions, the rest straight to the goal.
+        With walls or resting obstacles (a cost-to-go field) the way it points out comes first
+        (:func:`agents.planners.costtogo.route`): the straight line runs into them."""
         k = self.n_waypoints
         rows = [np.concatenate([self.straight_line(robot, goal), np.ones(k + 1)])]
+        if problem is not None and problem.cost_to_go.field.size:
+            around = waypoints_on(route(problem.cost_to_go, robot, goal, 0.5 * self.facts.robot_radius), k)
+            rows.insert(0, np.concatenate([around.ravel(), np.ones(k + 1)]))
         for angle in 2 * np.pi * np.arange(self.n_dodges) / self.n_dodges:
             w1 = np.clip(robot + self.dodge_steps * self.step_length * np.array([np.cos(angle), np.sin(angle)]), self.search_lo[:2], self.search_hi[:2])
             rest = w1 + np.arange(1, k)[:, None] / k * (goal - w1)
@@ -202,9 +215,9 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         return np.clip(np.array(rows), self._timed_lo, self._timed_hi)
 
     def plan(self, obs, memory):
-        problem = self.timed_problem(obs)
+        problem = self.timed_problem(obs, memory)
         robot, goal = problem.robot, problem.goal
-        best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, self.seed_paths(robot, goal))
+        best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, self.seed_paths(robot, goal, problem))
         k = self.n_waypoints
         path = np.vstack([robot, best[: 2 * k].reshape(-1, 2), goal])
         self.last_plan = path

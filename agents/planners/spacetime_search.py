@@ -10,7 +10,11 @@ Moves from each node: ``headings`` x ``speed_fractions`` of the robot's step, wa
 waypoint on the goal itself. Nodes are merged per (step, grid cell of ``cell`` metres): the search
 is complete only up to that resolution, which is why a failed search is "undetermined" unless
 :func:`provably_lost` says otherwise. The heuristic (steps still needed at top speed) is admissible,
-so the first goal node popped arrives earliest; ties go to the deeper node.
+so the first goal node popped arrives earliest; ties go to the deeper node. With static geometry
+(``SpacetimeProblem.statics``: walls and polygon edges) every move is also swept against it as the
+env does, and the heuristic reads the static cost-to-go around it (``SpacetimeProblem.cost_to_go``,
+:mod:`agents.planners.costtogo`: a lower bound, so still admissible up to its grid) instead of the
+straight line, which led the search into the far side of every wall.
 
 Compiled with numba: one search expands thousands of nodes with dozens of moves each. The kernels
 take named records: the problem (:class:`SpacetimeProblem`: what is known of the obstacles' future
@@ -29,6 +33,9 @@ import numpy as np
 from pathplan_env.arena import ArenaBox
 from pathplan_env.geometry import swept_pair
 from pathplan_env.kinematics import reach_fraction, robot_move, substep_point
+from pathplan_env.statics import swept_capsule
+
+from .costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal
 
 FOUND, HORIZON, EXHAUSTED, BUDGET = 0, 1, 2, 3  # search outcomes
 
@@ -46,6 +53,8 @@ class SpacetimeProblem(NamedTuple):
     goal_radius: float  # m
     box: ArenaBox  # the env's action mapping and the box where the robot's disc fits
     reach: float  # m: the robot's step at top speed
+    statics: np.ndarray = np.zeros((0, 5))  # (M, 5): walls and polygon edges (``World.static_segments`` rows)
+    cost_to_go: CostToGo = STRAIGHT_LINE  # the heuristic's distance to the goal (:mod:`agents.planners.costtogo`)
 
 
 class SearchSettings(NamedTuple):
@@ -135,7 +144,8 @@ def step_paths(traj, n):
 
 
 @numba.njit(cache=True)
-def _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, gx, gy, goal_radius, ends, deviation, close):
+def _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, gx, gy, goal_radius, ends, deviation, close,
+         statics, near_s, n_near_s):  # fmt: skip
     """One step from ``(x, y)`` by ``(dx, dy)`` starting at substep ``first``: 1 goal, 0 free, -1 contact.
 
     Only the obstacles ``near[:n_near]`` are tested (the others cannot reach the robot this step),
@@ -143,7 +153,9 @@ def _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, gx, gy
     substep centre within ``deviation`` of that segment, hence every point between them too) comes
     within the contact distance of the robot's straight move: the rest could not touch at any
     instant, let alone at the same one. For the pairs left (written to ``close``) the test is the
-    env's ``swept_contact``, substep by substep."""
+    env's ``swept_contact``, substep by substep. The static capsules ``near_s[:n_near_s]`` (rows of
+    ``statics``) are tested as the env tests them: one exact swept test of the whole move
+    (``pathplan_env.statics.static_stop``)."""
     slack = 1e-9 * (1.0 + abs(x) + abs(y) + abs(dx) + abs(dy))  # far above rounding, far below a miss
     pairs = 0
     for q in range(n_near):
@@ -166,10 +178,25 @@ def _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, gx, gy
                 contact = (j - 1 + t) / n
                 break
             ax, ay = bx, by
+    for q in range(n_near_s):
+        w = near_s[q]
+        _, t = swept_capsule(x, y, x + dx, y + dy, robot_radius, statics[w, 0], statics[w, 1], statics[w, 2], statics[w, 3], statics[w, 4])
+        contact = min(contact, t)
     goal = reach_fraction(x, y, dx, dy, gx, gy, goal_radius)
     if contact <= 1.0 and contact <= goal:
         return -1
     return 1 if goal <= 1.0 else 0
+
+
+@numba.njit(cache=True, inline="always")
+def _near_statics(x, y, statics, robot_radius, reach, near_s):
+    """Write to ``near_s`` the capsules within ``reach`` plus the contact distance of ``(x, y)``; their count."""
+    count = 0
+    for w in range(statics.shape[0]):
+        if _segment_distance(x, y, x, y, statics[w, 0], statics[w, 1], statics[w, 2], statics[w, 3]) - robot_radius - statics[w, 4] <= reach:
+            near_s[count] = w
+            count += 1
+    return count
 
 
 @numba.njit(cache=True)
@@ -185,6 +212,7 @@ def search(problem, settings):
     """
     traj, n, robot_radius, radii = problem.trajectory, problem.substeps, problem.robot_radius, problem.radii
     start, goal, goal_radius, box, reach = problem.start, problem.goal, problem.goal_radius, problem.box, problem.reach
+    statics, ctg = problem.statics, problem.cost_to_go
     moves, max_steps, cell = settings.moves, settings.max_steps, settings.cell
     max_expansions, h_weight = settings.max_expansions, settings.h_weight
     bx0, by0 = box.fit_xmin, box.fit_ymin
@@ -201,10 +229,11 @@ def search(problem, settings):
     seen = numba.typed.Dict.empty(numba.types.int64, numba.types.int64)
     near = np.empty(radii.shape[0], np.int64)
     close = np.empty(radii.shape[0], np.int64)
+    near_s = np.empty(statics.shape[0], np.int64)
     paths = step_paths(traj, n)
 
-    def h(x, y):
-        d = math.hypot(x - goal[0], y - goal[1]) - goal_radius
+    def h(x, y):  # steps still needed at top speed along the static cost-to-go (a lower bound)
+        d = min(distance_to_goal(ctg, x, y, goal[0], goal[1], goal_radius), 1e9 * reach)  # inf: walled off
         return 0.0 if d <= 0.0 else math.ceil(d / reach - 1e-9)
 
     node_x[0], node_y[0], node_k[0], node_parent[0] = start[0], start[1], 0, -1
@@ -236,6 +265,7 @@ def search(problem, settings):
             if gap <= reach + deviation[o] + slack:
                 near[n_near] = o
                 n_near += 1
+        n_near_s = _near_statics(x, y, statics, robot_radius, reach + slack, near_s)
         m_total = moves.shape[0] + 2
         for m in range(m_total):
             if m < moves.shape[0]:
@@ -248,7 +278,7 @@ def search(problem, settings):
             action = _to_action(tx, ty, box)
             _, _, _, dx, dy = robot_move(action, box, x, y, reach)
             result = _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, goal[0], goal[1], goal_radius,
-                          ends, deviation, close)  # fmt: skip
+                          ends, deviation, close, statics, near_s, n_near_s)  # fmt: skip
             if result < 0:
                 continue
             nx, ny = x + dx, y + dy
@@ -294,18 +324,28 @@ def replay(problem, targets):
     steps = min(targets.shape[0], (traj.shape[0] - 1) // n)
     near = np.arange(radii.shape[0])
     close = np.empty(radii.shape[0], np.int64)
+    statics = problem.statics
+    every_static = np.arange(statics.shape[0])
     paths = step_paths(traj, n)
     for k in range(steps):
         action = _to_action(targets[k, 0], targets[k, 1], box)
         _, _, _, dx, dy = robot_move(action, box, x, y, reach)
         result = _fly(traj, k * n, n, x, y, dx, dy, robot_radius, radii, near, radii.shape[0], goal[0], goal[1], goal_radius,
-                      paths.ends[k], paths.deviation[k], close)  # fmt: skip
+                      paths.ends[k], paths.deviation[k], close, statics, every_static, statics.shape[0])  # fmt: skip
         if result < 0:
             return k, False
         if result == 1:
             return k + 1, True
         x, y = x + dx, y + dy
     return steps, False
+
+
+def _window_segment_distance(wx: np.ndarray, wy: np.ndarray, x0: float, y0: float, x1: float, y1: float) -> np.ndarray:
+    """Distance from the grid points ``(wx (gx, 1), wy (1, gy))`` to the segment ``(x0, y0)-(x1, y1)``."""
+    sx, sy = x1 - x0, y1 - y0
+    ss = sx * sx + sy * sy
+    t = np.clip(((wx - x0) * sx + (wy - y0) * sy) / ss, 0.0, 1.0) if ss > 0 else 0.0
+    return np.hypot(wx - x0 - t * sx, wy - y0 - t * sy)
 
 
 def provably_lost(problem: SpacetimeProblem, cell: float = 0.005, max_steps: int = 6,
@@ -316,7 +356,9 @@ def provably_lost(problem: SpacetimeProblem, cell: float = 0.005, max_steps: int
     positions the robot can occupy after each substep is over-approximated on a grid of ``cell``
     metres: a cell is kept if its centre lies within one substep's reach plus one cell diagonal of a
     kept cell's centre, and inside the box where the robot's disc fits; it is dropped only if the
-    whole cell lies inside an obstacle inflated by the robot radius. The true set is inside the kept
+    whole cell lies inside an obstacle or a static capsule (``problem.statics``) inflated by the
+    robot radius. When nothing moves and the kept set stops changing, it never will: lost too (a
+    robot walled in). The true set is inside the kept
     one, so when the kept set empties the episode is lost whatever the robot does.
 
     :param history: if given, receives ``(cell_centres_x, cell_centres_y, kept)`` after every
@@ -343,6 +385,8 @@ def provably_lost(problem: SpacetimeProblem, cell: float = 0.005, max_steps: int
     kept = np.ones((1, 1), bool)
     grow = int(math.ceil(move / cell)) + 1
     last = min(len(trajectory) - 1, max_steps * substeps)
+    # nothing moves: a set that stops changing has reached its fixed point (walled in, for good)
+    frozen = bool(np.all(trajectory[:, :, :2] == trajectory[:1, :, :2])) if len(radii) else True
     for s in range(1, last + 1):
         new_lo = np.maximum(lo - grow, 0)
         new_hi = np.minimum(hi + grow, [gx, gy])
@@ -356,12 +400,17 @@ def provably_lost(problem: SpacetimeProblem, cell: float = 0.005, max_steps: int
         for o in range(len(radii)):
             ox, oy = trajectory[s][o, 0], trajectory[s][o, 1]
             candidate &= np.hypot(wx - ox, wy - oy) + diag / 2 >= inflated[o]
+        for x0, y0, x1, y1, half in problem.statics:  # walls: dropped only where the whole cell is inside
+            candidate &= _window_segment_distance(wx, wy, x0, y0, x1, y1) + diag / 2 >= half + robot_radius
         if history is not None:
             history.append((wx[:, 0], wy[0], candidate.copy()))
         if not candidate.any():
             return True, (s - 1) // substeps + 1
         rows, cols = np.nonzero(candidate)
+        new_kept = candidate[rows.min() : rows.max() + 1, cols.min() : cols.max() + 1]
+        if frozen and np.array_equal(lo, new_lo + [rows.min(), cols.min()]) and np.array_equal(new_kept, kept):
+            return True, (s - 1) // substeps + 1
         lo = new_lo + [rows.min(), cols.min()]
         hi = new_lo + [rows.max() + 1, cols.max() + 1]
-        kept = candidate[rows.min() : rows.max() + 1, cols.min() : cols.max() + 1]
+        kept = new_kept
     return (True, last // substeps) if last == len(trajectory) - 1 else (None, max_steps)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..base import Agent, real_obstacles
+from .walls import aim, wall_contact_times
 
 
 class StraightAgent(Agent):
@@ -22,6 +23,10 @@ class VelocityObstacleAgent(Agent):
     inflated obstacle is reached within ``time_horizon`` seconds (it lies outside every collision
     cone truncated at the horizon). The agent picks the admissible velocity closest to the preferred
     one (straight to the goal at full speed); if none is admissible, the one that collides latest.
+
+    Walls and polygons (the observation's ``static_segments``) add their exact static velocity
+    obstacles (:func:`agents.reactive.walls.wall_contact_times`), and the preferred velocity heads
+    for the first corner of the way around them (:func:`agents.reactive.walls.aim`) instead of the goal.
     """
 
     def __init__(self, env, seed=None, *, time_horizon: float = 2.0, n_directions: int = 36, n_speeds: int = 4, margin: float = 0.05):
@@ -50,15 +55,18 @@ class VelocityObstacleAgent(Agent):
     def plan(self, obs, memory):
         robot = np.asarray(obs["robot_position"], np.float64)
         goal = np.asarray(obs["goal"], np.float64)
-        to_goal = goal - robot
-        dist = np.hypot(*to_goal)
-        preferred = to_goal / max(dist, 1e-9) * min(self.facts.robot_speed, dist / self.facts.dt)
+        segments, target = aim(obs, self.facts, memory)
+        dist = np.hypot(*(goal - robot))
+        heading = target - robot
+        preferred = heading / max(np.hypot(*heading), 1e-9) * min(self.facts.robot_speed, dist / self.facts.dt)
         centers, velocities, radii = real_obstacles(obs)
         deviation = np.hypot(*(self.candidates - preferred).T)
         if len(radii):
             ttc = self.time_to_collision(robot, self.candidates, centers, velocities, radii).min(axis=1)
         else:
             ttc = np.full(len(self.candidates), np.inf)
+        if len(segments):
+            ttc = np.minimum(ttc, wall_contact_times(robot, self.candidates, segments, self.facts.robot_radius, self.margin, self.time_horizon))
         admissible = ttc > self.time_horizon
         if admissible.any():
             best = np.flatnonzero(admissible)[np.argmin(deviation[admissible])]

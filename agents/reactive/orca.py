@@ -8,6 +8,7 @@ from pathplan_env.behaviours import ORCA, SLOW_DOWN_TIME
 from pathplan_env.orca import ORCAAgentState, orca_velocity, preferred_velocity
 
 from ..base import Agent, real_obstacles
+from .walls import aim, wall_contact_times
 
 
 class ORCAAgent(Agent):
@@ -18,11 +19,24 @@ class ORCAAgent(Agent):
     invisible robot) break that assumption, which is what CrowdNav's Table I measures. The defaults
     are CrowdNav's: neighbour distance 10 m, 10 neighbours, time horizon 5 s, 1 cm radius padding.
     The preferred velocity points at the goal at full speed, slowing within 1 s of it.
+
+    Walls and polygons (the observation's ``static_segments``; our compiled ORCA has no RVO2
+    obstacle lines yet): the preferred velocity heads for the first corner of the way around them
+    (:func:`agents.reactive.walls.aim`), and ORCA's velocity is kept only if it stays clear of every
+    capsule for ``wall_horizon`` seconds (the exact static velocity obstacle,
+    :func:`agents.reactive.walls.wall_contact_times`, with the radius padding); otherwise the
+    robot takes the clear velocity (``n_directions`` headings x 4 speeds, or rest) nearest to
+    ORCA's, or the one that touches latest. A conservative stand-in for RVO2's obstacle lines.
     """
 
     def __init__(self, env, seed=None, *, neighbor_dist: float = 10.0, max_neighbors: int = 10, time_horizon: float = 5.0,
-                 safety_space: float = 0.0, radius_padding: float = 0.01):  # fmt: skip
+                 safety_space: float = 0.0, radius_padding: float = 0.01, wall_horizon: float = 1.0, n_directions: int = 36):  # fmt: skip
         super().__init__(env, seed)
+        self.wall_horizon = float(wall_horizon)
+        angles = np.linspace(0.0, 2 * np.pi, int(n_directions), endpoint=False)
+        speeds = self.facts.robot_speed * np.arange(1, 5) / 4
+        unit = np.stack([np.cos(angles), np.sin(angles)], axis=1)
+        self.candidates = np.vstack([np.zeros((1, 2)), (speeds[:, None, None] * unit[None]).reshape(-1, 2)])
         # the humans' ORCA settings record: validated (a ValueError naming the field), its params built once
         self.orca = ORCA(neighbor_dist, max_neighbors, time_horizon, safety_space, radius_padding)
         self.padding = self.orca.radius_padding + self.orca.safety_space
@@ -33,8 +47,26 @@ class ORCAAgent(Agent):
         gx, gy = (float(v) for v in obs["goal"])
         centers, velocities, radii = real_obstacles(obs)
         speed = self.facts.robot_speed
-        pref_x, pref_y = preferred_velocity(x, y, gx, gy, min(speed, np.hypot(gx - x, gy - y) / self.facts.dt), SLOW_DOWN_TIME)
+        segments, (ax, ay) = aim(obs, self.facts, memory)
+        if (ax, ay) == (gx, gy):
+            pref_x, pref_y = preferred_velocity(x, y, gx, gy, min(speed, np.hypot(gx - x, gy - y) / self.facts.dt), SLOW_DOWN_TIME)
+        else:  # a corner on the way: full speed through it
+            d = max(np.hypot(ax - x, ay - y), 1e-9)
+            pref_x, pref_y = (ax - x) / d * speed, (ay - y) / d * speed
         robot = ORCAAgentState(x, y, vx, vy, self.facts.robot_radius + self.padding, speed, pref_x, pref_y)
         new_vx, new_vy = orca_velocity(robot, -1, centers, velocities, radii + self.padding, self.orca.params, self.facts.dt)
+        if len(segments):
+            new_vx, new_vy = self.clear_of_walls(np.array([x, y]), np.array([new_vx, new_vy]), segments)
         self.last_plan = np.array([[x, y], [x + new_vx * self.facts.dt, y + new_vy * self.facts.dt]])
         return self.last_plan[1]
+
+    def clear_of_walls(self, robot: np.ndarray, velocity: np.ndarray, segments: np.ndarray) -> tuple[float, float]:
+        """``velocity`` if it stays clear of the walls for ``wall_horizon`` s, else the clear
+        candidate nearest to it (the one touching latest if none is clear)."""
+        rr, pad = self.facts.robot_radius, self.padding
+        if np.isinf(wall_contact_times(robot, velocity[None], segments, rr, pad, self.wall_horizon)[0]):
+            return float(velocity[0]), float(velocity[1])
+        ttc = wall_contact_times(robot, self.candidates, segments, rr, pad, self.wall_horizon)
+        deviation = np.hypot(*(self.candidates - velocity).T)
+        best = np.lexsort((deviation, -ttc))[0]
+        return float(self.candidates[best, 0]), float(self.candidates[best, 1])

@@ -3,6 +3,9 @@
 A policy trained on ``pathplan_env.wrappers.make_learning_env`` sees ``egocentric_features`` and acts in
 the relative-waypoint action space; this agent applies the same two functions to the raw env's
 observations (single or batched), so it runs wherever the planners run.
+
+Walls are zero-shot: ``egocentric_features`` reads the obstacles and the arena's edges, not the
+observation's ``static_segments`` (the shipped model was trained without walls and never saw them).
 """
 
 from __future__ import annotations

@@ -9,7 +9,8 @@ The model needs no sidecar file. What a researcher gets from SB3's ``evaluate_po
   model is then loaded as rl-zoo3's ``enjoy`` loads it (schedules replaced by constants, a one-slot
   replay buffer for off-policy algorithms, on the CPU);
 - **the observations** follow the model's observation space: ``DynamicObstacle-v0``'s ``Dict``
-  (a ``MultiInputPolicy`` trained on the raw env) is passed as it is; a flat ``Box`` of
+  (a ``MultiInputPolicy`` trained on the raw env) is passed as it is (zero-shot on scenes with walls:
+  a model trained without them gets its own entries only, not ``static_segments`` / ``static_mask``); a flat ``Box`` of
   ``feature_size(k)`` (``DynamicObstacleFlat-v0``, or ``make_learning_env(env, k)``) gets
   ``egocentric_features`` with that ``k`` and its actions mapped back with
   ``relative_action_to_waypoint``, as the learning wrappers do. Anything else is refused, naming
@@ -196,8 +197,21 @@ def _load_statistics(path: Path, mtime: float, model_path: Path, algorithm: type
     return statistics
 
 
+#: The entries a scene with walls adds to the ``Dict`` (``StateObservation.reserve_static_segments``):
+#: a model that never saw them runs zero-shot without them.
+MAP_KEYS = ("static_segments", "static_mask")
+
+
+def _without_map(space: spaces.Space) -> spaces.Space:
+    if isinstance(space, spaces.Dict):
+        return spaces.Dict({k: v for k, v in space.spaces.items() if k not in MAP_KEYS})
+    return space
+
+
 def _same_shapes(model_space: spaces.Space, env_space: spaces.Space) -> bool:
     if isinstance(model_space, spaces.Dict) and isinstance(env_space, spaces.Dict):
+        if not any(k in model_space.spaces for k in MAP_KEYS):  # a model trained without walls: zero-shot
+            env_space = _without_map(env_space)
         return model_space.spaces.keys() == env_space.spaces.keys() and all(
             model_space[k].shape == env_space[k].shape for k in env_space.spaces
         )
@@ -331,7 +345,10 @@ class SB3Agent(Agent):
     # -- SB3 contract ---------------------------------------------------------------------------
     def predict(self, observation, state=None, episode_start=None, deterministic: bool = False):
         begin = time.perf_counter()
-        model_input = observation if self.k_nearest is None else egocentric_features(observation, self.facts, self.k_nearest)
+        if self.k_nearest is None:  # only the entries the model knows (a wall scene's map is new to it)
+            model_input = {k: observation[k] for k in self.model.observation_space.spaces}
+        else:
+            model_input = egocentric_features(observation, self.facts, self.k_nearest)
         if self.statistics is not None:
             model_input = self.statistics.normalize_obs(model_input)
         action, _ = self.model.predict(model_input, deterministic=deterministic)

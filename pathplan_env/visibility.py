@@ -30,7 +30,7 @@ import numba
 import numpy as np
 
 from .arena import Arena
-from .lidar import robot_heading, static_segments
+from .lidar import LidarObservation, robot_heading, static_segments
 from .observations import StateObservation, register_observation_type
 from .raycast import TWO_PI, capsule_span, disc_span, ray_capsule, ray_disc, segment_distance_squared, wrap
 from .sensor_params import SensorParams
@@ -276,6 +276,7 @@ class VisibleStateObservation(StateObservation):
         #: Which obstacles the last observation showed (for drawing the others greyed), and a ray
         #: direction that saw each of them.
         self.visible, self.witness = np.zeros(0, np.bool_), np.zeros(0)
+        self._display_scan: LidarObservation | None = None  # made on the first rendered frame
 
     def reset(self, world, rng: np.random.Generator | None) -> None:
         super().reset(world, rng)
@@ -290,8 +291,17 @@ class VisibleStateObservation(StateObservation):
         _hide(obs["obstacle_positions"], obs["obstacle_velocities"], obs["obstacle_radii"], obs["obstacle_mask"], self.visible, low_x, low_y)
         return obs
 
+    #: Beams drawn over a frame to show the sensor's reach (display only: visibility is exact, not sampled).
+    OVERLAY_BEAMS = 180
+
     def overlay(self, world) -> dict[str, np.ndarray]:
-        return {"hidden": ~self.visible} if len(self.visible) == world.n_obstacles else {}
+        if len(self.visible) != world.n_obstacles:  # rendered before any observation
+            return {}
+        if self._display_scan is None:
+            params = {"lidar_beams": self.OVERLAY_BEAMS, "lidar_fov": self.params.lidar_fov, "lidar_range": self.params.lidar_range}
+            self._display_scan = LidarObservation(self.arena, self.dt, 0, params)
+            self._display_scan.reset(world, None)
+        return {"hidden": ~self.visible, "beams": self._display_scan.overlay(world)["beams"]}
 
 
 __all__ = ["VisibleStateObservation", "visible_obstacles"]

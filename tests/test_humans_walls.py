@@ -148,7 +148,8 @@ def test_existing_presets_replay_their_episodes():
         obs, _ = env.reset(seed=5)
         for _ in range(150):
             obs, _, terminated, truncated, _ = env.step(env.action_space.sample())
-            h.update(np.concatenate([np.ravel(obs[k]) for k in sorted(obs)]).tobytes())
+            # the entries of before: the map's (static_segments, static_mask) came later, the episode did not change
+            h.update(np.concatenate([np.ravel(obs[k]) for k in sorted(obs) if not k.startswith("static_")]).tobytes())
             if terminated or truncated:
                 obs, _ = env.reset()
     assert h.hexdigest() == "a1d46f791f9bb3c6f3648ea039e1a8865a9b01590cbc5f80902fd8b5dd7cfe67"

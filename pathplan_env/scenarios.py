@@ -20,19 +20,12 @@ import numpy as np
 
 from .arena import Arena
 from .behaviours import BOUNCE, Behaviour, make_behaviour
-from .statics import DEFAULT_WALL_THICKNESS, check_static_geometry, normalise_polygons, normalise_walls, segments_of
+from .statics import DEFAULT_WALL_THICKNESS, as_point, check_static_geometry, normalise_polygons, normalise_walls, segments_of
 
 Vec2 = tuple[float, float]
 
 
-def _vec2(value, name: str) -> Vec2:
-    try:
-        x, y = (float(v) for v in value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a pair of numbers (x, y), got {value!r}") from None
-    if not (math.isfinite(x) and math.isfinite(y)):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    return (x, y)
+_vec2 = as_point  # a finite (x, y) of floats, or a ValueError naming the field
 
 
 #: Smallest length (m) accepted for radii and distances: below it, masses r² and squared distances

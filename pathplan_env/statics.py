@@ -31,7 +31,8 @@ _NO_SEGMENTS = np.empty((0, 5))
 _NO_SEGMENTS.flags.writeable = False
 
 
-def _point(value, name: str) -> tuple[float, float]:
+def as_point(value, name: str) -> tuple[float, float]:
+    """``value`` as a finite ``(x, y)`` of floats; ``ValueError`` naming ``name`` otherwise."""
     try:
         x, y = (float(v) for v in value)
     except (TypeError, ValueError):
@@ -55,7 +56,7 @@ def normalise_walls(walls, min_length: float) -> tuple:
         ends = _sequence(wall, name)
         if len(ends) != 2:
             raise ValueError(f"{name} must be two end points ((x0, y0), (x1, y1)), got {wall!r}")
-        a, b = _point(ends[0], name), _point(ends[1], name)
+        a, b = as_point(ends[0], name), as_point(ends[1], name)
         if math.dist(a, b) < min_length:
             raise ValueError(f"{name} {(a, b)} is degenerate: its ends must be at least {min_length:g} m apart")
         out.append((a, b))
@@ -73,7 +74,7 @@ def normalise_polygons(polygons, min_length: float) -> tuple[tuple, list]:
     out, shapes = [], []
     for i, polygon in enumerate(_sequence(polygons, "Scenario.polygons")):
         name = f"Scenario.polygons[{i}]"
-        vertices = [_point(v, f"{name}[{j}]") for j, v in enumerate(_sequence(polygon, name))]
+        vertices = [as_point(v, f"{name}[{j}]") for j, v in enumerate(_sequence(polygon, name))]
         if len(vertices) > 1 and vertices[0] == vertices[-1]:
             vertices.pop()  # a closed ring, as GeoJSON and shapely write it
         if len(vertices) < 3:

@@ -33,7 +33,7 @@ import numba
 import numpy as np
 
 from .geometry import NO_CONTACT, swept_pair
-from .statics import swept_capsule
+from .statics import point_segment, swept_capsule
 from .world import _finish_substep  # the world's speed restoration, reused from inside the kernel
 
 #: Relative to the reach: a gap at or below ``CONTACT_TOLERANCE * reach`` is a contact.
@@ -119,17 +119,6 @@ def arc_disc(arc, f0, f1, oax, oay, obx, oby, reach):
     return (best, NO_CONTACT) if bound <= 0.0 else (0.0, u)  # budget spent: a conservative hit
 
 
-@numba.njit(cache=True, inline="always")
-def _point_segment(px, py, x0, y0, x1, y1):
-    ex = x1 - x0
-    ey = y1 - y0
-    ee = ex * ex + ey * ey
-    t = 0.0
-    if ee > 0.0:
-        t = min(max(((px - x0) * ex + (py - y0) * ey) / ee, 0.0), 1.0)
-    return math.hypot(px - x0 - t * ex, py - y0 - t * ey)
-
-
 @numba.njit(cache=True)
 def arc_capsule(arc, f_end, robot_radius, x0, y0, x1, y1, half):
     """The robot on the arc from fraction 0 to ``f_end`` against a static capsule (segment ``x0 y0 x1 y1``,
@@ -145,7 +134,7 @@ def arc_capsule(arc, f_end, robot_radius, x0, y0, x1, y1, half):
     best = np.inf
     for _ in range(MAX_ADVANCES):
         px, py, _ = arc_point(arc, u * f_end)
-        gap = _point_segment(px, py, x0, y0, x1, y1) - reach
+        gap = point_segment(px, py, x0, y0, x1, y1) - reach
         best = min(best, gap)
         if gap <= tol:
             return min(gap, 0.0), u * f_end

@@ -220,7 +220,8 @@ def _clip_slab(p0, dp, lo, hi, enter, leave):
 
 
 @numba.njit(cache=True, inline="always")
-def _point_segment(px, py, ax, ay, bx, by):
+def point_segment(px, py, ax, ay, bx, by):
+    """Distance from the point p to the segment ab (compiled, inlined)."""
     ex = bx - ax
     ey = by - ay
     ee = ex * ex + ey * ey
@@ -240,8 +241,8 @@ def _segment_segment(ax, ay, bx, by, cx, cy, dx, dy):
     if o1 * o2 < 0.0 and o3 * o4 < 0.0:
         return 0.0
     return min(
-        min(_point_segment(ax, ay, cx, cy, dx, dy), _point_segment(bx, by, cx, cy, dx, dy)),
-        min(_point_segment(cx, cy, ax, ay, bx, by), _point_segment(dx, dy, ax, ay, bx, by)),
+        min(point_segment(ax, ay, cx, cy, dx, dy), point_segment(bx, by, cx, cy, dx, dy)),
+        min(point_segment(cx, cy, ax, ay, bx, by), point_segment(dx, dy, ax, ay, bx, by)),
     )
 
 
@@ -327,7 +328,7 @@ def points_clearance(points, segments):
     out = np.full(points.shape[0], np.inf)
     for p in range(points.shape[0]):
         for i in range(segments.shape[0]):
-            d = _point_segment(points[p, 0], points[p, 1], segments[i, 0], segments[i, 1], segments[i, 2], segments[i, 3])
+            d = point_segment(points[p, 0], points[p, 1], segments[i, 0], segments[i, 1], segments[i, 2], segments[i, 3])
             out[p] = min(out[p], d - segments[i, 4])
     return out
 
@@ -337,7 +338,7 @@ def capsules_clearance(x, y, robot_radius, segments):
     """Smallest surface gap from the robot's disc at ``(x, y)`` to the capsules (inf with none)."""
     gap = np.inf
     for i in range(segments.shape[0]):
-        d = _point_segment(x, y, segments[i, 0], segments[i, 1], segments[i, 2], segments[i, 3])
+        d = point_segment(x, y, segments[i, 0], segments[i, 1], segments[i, 2], segments[i, 3])
         gap = min(gap, d - segments[i, 4] - robot_radius)
     return gap
 

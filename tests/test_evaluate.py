@@ -232,3 +232,15 @@ def test_compare_runs_compares_a_run_kept_without_episodes_cell_by_cell_and_says
     assert compare_runs.main([str(tiny_run), str(tmp_path)]) == 1
     with pytest.raises(SystemExit, match="no summary.json"):
         compare_runs.main([str(tiny_run), str(tmp_path / "nowhere")])
+
+
+@pytest.mark.parametrize("name", sorted(__import__("agents.evaluation.suites", fromlist=["SUITES"]).SUITES))
+def test_every_suite_names_registered_agents_and_presets(name):
+    import agents
+    import pathplan_env
+    from agents.evaluation.suites import SUITES
+
+    suite = SUITES[name]
+    assert set(suite["agents"].split(",")) <= set(agents.available()), name
+    assert set(suite["scenarios"].split(",")) <= set(pathplan_env.PRESETS), name
+    assert all(float(d) >= 0 for d in suite["delta_d"].split(",")) and suite["episodes"] >= 1

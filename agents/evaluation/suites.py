@@ -19,6 +19,15 @@ SUITES = {
         delta_d="0.8333333333333334",
         episodes=500,
     ),
+    # walls and maps (issue 21): every family with bouncing obstacles and with ORCA humans
+    "maps": dict(
+        agents="straight,velocity-obstacle,orca,oracle-static,pso,abc,pso-predictive,abc-predictive,astar-spacetime,"
+        "pso-spacetime,abc-spacetime,astar-crowd,ppo",
+        scenarios="corridor,doorway,intersection,cluttered-room,maze,corridor-crowd,doorway-crowd,intersection-crowd,"
+        "cluttered-room-crowd,maze-crowd",
+        delta_d="0.25,0.5,1",
+        episodes=200,
+    ),
     "large": dict(
         agents="straight,velocity-obstacle,oracle-static,pso,abc,pso-vanilla,abc-vanilla,pso-predictive,abc-predictive,"
         "astar-spacetime,pso-spacetime,abc-spacetime,ppo",

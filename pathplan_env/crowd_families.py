@@ -57,29 +57,52 @@ def _free(points: np.ndarray, layout: Scenario) -> np.ndarray:
     return ok
 
 
+#: Batches of candidates a human may draw beyond the first before a layout counts as too crowded.
+_MORE_BATCHES = 32
+
+
 def _humans(rng, n: int, layout: Scenario, draw: Callable) -> tuple[Obstacle, ...]:
     """``n`` humans whose (start, goal) pairs come from ``draw(rng, k) -> (starts (k, 2), goals (k, 2))``:
-    each takes the first of its candidates that keeps the rules of the module docstring.
+    each takes the first of its candidates that keeps the rules of the module docstring. A human
+    whose first ``_CANDIDATES`` all break them draws more batches (only then: a scene that fitted
+    the first time is drawn exactly as before).
 
     :raises ValueError: naming ``n_obstacles`` when one finds no place.
     """
     starts, goals = draw(rng, n * _CANDIDATES)
+    ok = _fitting(starts, goals, layout)
+    starts, goals, ok = starts.reshape(n, _CANDIDATES, 2), goals.reshape(n, _CANDIDATES, 2), ok.reshape(n, _CANDIDATES)
+    humans = []
+    for i in range(n):
+        mine_s, mine_g, fits = starts[i], goals[i], ok[i] & _spaced(starts[i], goals[i], humans)
+        for _ in range(_MORE_BATCHES):
+            if fits.any():
+                break
+            mine_s, mine_g = draw(rng, _CANDIDATES)
+            fits = _fitting(mine_s, mine_g, layout) & _spaced(mine_s, mine_g, humans)
+        if not fits.any():
+            raise ValueError(f"n_obstacles: could not place {n} humans in the {layout.name!r} layout (placed {i})")
+        k = int(np.argmax(fits))
+        humans.append(Obstacle(tuple(mine_s[k].tolist()), HUMAN_RADIUS, goal=tuple(mine_g[k].tolist()), preferred_speed=HUMAN_SPEED))
+    return tuple(humans)
+
+
+def _fitting(starts: np.ndarray, goals: np.ndarray, layout: Scenario) -> np.ndarray:
+    """Which (start, goal) candidates a human fits: both free, the start clear of the robot's start and goal."""
     ok = _free(starts, layout) & _free(goals, layout)
     keep = HUMAN_RADIUS + layout.robot_radius + families.START_CLEARANCE
     for end in (layout.start, layout.goal):
         ok &= np.hypot(starts[:, 0] - end[0], starts[:, 1] - end[1]) > keep
-    starts, goals, ok = starts.reshape(n, _CANDIDATES, 2), goals.reshape(n, _CANDIDATES, 2), ok.reshape(n, _CANDIDATES)
-    humans = []
-    for i in range(n):
-        fits = ok[i].copy()
-        for h in humans:
-            fits &= np.hypot(*(starts[i] - h.center).T) >= SPACING
-            fits &= np.hypot(*(goals[i] - h.goal).T) >= SPACING
-        if not fits.any():
-            raise ValueError(f"n_obstacles: could not place {n} humans in the {layout.name!r} layout (placed {i})")
-        k = int(np.argmax(fits))
-        humans.append(Obstacle(tuple(starts[i, k].tolist()), HUMAN_RADIUS, goal=tuple(goals[i, k].tolist()), preferred_speed=HUMAN_SPEED))
-    return tuple(humans)
+    return ok
+
+
+def _spaced(starts: np.ndarray, goals: np.ndarray, humans: list[Obstacle]) -> np.ndarray:
+    """Which candidates keep ``SPACING`` from the humans placed, at the start and at the goal."""
+    fits = np.ones(len(starts), bool)
+    for h in humans:
+        fits &= np.hypot(*(starts - h.center).T) >= SPACING
+        fits &= np.hypot(*(goals - h.goal).T) >= SPACING
+    return fits
 
 
 def _crowd(rng, n: int, layout: Scenario, draw: Callable) -> Scenario:

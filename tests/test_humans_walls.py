@@ -171,3 +171,14 @@ def test_a_copied_walled_crowd_env_continues_exactly():
     for e in (env, copy.deepcopy(env), pickle.loads(pickle.dumps(env))):
         runs.append(np.concatenate([e.step(still)[0]["obstacle_positions"].ravel() for _ in range(40)]))
     assert np.array_equal(runs[0], runs[1]) and np.array_equal(runs[0], runs[2])
+
+
+def test_a_crowd_preset_builds_for_every_seed_even_where_the_first_candidates_all_break_the_rules():
+    """Validation seeds 900000004 and 900000011 found no place for a maze-crowd human among its first
+    64 candidates (a ValueError stopped the run); such a human now draws more."""
+    import gymnasium as gym
+
+    env = gym.make("DynamicObstacle-v0", scenario="maze-crowd")
+    for seed in (900000004, 900000011):
+        obs, _ = env.reset(seed=seed)
+        assert obs["obstacle_mask"].sum() == 6

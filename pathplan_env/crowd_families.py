@@ -192,8 +192,8 @@ def _maze_map():
 
 def maze(rng: np.random.Generator, n: int | None = None) -> Scenario:
     """The shipped maze (a 6 x 6 maze of 1.6 m cells, 9.8 m square) with ``n`` (6) obstacles of radius
-    0.3 m at rest (``make_scenario`` gives them Δd), start and goal drawn by ``ros_maps.scenario_kwargs``."""
-    from .ros_maps import scenario_kwargs
+    0.3 m at rest (``make_scenario`` gives them Δd), start and goal drawn by ``occupancy.scenario_kwargs``."""
+    from .occupancy import scenario_kwargs
 
     n = 6 if n is None else check_count(n, "n_obstacles")
     kwargs = scenario_kwargs(_maze_map(), rng, n_obstacles=n, obstacle_radius=MAZE_OBSTACLE_RADIUS, robot_radius=families.ROBOT_RADIUS)

@@ -98,11 +98,14 @@ def _fitting(starts: np.ndarray, goals: np.ndarray, layout: Scenario) -> np.ndar
 
 def _spaced(starts: np.ndarray, goals: np.ndarray, humans: list[Obstacle]) -> np.ndarray:
     """Which candidates keep ``SPACING`` from the humans placed, at the start and at the goal."""
-    fits = np.ones(len(starts), bool)
-    for h in humans:
-        fits &= np.hypot(*(starts - h.center).T) >= SPACING
-        fits &= np.hypot(*(goals - h.goal).T) >= SPACING
-    return fits
+    if not humans:
+        return np.ones(len(starts), bool)
+    # every pair at once (the same differences and hypot as one human at a time: a reset of 20 humans
+    # spent ~10 ms in a Python loop here)
+    centers, ends = np.array([h.center for h in humans]), np.array([h.goal for h in humans])
+    near_start = np.hypot(starts[:, None, 0] - centers[None, :, 0], starts[:, None, 1] - centers[None, :, 1]) < SPACING
+    near_goal = np.hypot(goals[:, None, 0] - ends[None, :, 0], goals[:, None, 1] - ends[None, :, 1]) < SPACING
+    return ~(near_start | near_goal).any(axis=1)
 
 
 def _crowd(rng, n: int, layout: Scenario, draw: Callable) -> Scenario:

@@ -4,15 +4,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from pathplan_env.geometry import shortest_path
-
 from ..base import Agent, point_along, real_obstacles, real_static_segments
+from .tangent_graph import shortest_path
 
 
 class StaticOracleAgent(Agent):
     """Exact shortest collision-free path among the obstacles as they are now and the scene's walls
     and polygons (from the observation's ``static_segments``: capsules inflated by the robot radius
-    and ``margin``; tangent visibility graph + Dijkstra, ``pathplan_env.geometry.shortest_path``);
+    and ``margin``; tangent visibility graph + Dijkstra: ``pathplan_env.geometry.shortest_path``'s graph and path,
+    built by ``tangent_graph`` fast enough for every step among many walls);
     flies one step along it.
 
     Blind to motion: it is the optimum of a static scene and the yardstick for optimality gaps.

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from pathplan_env.geometry import segment_segment_distance
 from pathplan_env.wrappers import EnvFacts
 
 from ..base import Agent, real_obstacles
@@ -134,15 +135,19 @@ class SpacetimeAStarAgent(Agent):
         if len(targets) == 0 or (not keep and outcome == EXHAUSTED and self.escape_trapped):
             # every move is predicted to touch (within the margin), or every plan ends in contact
             # before the horizon: get as far clear as it can
-            targets = self.escape(trajectory, n, radii, robot, goal)[None]
+            targets = self.escape(trajectory, n, radii, robot, goal, segments)[None]
         self.last_plan = np.vstack([robot, targets])
         memory["plan"] = targets[1:]
         return targets[0]
 
-    def escape(self, trajectory, substeps, radii, robot, goal) -> np.ndarray:
+    def escape(self, trajectory, substeps, radii, robot, goal, segments: np.ndarray | None = None) -> np.ndarray:
         """The waypoint of the move (or rest) that keeps the largest predicted clearance over the
         next ``escape_steps`` steps flown straight on, nearer the goal on ties: standing still
-        when every plan touches lets an obstacle that does not give way walk into the robot."""
+        when every plan touches lets an obstacle that does not give way walk into the robot.
+
+        The walls and polygons (``segments``, capsule rows) count as obstacles that stay: a move's
+        clearance is also its path's (straight pieces between substeps, no tunnelling) smallest gap
+        to them, so the escape never flies into a wall to get away from a disc."""
         f = self.facts
         lo = np.array(self.model.arena.robot_box[:2])
         hi = np.array(self.model.arena.robot_box[2:])
@@ -153,9 +158,17 @@ class SpacetimeAStarAgent(Agent):
         centers = trajectory[1 : k + 1, :, :2]  # (K, N, 2)
         gaps = np.hypot(*(path[:, :, None, :] - centers[None]).transpose(3, 0, 1, 2)) - radii - f.robot_radius
         clearance = gaps.min(axis=(1, 2)) if gaps.size else np.zeros(len(steps))
+        if segments is not None and len(segments) and k > 0:
+            clearance = np.minimum(clearance, self._wall_gaps(robot, path, segments))
         to_goal = np.hypot(*(robot + steps - goal).T)
         best = np.lexsort((to_goal, -np.round(clearance, 6)))[0]
         return np.clip(robot + steps[best], lo, hi)
+
+    def _wall_gaps(self, robot: np.ndarray, path: np.ndarray, segments: np.ndarray) -> np.ndarray:
+        """Each candidate path's (C, K, 2) smallest surface gap to the capsules over its pieces."""
+        start = np.concatenate([np.broadcast_to(robot, (len(path), 1, 2)), path[:, :-1]], axis=1)
+        distance = segment_segment_distance(start[:, :, None], path[:, :, None], segments[None, None, :, 0:2], segments[None, None, :, 2:4])
+        return (distance - segments[:, 4] - self.facts.robot_radius).min(axis=(1, 2))
 
 
 class SpacetimeMetaheuristicAgent(MetaheuristicAgent):

@@ -1,14 +1,14 @@
-"""ORCA as the robot's policy: CrowdNav's ORCA baseline."""
+"""ORCA as the robot's policy: CrowdNav's ORCA baseline, with RVO2's obstacle lines for walls."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from pathplan_env.behaviours import ORCA, SLOW_DOWN_TIME
-from pathplan_env.orca import ORCAAgentState, orca_velocity, preferred_velocity
+from pathplan_env.orca import ORCAAgentState, orca_velocity, orca_velocity_among, preferred_velocity
 
 from ..base import Agent, real_obstacles
-from .walls import aim, wall_contact_times
+from .walls import aim, orca_obstacles_of, wall_contact_times
 
 
 class ORCAAgent(Agent):
@@ -20,17 +20,23 @@ class ORCAAgent(Agent):
     are CrowdNav's: neighbour distance 10 m, 10 neighbours, time horizon 5 s, 1 cm radius padding.
     The preferred velocity points at the goal at full speed, slowing within 1 s of it.
 
-    Walls and polygons (the observation's ``static_segments``; our compiled ORCA has no RVO2
-    obstacle lines yet): the preferred velocity heads for the first corner of the way around them
-    (:func:`agents.reactive.walls.aim`), and ORCA's velocity is kept only if it stays clear of every
-    capsule for ``wall_horizon`` seconds (the exact static velocity obstacle,
-    :func:`agents.reactive.walls.wall_contact_times`, with the radius padding); otherwise the
-    robot takes the clear velocity (``n_directions`` headings x 4 speeds, or rest) nearest to
-    ORCA's, or the one that touches latest. A conservative stand-in for RVO2's obstacle lines.
+    Walls and polygons (the observation's ``static_segments``): ORCA takes them as RVO2's obstacle
+    lines, hard constraints for ``time_horizon_obst`` seconds, built as the ORCA humans' are
+    (:func:`agents.reactive.walls.orca_obstacles_of`), and the preferred velocity heads for the
+    first corner of the way around them (:func:`agents.reactive.walls.aim`). ``time_horizon_obst``
+    is 1 s, not the humans' 5 s: with 5 s the robot crawls toward each corner of the maze, where
+    the bouncing discs catch it (docs/results/maps_first_look/orca_lines.py). A last guard (the linear
+    program without a feasible velocity takes the least violating one; the round wall ends are
+    octagons): ORCA's velocity is kept only if it stays clear of every capsule for ``wall_horizon``
+    seconds (the exact static velocity obstacle, :func:`agents.reactive.walls.wall_contact_times`,
+    with the radius padding); otherwise the robot takes the clear velocity (``n_directions``
+    headings x 4 speeds, or rest) nearest to ORCA's, or the one that touches latest. Scenes without
+    walls are as before.
     """
 
     def __init__(self, env, seed=None, *, neighbor_dist: float = 10.0, max_neighbors: int = 10, time_horizon: float = 5.0,
-                 safety_space: float = 0.0, radius_padding: float = 0.01, wall_horizon: float = 1.0, n_directions: int = 36):  # fmt: skip
+                 safety_space: float = 0.0, radius_padding: float = 0.01, wall_horizon: float = 1.0, n_directions: int = 36,
+                 time_horizon_obst: float = 1.0):  # fmt: skip
         super().__init__(env, seed)
         self.wall_horizon = float(wall_horizon)
         angles = np.linspace(0.0, 2 * np.pi, int(n_directions), endpoint=False)
@@ -38,7 +44,7 @@ class ORCAAgent(Agent):
         unit = np.stack([np.cos(angles), np.sin(angles)], axis=1)
         self.candidates = np.vstack([np.zeros((1, 2)), (speeds[:, None, None] * unit[None]).reshape(-1, 2)])
         # the humans' ORCA settings record: validated (a ValueError naming the field), its params built once
-        self.orca = ORCA(neighbor_dist, max_neighbors, time_horizon, safety_space, radius_padding)
+        self.orca = ORCA(neighbor_dist, max_neighbors, time_horizon, safety_space, radius_padding, time_horizon_obst=time_horizon_obst)
         self.padding = self.orca.radius_padding + self.orca.safety_space
 
     def plan(self, obs, memory):
@@ -54,7 +60,11 @@ class ORCAAgent(Agent):
             d = max(np.hypot(ax - x, ay - y), 1e-9)
             pref_x, pref_y = (ax - x) / d * speed, (ay - y) / d * speed
         robot = ORCAAgentState(x, y, vx, vy, self.facts.robot_radius + self.padding, speed, pref_x, pref_y)
-        new_vx, new_vy = orca_velocity(robot, -1, centers, velocities, radii + self.padding, self.orca.params, self.facts.dt)
+        if len(segments):
+            obstacles = orca_obstacles_of(segments, memory)
+            new_vx, new_vy = orca_velocity_among(robot, -1, centers, velocities, radii + self.padding, obstacles, self.orca.params, self.facts.dt)
+        else:  # wall-free: the call of before (its episodes unchanged)
+            new_vx, new_vy = orca_velocity(robot, -1, centers, velocities, radii + self.padding, self.orca.params, self.facts.dt)
         if len(segments):
             new_vx, new_vy = self.clear_of_walls(np.array([x, y]), np.array([new_vx, new_vy]), segments)
         self.last_plan = np.array([[x, y], [x + new_vx * self.facts.dt, y + new_vy * self.facts.dt]])

@@ -1,0 +1,129 @@
+"""Env speed in the wall families (issue 21): steps per second with random actions, as a ratio to
+CartPole-v1 measured in the same run (``bench_env.paired_ratio``: each repeat times the family, then
+CartPole-v1, back to back); then a step and a reset of each apart (random actions end an episode
+every few steps in these narrow scenes, so resets weigh); with ``--profile``, where corridor-crowd's
+time goes.
+
+    python scripts/bench_families.py [--steps 5000] [--repeats 3] [--profile]
+
+Bouncing families at ``--delta-d``; the crowd family's humans at their own speeds. Target (issue 21):
+corridor-crowd with 20 humans >= 0.1x CartPole-v1 (robot-sf's profile: 1,718 steps/s with 17
+pedestrians).
+"""
+
+from __future__ import annotations
+
+import argparse
+import cProfile
+import pstats
+import time
+
+import gymnasium as gym
+from bench_env import best_of, paired_ratio, steps_per_second
+
+import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
+
+#: ``(preset, obstacles or None for the family's own count, target ratio or None)``.
+FAMILY_ROWS = (
+    ("corridor", None, None),
+    ("doorway", None, None),
+    ("intersection", None, None),
+    ("cluttered-room", None, None),
+    ("maze", None, None),
+    ("corridor-crowd", 20, 0.1),
+)
+
+
+def make_family(preset: str, n: int | None, delta_d: float):
+    """The family's env as the benchmark steps it (crowds at their own speeds)."""
+    crowd = preset.endswith("-crowd")
+    return gym.make("DynamicObstacle-v0", scenario=preset, n_obstacles=n, delta_d=None if crowd else delta_d)
+
+
+def family_table(reference: gym.Env, steps: int, repeats: int, delta_d: float) -> list[str]:
+    """The families' rows (markdown), each paired with ``reference`` (CartPole-v1)."""
+    lines = ["| family | obstacles | steps/s | ratio to CartPole-v1 | target |", "|---|---:|---:|---:|---:|"]
+    for preset, n, target in FAMILY_ROWS:
+        rate, ratio = paired_ratio(lambda preset=preset, n=n: make_family(preset, n, delta_d), reference, steps, repeats)
+        count = n if n is not None else make_family(preset, None, delta_d).unwrapped.scenario.n_obstacles
+        lines.append(f"| {preset} | {count} | {rate:.0f} | {ratio:.3f}x | {f'>= {target}x' if target else ''} |")
+    return lines
+
+
+def step_and_reset(preset: str, n: int | None, delta_d: float, repeats: int = 3) -> tuple[float, float]:
+    """Microseconds per step of the unwrapped env (the robot holding still, 200 steps from a reset;
+    the unwrapped env runs on past a contact) and milliseconds per reset, best of ``repeats``."""
+    env = make_family(preset, n, delta_d)
+    unwrapped = env.unwrapped
+
+    def steps():
+        env.reset(seed=0)
+        hold = unwrapped.waypoint_to_action(unwrapped.scenario.start)
+        start = time.perf_counter()
+        for _ in range(200):
+            unwrapped.step(hold)
+        return (time.perf_counter() - start) / 200
+
+    def resets():
+        start = time.perf_counter()
+        for seed in range(20):
+            env.reset(seed=seed)
+        return (time.perf_counter() - start) / 20
+
+    steps(), resets()  # warm-up
+    return 1e6 * min(steps() for _ in range(repeats)), 1e3 * min(resets() for _ in range(repeats))
+
+
+def cost_table(delta_d: float) -> list[str]:
+    """Where the time goes: a step and a reset of each family, against CartPole-v1's step."""
+    cartpole = gym.make("CartPole-v1")
+    cartpole.reset(seed=0)
+    start = time.perf_counter()
+    for _ in range(20000):
+        _, _, terminated, truncated, _ = cartpole.step(0)
+        if terminated or truncated:
+            cartpole.reset()
+    cartpole_us = 1e6 * (time.perf_counter() - start) / 20000
+    lines = [f"Where the time goes (CartPole-v1 through gym.make, resets included: {cartpole_us:.1f} µs a step)",
+             "| family | obstacles | step µs (unwrapped) | CartPole's step ÷ this step | reset ms |", "|---|---:|---:|---:|---:|"]  # fmt: skip
+    for preset, n, _ in FAMILY_ROWS:
+        step_us, reset_ms = step_and_reset(preset, n, delta_d)
+        count = n if n is not None else make_family(preset, None, delta_d).unwrapped.scenario.n_obstacles
+        lines.append(f"| {preset} | {count} | {step_us:.0f} | {cartpole_us / step_us:.3f}x | {reset_ms:.1f} |")
+    return lines
+
+
+def profile(preset: str, n: int | None, delta_d: float, steps: int, top: int = 15) -> None:
+    """cProfile of ``steps`` random steps (resets included), the ``top`` functions by own time."""
+    env = make_family(preset, n, delta_d)
+    steps_per_second(env, min(steps, 1000))  # warm-up: numba cache, routes
+    profiler = cProfile.Profile()
+    profiler.enable()
+    steps_per_second(env, steps, seed=1)
+    profiler.disable()
+    print(f"\nWhere {preset} ({n if n is not None else 'own count'} obstacles) spends {steps} random steps, by own time:")
+    pstats.Stats(profiler).sort_stats("tottime").print_stats(top)
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--steps", type=int, default=5000)
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--delta-d", type=float, default=0.25)
+    parser.add_argument("--profile", action="store_true", help="also profile corridor-crowd with 20 humans")
+    return parser.parse_args(argv)
+
+
+def main(argv=None) -> None:
+    args = parse_args(argv)
+    reference = gym.make("CartPole-v1")
+    cartpole = best_of(lambda: reference, args.steps, args.repeats)
+    print(f"CartPole-v1: {cartpole:10.0f} steps/s (reference; every ratio below is the median of {args.repeats} paired runs)")
+    print("\n".join(family_table(reference, args.steps, args.repeats, args.delta_d)))
+    print("\n" + "\n".join(cost_table(args.delta_d)))
+    if args.profile:
+        profile("corridor-crowd", 20, args.delta_d, args.steps)
+
+
+if __name__ == "__main__":
+    main()

@@ -90,12 +90,13 @@ def arc_disc(arc, f0, f1, oax, oay, obx, oby, reach):
     ax, ay, _ = arc_point(arc, f0)
     bx, by, _ = arc_point(arc, f1)
     length, delta = _bound(arc, f0, f1)
-    return _arc_disc(arc, f0, f1, ax, ay, bx, by, length, delta, oax, oay, obx, oby, reach)
+    return arc_disc_between(arc, f0, f1, ax, ay, bx, by, length, delta, oax, oay, obx, oby, reach)
 
 
 @numba.njit(cache=True)
-def _arc_disc(arc, f0, f1, ax, ay, bx, by, length, delta, oax, oay, obx, oby, reach):
-    """:func:`arc_disc` given the piece's ends ``a``, ``b`` and its ``_bound`` (computed once for every obstacle of a substep)."""
+def arc_disc_between(arc, f0, f1, ax, ay, bx, by, length, delta, oax, oay, obx, oby, reach):
+    """:func:`arc_disc` given the piece's ends ``a``, ``b`` and its length and chord bound ``L |φ| / 8``
+    (computed once for every obstacle of a substep, by the env and by planners that roll the robot out)."""
     tol = CONTACT_TOLERANCE * reach
     chord_gap, u = swept_pair(ax, ay, bx, by, reach + delta + tol, oax, oay, obx, oby, 0.0)
     if u > 1.0:
@@ -238,7 +239,7 @@ def arc_substep(robot, k, n, u_end, state, new_state, radii, speeds):
             oax, oay = state[i, 0], state[i, 1]
             obx = oax + u_end * (new_state[i, 0] - oax)
             oby = oay + u_end * (new_state[i, 1] - oay)
-            gap, u = _arc_disc(arc, f0, f1, ax, ay, bx, by, length, delta, oax, oay, obx, oby, robot_radius + radii[i])
+            gap, u = arc_disc_between(arc, f0, f1, ax, ay, bx, by, length, delta, oax, oay, obx, oby, robot_radius + radii[i])
             min_gap = min(min_gap, gap)
             if u <= 1.0:
                 u_contact = min(u_contact, u * u_end)
@@ -246,5 +247,5 @@ def arc_substep(robot, k, n, u_end, state, new_state, radii, speeds):
     return min_gap, u_contact, restored
 
 
-__all__ = ["Arc", "CONTACT_TOLERANCE", "StepStatics", "arc_capsule", "arc_capsules", "arc_disc", "arc_goal", "arc_point",
+__all__ = ["Arc", "CONTACT_TOLERANCE", "StepStatics", "arc_capsule", "arc_capsules", "arc_disc", "arc_disc_between", "arc_goal", "arc_point",
            "arc_substep", "step_statics"]  # fmt: skip

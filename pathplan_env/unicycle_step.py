@@ -61,8 +61,21 @@ def _clip(x, lo, hi):
 
 
 @numba.njit(cache=True, inline="always")
-def _pose(x, y, heading, speed, turn_rate, duration, f):
-    """``unicycle.pose`` (``arc_contact.arc_point`` on plain floats): the same operations in the same order."""
+def step_velocity(a_v, a_w, speed, turn_rate, params):
+    """The step's ``(v, ω)`` for a finite action ``(a_v, a_ω)`` from ``(speed, turn_rate)``:
+    ``unicycle.command`` then ``unicycle.next_velocity`` (``params``: this module's columns), the same
+    operations in the same order. Planners that roll the robot out call this too (its step exactly)."""
+    a_v, a_w = _clip(a_v, -1.0, 1.0), _clip(a_w, -1.0, 1.0)
+    target_v = params[MIN_SPEED] + 0.5 * (a_v + 1.0) * (params[MAX_SPEED] - params[MIN_SPEED])
+    target_w = a_w * params[MAX_TURN_RATE]
+    dv, dw = params[DV], params[DW]
+    return speed + _clip(target_v - speed, -dv, dv), turn_rate + _clip(target_w - turn_rate, -dw, dw)
+
+
+@numba.njit(cache=True, inline="always")
+def pose(x, y, heading, speed, turn_rate, duration, f):
+    """``unicycle.pose`` (``arc_contact.arc_point`` on plain floats): the same operations in the same
+    order; the heading is not wrapped (the env wraps it at the step's end: ``atan2(sin, cos)``)."""
     s = f * duration
     half = 0.5 * turn_rate * s
     chord = speed * s * (1.0 - half * half / 6.0 if abs(half) < 1e-4 else math.sin(half) / half)
@@ -79,22 +92,17 @@ def begin_arc(action, command, x, y, heading, speed, turn_rate, params, segments
         step's own ``(v, ω)`` to replay a recorded move (``command`` False).
     :return: False, with nothing written, for a NaN or infinite action.
     """
-    robot, log, limits = state[:ROBOT_SIZE], state, params
+    robot, log = state[:ROBOT_SIZE], state
     a0, a1 = float(action[0]), float(action[1])
     if not (math.isfinite(a0) and math.isfinite(a1)):
         return False
     if command:
-        a_v, a_w = _clip(a0, -1.0, 1.0), _clip(a1, -1.0, 1.0)
-        target_v = limits[MIN_SPEED] + 0.5 * (a_v + 1.0) * (limits[MAX_SPEED] - limits[MIN_SPEED])
-        target_w = a_w * limits[MAX_TURN_RATE]
-        dv, dw = limits[DV], limits[DW]
-        a0 = speed + _clip(target_v - speed, -dv, dv)
-        a1 = turn_rate + _clip(target_w - turn_rate, -dw, dw)
+        a0, a1 = step_velocity(a0, a1, speed, turn_rate, params)
     robot[X], robot[Y], robot[HEADING], robot[SPEED], robot[TURN_RATE] = x, y, heading, a0, a1
     goal_fraction, wall, wall_gap = step_statics(robot, segments, params[GOAL_X], params[GOAL_Y], params[GOAL_RADIUS])
     log[GOAL], log[WALL], log[STOP] = goal_fraction, wall, _py_min(goal_fraction, wall)  # NO_CONTACT (> 1) if neither
     log[MIN_GAP], log[FIRST_CONTACT], log[MOVING] = _py_min(params[DIAGONAL], wall_gap), NO_CONTACT, 1.0
-    x1, y1, _ = _pose(x, y, heading, a0, a1, robot[DURATION], 1.0)
+    x1, y1, _ = pose(x, y, heading, a0, a1, robot[DURATION], 1.0)
     log[ARC_SPEED], log[ARC_TURN_RATE], log[ARC_END_X], log[ARC_END_Y] = a0, a1, x1, y1
     return True
 
@@ -135,11 +143,11 @@ def _finish(robot, log):
     moving = log[MOVING] > 0.0
     first_contact = log[FIRST_CONTACT]
     end = 1.0 if moving else (first_contact if first_contact <= 1.0 else log[STOP])
-    x, y, heading = _pose(robot[X], robot[Y], robot[HEADING], robot[SPEED], robot[TURN_RATE], robot[DURATION], end)
+    x, y, heading = pose(robot[X], robot[Y], robot[HEADING], robot[SPEED], robot[TURN_RATE], robot[DURATION], end)
     speed, turn_rate = (robot[SPEED], robot[TURN_RATE]) if moving else (0.0, 0.0)
     log[END_X], log[END_Y], log[END_HEADING] = x, y, math.atan2(math.sin(heading), math.cos(heading))
     log[END_SPEED], log[END_TURN_RATE] = speed, turn_rate
     log[END_VX], log[END_VY] = speed * math.cos(heading), speed * math.sin(heading)
 
 
-__all__ = ["PARAMS_SIZE", "STATE_SIZE", "arc_substep_logged", "begin_arc"]
+__all__ = ["PARAMS_SIZE", "STATE_SIZE", "arc_substep_logged", "begin_arc", "pose", "step_velocity"]

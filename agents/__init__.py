@@ -8,6 +8,7 @@ from functools import partial
 from .base import Agent, available, make, register, rollout
 from .oracles import ClairvoyantOracle, StaticOracleAgent
 from .planners import MetaheuristicAgent, SpacetimeAStarAgent, SpacetimeMetaheuristicAgent
+from .planners.unicycle_metaheuristic import UnicycleMetaheuristicAgent
 from .reactive import ORCAAgent, StraightAgent, VelocityObstacleAgent
 from .reactive.dwa import DWAAgent
 from .reactive.tracker import TrackedAgent
@@ -36,11 +37,14 @@ register("tracked", TrackedAgent)  # agents.make("tracked", env, planner="pso-sp
 for _planner in ("astar-spacetime", "astar-crowd", "pso-spacetime", "abc-spacetime", "pso", "abc", "velocity-obstacle", "orca",
                  "oracle-static", "straight"):  # fmt: skip
     register(f"tracked-{_planner}", partial(TrackedAgent, planner=_planner))
+# the paper's optimisers on the unicycle's own control sequence
+register("pso-unicycle", partial(UnicycleMetaheuristicAgent, optimizer="pso"))
+register("abc-unicycle", partial(UnicycleMetaheuristicAgent, optimizer="abc", population=40))  # 20 food sources
 #: The registered agents that drive only a unicycle (``gym.make(..., robot="unicycle")``).
-UNICYCLE_AGENTS = frozenset(name for name in available() if name == "dwa" or name.startswith("tracked"))
+UNICYCLE_AGENTS = frozenset(name for name in available() if name in ("dwa", "pso-unicycle", "abc-unicycle") or name.startswith("tracked"))
 
 __all__ = [
     "Agent", "ClairvoyantOracle", "DWAAgent", "TrackedAgent", "MetaheuristicAgent", "ORCAAgent", "RLAgent", "SpacetimeAStarAgent",
-    "SpacetimeMetaheuristicAgent", "StaticOracleAgent", "StraightAgent", "UNICYCLE_AGENTS", "VelocityObstacleAgent",
+    "SpacetimeMetaheuristicAgent", "StaticOracleAgent", "StraightAgent", "UNICYCLE_AGENTS", "UnicycleMetaheuristicAgent", "VelocityObstacleAgent",
     "available", "make", "register", "rollout",
 ]  # fmt: skip

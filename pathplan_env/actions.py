@@ -165,7 +165,9 @@ class _WithRobot:
         self.observe, self.robot = observe, robot
 
     def __call__(self, world):
-        return self.observe(world) | self.robot(world)
+        obs = self.observe(world)  # a fresh dict every call (every observation type's): added to in place, no copy
+        obs.update(self.robot(world))
+        return obs
 
 
 def make_action_type(name, arena: Arena, robot: str = "holonomic", robot_params: dict | None = None) -> ActionType:

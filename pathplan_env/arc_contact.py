@@ -87,10 +87,17 @@ def arc_disc(arc, f0, f1, oax, oay, obx, oby, reach):
     :return: ``(gap, u_contact)``: a gap no larger than the true smallest one (within ``δ`` of it;
         exact on a straight move; ``<= 0`` on contact) and the first contact's ``u`` (``NO_CONTACT``: none).
     """
-    tol = CONTACT_TOLERANCE * reach
     ax, ay, _ = arc_point(arc, f0)
     bx, by, _ = arc_point(arc, f1)
     length, delta = _bound(arc, f0, f1)
+    return arc_disc_between(arc, f0, f1, ax, ay, bx, by, length, delta, oax, oay, obx, oby, reach)
+
+
+@numba.njit(cache=True)
+def arc_disc_between(arc, f0, f1, ax, ay, bx, by, length, delta, oax, oay, obx, oby, reach):
+    """:func:`arc_disc` given the piece's ends ``a``, ``b`` and its length and chord bound ``L |φ| / 8``
+    (computed once for every obstacle of a substep, by the env and by planners that roll the robot out)."""
+    tol = CONTACT_TOLERANCE * reach
     chord_gap, u = swept_pair(ax, ay, bx, by, reach + delta + tol, oax, oay, obx, oby, 0.0)
     if u > 1.0:
         return chord_gap + tol, NO_CONTACT  # |o - p| >= |o - c| - δ: a lower bound
@@ -123,11 +130,17 @@ def arc_disc(arc, f0, f1, oax, oay, obx, oby, reach):
 def arc_capsule(arc, f_end, robot_radius, x0, y0, x1, y1, half):
     """The robot on the arc from fraction 0 to ``f_end`` against a static capsule (segment ``x0 y0 x1 y1``,
     half-thickness ``half``): ``(gap, f_contact)`` as :func:`arc_disc`, the contact as a fraction of the arc."""
-    reach = robot_radius + half
-    tol = CONTACT_TOLERANCE * reach
     ax, ay, _ = arc_point(arc, 0.0)
     bx, by, _ = arc_point(arc, f_end)
     length, delta = _bound(arc, 0.0, f_end)
+    return _arc_capsule(arc, f_end, ax, ay, bx, by, length, delta, robot_radius, x0, y0, x1, y1, half)
+
+
+@numba.njit(cache=True)
+def _arc_capsule(arc, f_end, ax, ay, bx, by, length, delta, robot_radius, x0, y0, x1, y1, half):
+    """:func:`arc_capsule` given the arc's ends and ``_bound`` (computed once for every capsule)."""
+    reach = robot_radius + half
+    tol = CONTACT_TOLERANCE * reach
     chord_gap, u = swept_capsule(ax, ay, bx, by, robot_radius + delta + tol, x0, y0, x1, y1, half)
     if u > 1.0:
         return chord_gap + tol, NO_CONTACT
@@ -155,8 +168,12 @@ def arc_capsules(arc, f_end, robot_radius, segments):
     """:func:`arc_capsule` against ``(M, 5)`` capsule rows: ``(min_gap, f_contact)`` (``(inf, NO_CONTACT)`` with none)."""
     min_gap = np.inf
     f_contact = NO_CONTACT
+    ax, ay, _ = arc_point(arc, 0.0)
+    bx, by, _ = arc_point(arc, f_end)
+    length, delta = _bound(arc, 0.0, f_end)
     for i in range(segments.shape[0]):
-        gap, f = arc_capsule(arc, f_end, robot_radius, segments[i, 0], segments[i, 1], segments[i, 2], segments[i, 3], segments[i, 4])
+        gap, f = _arc_capsule(arc, f_end, ax, ay, bx, by, length, delta, robot_radius, segments[i, 0], segments[i, 1], segments[i, 2], segments[i, 3],
+                              segments[i, 4])  # fmt: skip
         min_gap = min(min_gap, gap)
         f_contact = min(f_contact, f)
     return min_gap, f_contact
@@ -215,11 +232,14 @@ def arc_substep(robot, k, n, u_end, state, new_state, radii, speeds):
     if u_end >= 0.0:
         f0 = (k - 1) / n
         f1 = f0 + u_end / n
+        ax, ay, _ = arc_point(arc, f0)
+        bx, by, _ = arc_point(arc, f1)
+        length, delta = _bound(arc, f0, f1)
         for i in range(radii.shape[0]):
             oax, oay = state[i, 0], state[i, 1]
             obx = oax + u_end * (new_state[i, 0] - oax)
             oby = oay + u_end * (new_state[i, 1] - oay)
-            gap, u = arc_disc(arc, f0, f1, oax, oay, obx, oby, robot_radius + radii[i])
+            gap, u = arc_disc_between(arc, f0, f1, ax, ay, bx, by, length, delta, oax, oay, obx, oby, robot_radius + radii[i])
             min_gap = min(min_gap, gap)
             if u <= 1.0:
                 u_contact = min(u_contact, u * u_end)
@@ -227,5 +247,5 @@ def arc_substep(robot, k, n, u_end, state, new_state, radii, speeds):
     return min_gap, u_contact, restored
 
 
-__all__ = ["Arc", "CONTACT_TOLERANCE", "StepStatics", "arc_capsule", "arc_capsules", "arc_disc", "arc_goal", "arc_point",
+__all__ = ["Arc", "CONTACT_TOLERANCE", "StepStatics", "arc_capsule", "arc_capsules", "arc_disc", "arc_disc_between", "arc_goal", "arc_point",
            "arc_substep", "step_statics"]  # fmt: skip

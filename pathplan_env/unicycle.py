@@ -28,11 +28,13 @@ import numpy as np
 from gymnasium import spaces
 
 from .actions import ACTION_TYPES, ActionType, parse_action
-from .arc_contact import DURATION, RADIUS, SPEED, TURN_RATE, arc_substep, step_statics
+from .arc_contact import DURATION, RADIUS
 from .arc_contact import Arc as Arc
 from .arena import Arena
-from .geometry import NO_CONTACT
+from .unicycle_step import PARAMS_SIZE, ROBOT_SIZE, STATE_SIZE, arc_substep_logged, begin_arc
 
+#: Rows (heading, turn rate) :meth:`UnicycleAction.observe_robot` allocates at once.
+OBSERVATION_ROWS = 1024
 #: Seconds a default base takes to reach its top speed (and its top turn rate) from rest.
 DEFAULT_RAMP_SECONDS = 0.5
 
@@ -136,6 +138,9 @@ class UnicycleAction(ActionType):
         super().__init__(arena)
         self.params = check_params(params)
         self.limits: UnicycleLimits | None = None
+        self._limits_key = self._segments_key = None
+        self._params, self._state = np.zeros(PARAMS_SIZE), np.zeros(STATE_SIZE)  # the kernels' rows, refilled every episode
+        self._rows, self._rows_used = np.empty((0, 2), np.float32), OBSERVATION_ROWS  # observe_robot's block
 
     def space(self) -> spaces.Box:
         return spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
@@ -150,89 +155,79 @@ class UnicycleAction(ActionType):
         }
 
     def observe_robot(self, world) -> dict[str, np.ndarray]:
-        both = np.array([world.robot_heading, world.robot_angular_velocity], np.float32)  # one allocation, two views
-        return {"robot_heading": both[0:1], "robot_angular_velocity": both[1:2]}
+        # views of a fresh row of a block handed out row by row (a row is never written twice; a used-up
+        # block is left to the observations that hold its rows): half the cost of an array a step
+        i = self._rows_used
+        if i == OBSERVATION_ROWS:
+            self._rows, i = np.empty((OBSERVATION_ROWS, 2), np.float32), 0
+        self._rows_used = i + 1
+        row = self._rows[i]
+        row[0], row[1] = world.robot_heading, world.robot_angular_velocity
+        return {"robot_heading": row[0:1], "robot_angular_velocity": row[1:2]}
 
     def reset(self, world, arena: Arena) -> None:
         super().reset(world, arena)
         scenario = world.scenario
-        self.limits = resolve_limits(self.params, scenario)
+        dt = scenario.dt
+        # what the limits depend on: the next episode of the same env usually has the same (a fifth of a reset saved)
+        limits_key = (scenario.robot_speed, scenario.robot_radius, dt, scenario.bounds)
+        if limits_key != self._limits_key:
+            self.limits = limits = resolve_limits(self.params, scenario)
+            # the kernels' arrays (pathplan_env.unicycle_step columns): numba types arrays in C, records in Python
+            self._params[:5] = limits.min_speed, limits.max_speed, limits.max_turn_rate, limits.max_acceleration * dt, limits.max_angular_acceleration * dt
+            self._limits_key = limits_key
+        statics = world.static_segments
+        segments_key = (scenario.bounds, statics.tobytes() if statics.size else b"")
+        if segments_key != self._segments_key:
+            self._segments = np.ascontiguousarray(np.vstack([statics.reshape(-1, 5), arena_edges(scenario.bounds)]))
+            self._segments_key = segments_key
         (sx, sy), (gx, gy) = scenario.start, scenario.goal
         world.robot_heading = math.atan2(gy - sy, gx - sx)  # at rest, facing the goal
         world.robot_forward_speed = world.robot_angular_velocity = 0.0
-        self._segments = np.ascontiguousarray(np.vstack([world.static_segments.reshape(-1, 5), arena_edges(scenario.bounds)]))
-        self._goal = (float(gx), float(gy), float(scenario.goal_radius))
-        self._robot = np.zeros(7)
-        self._robot[DURATION], self._robot[RADIUS] = scenario.dt, scenario.robot_radius
+        self._params[5:] = gx, gy, scenario.goal_radius, scenario.arena_diagonal
+        self._state[DURATION], self._state[RADIUS] = dt, scenario.robot_radius
 
     def advance(self, action, world):
         if type(action) is not np.ndarray or action.shape != (2,) or action.dtype.char not in "fd":
             action = parse_action(action)
-        if not (math.isfinite(action[0]) and math.isfinite(action[1])):
+        (x, y), state = world.robot_xy, self._state
+        if not begin_arc(action, True, x, y, world.robot_heading, world.robot_forward_speed, world.robot_angular_velocity, self._params,
+                         self._segments, state):  # fmt: skip
             raise ValueError(f"action must be finite, got {action!r} (NaN or infinite)")
-        move = next_velocity(world.robot_forward_speed, world.robot_angular_velocity, command(action, self.limits), self.limits, world.scenario.dt)
-        return self.replay(world, move)
+        return _fly(world, state)
 
     def replay(self, world, move):
-        speed, turn_rate = move
-        robot, (x, y), heading = self._robot, world.robot_xy, world.robot_heading
-        robot[:5] = x, y, heading, speed, turn_rate
-        goal_fraction, min_gap, contact_fraction = drive(world, robot, self._segments, *self._goal)
-        end_x, end_y, _ = pose(x, y, heading, speed, turn_rate, world.scenario.dt, 1.0)
-        return speed * world.scenario.dt, goal_fraction, min_gap, contact_fraction, (end_x, end_y), move
+        (x, y), state = world.robot_xy, self._state
+        begin_arc(np.array(move, np.float64), False, x, y, world.robot_heading, world.robot_forward_speed, world.robot_angular_velocity,
+                  self._params, self._segments, state)  # fmt: skip
+        return _fly(world, state)
+
+
+def _fly(world, state: np.ndarray):
+    """The step ``unicycle_step.begin_arc`` started in ``state``: every substep, then the robot's new
+    state into ``world``; :meth:`ActionType.advance`'s result."""
+    n, radii, speeds = world.substeps, world.radii, world._speeds
+    world.begin_step()
+    for k in range(1, n + 1):
+        before, after = world.advance_obstacles()
+        if arc_substep_logged(state, k, n, before, after, radii, speeds):
+            world.write_bodies()
+    v, w, arc_x, arc_y, goal, _, _, min_gap, first_contact, _, x, y, heading, speed, turn_rate, vx, vy = state[ROBOT_SIZE:].tolist()
+    world.robot_xy, world.robot_heading = (x, y), heading
+    world.robot_forward_speed, world.robot_angular_velocity, world.robot_velocity_xy = speed, turn_rate, (vx, vy)
+    dt = world.scenario.dt
+    world.time += dt
+    return v * dt, goal, min_gap, first_contact, (arc_x, arc_y), (v, w)
 
 
 def pose(x: float, y: float, heading: float, speed: float, turn_rate: float, duration: float, f: float) -> tuple[float, float, float]:
-    """``arc_contact.arc_point`` of :class:`Arc` ``(x, ..., duration)`` in plain Python (a compiled call
-    from Python with a record costs more than this arithmetic)."""
+    """``arc_contact.arc_point`` of :class:`Arc` ``(x, ..., duration)`` in plain Python: the step's
+    arithmetic (``unicycle_step``'s kernels compute the same) for planners that predict the robot."""
     s = f * duration
     half = 0.5 * turn_rate * s
     chord = speed * s * (1.0 - half * half / 6.0 if abs(half) < 1e-4 else math.sin(half) / half)
     mid = heading + half
     return x + chord * math.cos(mid), y + chord * math.sin(mid), heading + 2.0 * half
-
-
-def drive(world, robot: np.ndarray, segments: np.ndarray, goal_x: float, goal_y: float, goal_radius: float) -> tuple[float, float, float]:
-    """One step of ``world`` with the robot flying the arc ``robot`` (``arc_contact`` columns), stopping
-    at the goal or its first contact as ``World.step`` does; sets the robot's pose and velocities.
-
-    :return: ``(goal_fraction, min_gap, contact_fraction)`` as ``World.step`` (fractions of the step).
-    """
-    scenario, n = world.scenario, world.substeps
-    world.begin_step()
-    goal, wall, wall_gap = step_statics(robot, segments, goal_x, goal_y, goal_radius)  # StepStatics' values
-    stop = min(goal, wall)  # NO_CONTACT (> 1) if neither
-    min_gap, first_contact = min(scenario.arena_diagonal, wall_gap), NO_CONTACT
-    moving = True
-    for k in range(1, n + 1):
-        u_end = -1.0
-        if moving:
-            u_end = 1.0 if stop >= k / n else max(stop * n - (k - 1), 0.0)
-        before, after = world.advance_obstacles()
-        gap, u, restored = arc_substep(robot, k, n, u_end, before, after, world.radii, world._speeds)
-        if restored:
-            world.write_bodies()
-        if not moving:
-            continue
-        if u <= 1.0:  # an obstacle first (at or before the goal and the walls): the robot stops touching
-            first_contact, min_gap, moving = (k - 1 + u) / n, 0.0, False
-        elif u_end < 1.0 or stop == k / n:  # the goal or a wall within this substep: the robot stops there
-            if wall <= goal:
-                first_contact, min_gap = wall, 0.0
-            else:
-                min_gap = min(min_gap, gap)
-            moving = False
-        else:
-            min_gap = min(min_gap, gap)
-    end = 1.0 if moving else (first_contact if first_contact <= 1.0 else stop)
-    x, y, heading = pose(*robot[:6].tolist(), end)
-    speed, turn_rate = (robot[SPEED], robot[TURN_RATE]) if moving else (0.0, 0.0)
-    world.robot_xy = (x, y)
-    world.robot_heading = math.atan2(math.sin(heading), math.cos(heading))
-    world.robot_forward_speed, world.robot_angular_velocity = float(speed), float(turn_rate)
-    world.robot_velocity_xy = (speed * math.cos(heading), speed * math.sin(heading))
-    world.time += scenario.dt
-    return goal, float(min_gap), float(first_contact)
 
 
 def limits_of(env) -> UnicycleLimits:
@@ -249,5 +244,5 @@ def limits_of(env) -> UnicycleLimits:
 
 ACTION_TYPES[UnicycleAction.name] = UnicycleAction
 
-__all__ = ["PARAMETERS", "UnicycleAction", "UnicycleLimits", "check_params", "command", "default_limits", "drive", "limits_of", "next_velocity",
+__all__ = ["PARAMETERS", "UnicycleAction", "UnicycleLimits", "check_params", "command", "default_limits", "limits_of", "next_velocity", "pose",
            "resolve_limits", "to_action"]  # fmt: skip

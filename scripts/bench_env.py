@@ -2,9 +2,10 @@
 
 Both are measured in the same run, through ``gym.make`` (the same wrappers), on the same machine,
 so the ratio means something on a noisy shared machine where the raw rates do not. A second table
-splits the cost: a step without resets (the robot holds still), and a reset.
+splits the cost: a step without resets (the robot holds still), and a reset. A robot table sets the
+unicycle (``robot="unicycle"``, random (speed, turn rate) targets) beside the holonomic robot.
 
-    python scripts/bench_env.py [--steps 20000] [--repeats 3]
+    python scripts/bench_env.py [--steps 20000] [--repeats 3] [--robots-only]
 """
 
 from __future__ import annotations
@@ -78,6 +79,7 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--steps", type=int, default=20000)
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--delta-d", type=float, default=0.25)
+    parser.add_argument("--robots-only", action="store_true", help="only the robot table (holonomic and unicycle, 5 and 20 obstacles)")
     return parser.parse_args(argv)
 
 
@@ -87,6 +89,15 @@ def main(argv=None) -> None:
     reference = gym.make("CartPole-v1")
     cartpole = best_of(lambda: reference, args.steps, args.repeats)
     print(f"CartPole-v1: {cartpole:10.0f} steps/s (reference; every ratio below is the median of {args.repeats} paired runs)")
+    print("\n| robot | obstacles | steps/s | ratio to CartPole-v1 | target |")
+    print("|---|---:|---:|---:|---:|")
+    for robot, n, target in (("holonomic", 5, ">= 0.5x"), ("unicycle", 5, ">= 0.45x"), ("unicycle", 20, "")):
+        make = lambda robot=robot, n=n: gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=n, delta_d=args.delta_d, robot=robot)
+        rate, ratio = paired_ratio(make, reference, args.steps, args.repeats)
+        print(f"| {robot} | {n} | {rate:.0f} | {ratio:.3f}x | {target} |")
+    if args.robots_only:
+        return
+    print()
     print("| obstacles | steps/s | ratio to CartPole-v1 | target |")
     print("|---:|---:|---:|---:|")
     targets = {5: 0.5, 50: 0.1}

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import pickle
 
 import gymnasium as gym
@@ -195,6 +196,38 @@ def test_bad_robot_and_action_combinations():
 
 def _unicycle(**params):
     return gym.make("DynamicObstacle-v0", robot="unicycle", robot_params=params or None).unwrapped
+
+
+def unicycle_digest(scenario="random", steps=150, seed=3, **kwargs) -> str:
+    env = gym.make("DynamicObstacle-v0", scenario=scenario, robot="unicycle", **kwargs)
+    rng = np.random.default_rng(seed)
+    env.reset(seed=seed)
+    h = hashlib.sha256()
+    for _ in range(steps):
+        obs, reward, terminated, truncated, info = env.step(np.array([rng.uniform(-0.2, 1.0), rng.uniform(-1.0, 1.0)], np.float32))
+        for key in sorted(obs):
+            h.update(obs[key].tobytes())
+        h.update(repr((reward, terminated, truncated, info["min_clearance"], info["path_length"], info["collision"], info["waypoint"])).encode())
+        if terminated or truncated:
+            env.reset()
+    return h.hexdigest()
+
+
+UNICYCLE_DIGESTS = [  # computed before the step was compiled (pathplan_env/unicycle_step.py): the same episodes bit for bit
+    ({}, "88b4ab7c23c4a5c33a83b671e33ec333bbc6462c1f601e405d6b91d3660266ca"),
+    ({"delta_d": 1.0}, "4de8baa009d948e1e1fefdd70bf7812f2e0ab2ccbcab9aade4838c14d9a38fd4"),
+    ({"delta_d": 4.0, "n_obstacles": 20}, "d6d1e7d286c192edbeed78e524b189681bed1f024c8b4cc6fc60305925a033ee"),
+    ({"delta_d": 0.0, "n_obstacles": 12}, "0d9a9e586f926a604dcaa622f971b3f698d9878d52836fb274140bdee144df56"),
+    ({"scenario": "corridor"}, "c56783b8994f92015899524f6a9222d7ae2d7df11b4d8fb8b59d3606b4bbc66f"),
+    ({"scenario": "cluttered-room", "delta_d": 1.0}, "1362badab2cdbbe76eaff56d3cca35d00be8dde5332b2e4880e704cef503b144"),
+    ({"scenario": "crowdnav-circle-crossing-visible"}, "e76d89a67fed3afd4caa8238ef0a779d32afbaf0b5eaf398dd002e99e3e4b544"),
+]
+
+
+@pytest.mark.parametrize("kwargs, digest", UNICYCLE_DIGESTS)
+def test_unicycle_episodes_replay_their_digest(kwargs, digest):
+    """Substeps (Δd 1, 4), resting obstacles, walls and a visible crowd: observations, rewards and info."""
+    assert unicycle_digest(**kwargs) == digest
 
 
 def test_acceleration_and_turn_limits_hold():

@@ -1,0 +1,153 @@
+"""The unicycle's step, compiled: two kernel calls a step and one a physics substep.
+
+What ``unicycle.drive`` used to do in Python around the contact kernels (the target within the
+acceleration limits, the goal and walls along the arc, each substep's stop logic, the final pose)
+cost three times the contact tests themselves; here it is the same arithmetic, operation for
+operation, so every episode is the same bit for bit (a digest test pins it). Python's ``min`` and
+``max`` are spelled as the comparisons they make (:func:`_py_min`), so even a tie between ``0.0``
+and ``-0.0`` resolves as before.
+
+* :func:`begin_arc`: the action's target (:func:`pathplan_env.unicycle.command`), the step's
+  ``(v, ω)`` within the limits (``next_velocity``), then the goal and the static capsules along the
+  whole arc (``arc_contact.step_statics``); the result goes into a ``log`` array (columns below).
+* :func:`arc_substep_logged`: one substep's contact with the moving discs
+  (``arc_contact.arc_substep``) and where the robot stops; the last substep writes the final pose.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+
+from .arc_contact import DURATION, HEADING, SPEED, TURN_RATE, X, Y, arc_substep, step_statics
+from .geometry import NO_CONTACT
+
+#: Columns of the episode's ``params`` array :func:`begin_arc` reads: the action's mapping, the
+#: per-step velocity changes (``max_acceleration * dt``, ``max_angular_acceleration * dt``), the goal,
+#: its radius, and the arena's diagonal (the widest gap).
+MIN_SPEED, MAX_SPEED, MAX_TURN_RATE, DV, DW, GOAL_X, GOAL_Y, GOAL_RADIUS, DIAGONAL = range(9)
+PARAMS_SIZE = 9
+#: The step's ``state`` array: an ``arc_contact`` robot row (``state[:ROBOT_SIZE]``: the arc and the
+#: robot's radius), then the log (columns below, counted from ``ROBOT_SIZE``). One array, one argument:
+#: a kernel's call from Python costs a fifth of a microsecond per argument.
+ROBOT_SIZE = 7
+#: Columns of the step's log (in ``state``, after the robot row): the goal and wall fractions, where the robot stops for them, the
+#: The step's ``(v, ω)`` and the point its full arc ends at (what ``info["waypoint"]`` shows); the goal
+#: and wall fractions, where the robot stops for them, the smallest gap so far, the first contact,
+#: whether it still moves; after the last substep the pose it ends at (heading wrapped to
+#: (-pi, pi]), its speed, turn rate and velocity (zero once stopped).
+(ARC_SPEED, ARC_TURN_RATE, ARC_END_X, ARC_END_Y, GOAL, WALL, STOP, MIN_GAP, FIRST_CONTACT, MOVING, END_X, END_Y, END_HEADING,
+ END_SPEED, END_TURN_RATE, END_VX, END_VY) = range(ROBOT_SIZE, ROBOT_SIZE + 17)  # fmt: skip
+STATE_SIZE = ROBOT_SIZE + 17
+
+
+@numba.njit(cache=True, inline="always")
+def _py_min(a, b):
+    """Python's ``min(a, b)``: ``a`` unless ``b < a``."""
+    return b if b < a else a
+
+
+@numba.njit(cache=True, inline="always")
+def _py_max(a, b):
+    """Python's ``max(a, b)``: ``a`` unless ``b > a``."""
+    return b if b > a else a
+
+
+@numba.njit(cache=True, inline="always")
+def _clip(x, lo, hi):
+    """``min(max(x, lo), hi)`` as Python computes it."""
+    return _py_min(_py_max(x, lo), hi)
+
+
+@numba.njit(cache=True, inline="always")
+def step_velocity(a_v, a_w, speed, turn_rate, params):
+    """The step's ``(v, ω)`` for a finite action ``(a_v, a_ω)`` from ``(speed, turn_rate)``:
+    ``unicycle.command`` then ``unicycle.next_velocity`` (``params``: this module's columns), the same
+    operations in the same order. Planners that roll the robot out call this too (its step exactly)."""
+    a_v, a_w = _clip(a_v, -1.0, 1.0), _clip(a_w, -1.0, 1.0)
+    target_v = params[MIN_SPEED] + 0.5 * (a_v + 1.0) * (params[MAX_SPEED] - params[MIN_SPEED])
+    target_w = a_w * params[MAX_TURN_RATE]
+    dv, dw = params[DV], params[DW]
+    return speed + _clip(target_v - speed, -dv, dv), turn_rate + _clip(target_w - turn_rate, -dw, dw)
+
+
+@numba.njit(cache=True, inline="always")
+def pose(x, y, heading, speed, turn_rate, duration, f):
+    """``unicycle.pose`` (``arc_contact.arc_point`` on plain floats): the same operations in the same
+    order; the heading is not wrapped (the env wraps it at the step's end: ``atan2(sin, cos)``)."""
+    s = f * duration
+    half = 0.5 * turn_rate * s
+    chord = speed * s * (1.0 - half * half / 6.0 if abs(half) < 1e-4 else math.sin(half) / half)
+    mid = heading + half
+    return x + chord * math.cos(mid), y + chord * math.sin(mid), heading + 2.0 * half
+
+
+@numba.njit(cache=True)
+def begin_arc(action, command, x, y, heading, speed, turn_rate, params, segments, state):
+    """Start a step from pose ``(x, y, heading)`` at ``(speed, turn_rate)``: fill ``state`` (its robot
+    row's duration and radius are set once an episode).
+
+    :param action: the action (``command``: a normalised target, clipped to [-1, 1]^2), or the
+        step's own ``(v, ω)`` to replay a recorded move (``command`` False).
+    :return: False, with nothing written, for a NaN or infinite action.
+    """
+    robot, log = state[:ROBOT_SIZE], state
+    a0, a1 = float(action[0]), float(action[1])
+    if not (math.isfinite(a0) and math.isfinite(a1)):
+        return False
+    if command:
+        a0, a1 = step_velocity(a0, a1, speed, turn_rate, params)
+    robot[X], robot[Y], robot[HEADING], robot[SPEED], robot[TURN_RATE] = x, y, heading, a0, a1
+    goal_fraction, wall, wall_gap = step_statics(robot, segments, params[GOAL_X], params[GOAL_Y], params[GOAL_RADIUS])
+    log[GOAL], log[WALL], log[STOP] = goal_fraction, wall, _py_min(goal_fraction, wall)  # NO_CONTACT (> 1) if neither
+    log[MIN_GAP], log[FIRST_CONTACT], log[MOVING] = _py_min(params[DIAGONAL], wall_gap), NO_CONTACT, 1.0
+    x1, y1, _ = pose(x, y, heading, a0, a1, robot[DURATION], 1.0)
+    log[ARC_SPEED], log[ARC_TURN_RATE], log[ARC_END_X], log[ARC_END_Y] = a0, a1, x1, y1
+    return True
+
+
+@numba.njit(cache=True)
+def arc_substep_logged(state, k, n, before, after, radii, speeds):
+    """Substep ``k`` of ``n`` (1-based): the robot flies its part of the arc up to where it stops (the
+    goal, a wall, or an obstacle's first contact: ``arc_contact.arc_substep``, then the obstacles'
+    speeds restored), ``log`` updated; after the last, the end pose in ``log``.
+
+    :return: whether any obstacle's speed was restored (the caller writes the bodies back).
+    """
+    robot, log = state[:ROBOT_SIZE], state
+    stop, moving = log[STOP], log[MOVING] > 0.0
+    u_end = -1.0
+    if moving:
+        u_end = 1.0 if stop >= k / n else _py_max(stop * n - (k - 1), 0.0)
+    gap, u, restored = arc_substep(robot, k, n, u_end, before, after, radii, speeds)
+    if moving:
+        if u <= 1.0:  # an obstacle first (at or before the goal and the walls): the robot stops touching
+            log[FIRST_CONTACT], log[MIN_GAP], log[MOVING] = (k - 1 + u) / n, 0.0, 0.0
+        elif u_end < 1.0 or stop == k / n:  # the goal or a wall within this substep: the robot stops there
+            if log[WALL] <= log[GOAL]:
+                log[FIRST_CONTACT], log[MIN_GAP] = log[WALL], 0.0
+            else:
+                log[MIN_GAP] = _py_min(log[MIN_GAP], gap)
+            log[MOVING] = 0.0
+        else:
+            log[MIN_GAP] = _py_min(log[MIN_GAP], gap)
+    if k == n:
+        _finish(robot, log)
+    return restored
+
+
+@numba.njit(cache=True)
+def _finish(robot, log):
+    """The pose where the robot stopped (or the arc's end), its velocities (zero once stopped)."""
+    moving = log[MOVING] > 0.0
+    first_contact = log[FIRST_CONTACT]
+    end = 1.0 if moving else (first_contact if first_contact <= 1.0 else log[STOP])
+    x, y, heading = pose(robot[X], robot[Y], robot[HEADING], robot[SPEED], robot[TURN_RATE], robot[DURATION], end)
+    speed, turn_rate = (robot[SPEED], robot[TURN_RATE]) if moving else (0.0, 0.0)
+    log[END_X], log[END_Y], log[END_HEADING] = x, y, math.atan2(math.sin(heading), math.cos(heading))
+    log[END_SPEED], log[END_TURN_RATE] = speed, turn_rate
+    log[END_VX], log[END_VY] = speed * math.cos(heading), speed * math.sin(heading)
+
+
+__all__ = ["PARAMS_SIZE", "STATE_SIZE", "arc_substep_logged", "begin_arc", "pose", "step_velocity"]

@@ -1,0 +1,81 @@
+"""The unicycle's native metaheuristics (``pso-unicycle``, ``abc-unicycle``: the paper's PSO and ABC over
+control sequences) beside ``tracked-pso-spacetime`` (the holonomic planner driven by pure pursuit) and
+``dwa``: success, collisions and the median replanning time, on the same episodes for every agent.
+
+Random scenes (8 obstacles), ``robot="unicycle"``; ``--split test`` (default) draws
+``pathplan_env.splits`` test seeds, never used for tuning (tune on ``--split validation``).
+
+    python scripts/bench_unicycle_controls.py [--episodes 40] [--deltas 0.25 0.5] [--split test]
+        [--agents pso-unicycle abc-unicycle tracked-pso-spacetime dwa] [--set iterations=20 ...]
+"""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import time
+
+import gymnasium as gym
+import numpy as np
+
+import agents
+import pathplan_env  # noqa: F401
+from pathplan_env.splits import episode_seeds
+
+AGENTS = ["pso-unicycle", "abc-unicycle", "tracked-pso-spacetime", "dwa"]
+
+
+def run_cell(name: str, delta_d: float, seeds: list[int], n_obstacles: int, overrides: dict) -> tuple[float, float, list[float], list[float]]:
+    """``(success rate, collision rate, plan times in ms, plan CPU times in ms)`` of one agent on the
+    episodes ``seeds`` (the CPU time, this process's, is what a shared machine's load changes least)."""
+    env = gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=n_obstacles, delta_d=delta_d, robot="unicycle")
+    agent = agents.make(name, env, seed=0, **(overrides if name.endswith("-unicycle") else {}))
+    outcomes, plan_ms, cpu_ms = [], [], []
+    for seed in seeds:
+        agent.reset()
+        obs, info = env.reset(seed=seed)
+        while True:
+            cpu = time.process_time()
+            action, _ = agent.predict(obs, deterministic=True)
+            cpu_ms.append(1e3 * (time.process_time() - cpu))
+            plan_ms.append(1e3 * agent.last_plan_seconds)
+            obs, _, terminated, truncated, info = env.step(action)
+            if terminated or truncated:
+                break
+        outcomes.append((info["is_success"], info["collision"]))
+    won, hit = np.mean(outcomes, axis=0)
+    return float(won), float(hit), plan_ms, cpu_ms
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--episodes", type=int, default=40)
+    parser.add_argument("--deltas", type=float, nargs="+", default=[0.25, 0.5])
+    parser.add_argument("--split", choices=("test", "validation"), default="test")
+    parser.add_argument("--agents", nargs="+", default=AGENTS)
+    parser.add_argument("--obstacles", type=int, default=8)
+    parser.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE", help="overrides for the *-unicycle agents")
+    return parser.parse_args(argv)
+
+
+def main(argv=None) -> None:
+    args = parse_args(argv)
+    overrides = {key: ast.literal_eval(value) for key, value in (item.split("=", 1) for item in args.set)}
+    seeds = [int(s) for s in episode_seeds(args.split, 0, args.episodes)]
+    print(f"random scenes, {args.obstacles} obstacles, unicycle, {args.episodes} {args.split} episodes (seeds {seeds[0]}..{seeds[-1]})"
+          + (f", overrides {overrides}" if overrides else ""))  # fmt: skip
+    print("| agent | " + " | ".join(f"Δd {d}: success (collisions)" for d in args.deltas) + " | median plan ms | median plan CPU ms | wall s |")
+    print("|---|" + "---:|" * (len(args.deltas) + 3))
+    for name in args.agents:
+        begin = time.perf_counter()
+        cells, plan_ms, cpu_ms = [], [], []
+        for delta_d in args.deltas:
+            won, hit, times, cpu = run_cell(name, delta_d, seeds, args.obstacles, overrides)
+            cells.append(f"{won:.3f} ({hit:.3f})")
+            plan_ms, cpu_ms = plan_ms + times, cpu_ms + cpu
+        wall = time.perf_counter() - begin
+        print(f"| {name} | " + " | ".join(cells) + f" | {np.median(plan_ms):.2f} | {np.median(cpu_ms):.2f} | {wall:.0f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()

@@ -27,8 +27,11 @@ def learning_curve(out: Path, delta_d: float, cloned_success: float | None = Non
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    data = np.load(out / "evaluations.npz")
-    steps, success = data["timesteps"], data["successes"].mean(axis=1)
+    if (out / "evaluations.npz").exists():
+        data = np.load(out / "evaluations.npz")
+        steps, success = data["timesteps"], data["successes"].mean(axis=1)
+    else:  # a wall-clock budget (``budget_minutes``) stopped the run before its first validation
+        steps, success = np.zeros(0, int), np.zeros(0)
     if cloned_success is not None:
         steps, success = np.concatenate([[0], steps]), np.concatenate([[cloned_success], success])
     fig, ax = plt.subplots(figsize=(6, 3.5))

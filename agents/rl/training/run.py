@@ -28,7 +28,7 @@ from pathplan_env.zoo import PPO_SETTINGS
 from ..lidar_features import LidarFeatureStack, LidarLearningEnv
 from .config import Args
 from .demonstrations import collect_demonstrations, concatenate
-from .outputs import learning_curve, run_metadata, ship, write_sidecars
+from .outputs import learning_curve, run_metadata, ship, shipped_name, write_sidecars
 
 
 def _training_env(args: Args, scenario: str = "random", observation: str | None = None) -> gym.Env:
@@ -193,7 +193,7 @@ def train(args: Args, command: str | None = None) -> dict:
     meta = run_metadata(args, command or args.command_line(), model.num_timesteps, seconds, validation)
     write_sidecars(out, meta)
     if args.ship:
-        shipped = ship(out, args.algo, args.ship)
+        shipped = ship(out, args.algo, args.ship, name=shipped_name(args))
         print(f"shipped {args.ship} model to {shipped}")
     print(json.dumps({k: meta[k] for k in ("total_timesteps", "training_seconds", "env_steps_per_second", "validation")}, indent=2))
     return meta

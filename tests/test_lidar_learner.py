@@ -188,3 +188,23 @@ def test_the_privileged_teacher_labels_what_the_learner_sees():
     with pytest.raises(RuntimeError, match="diverged"):
         collect_demonstrations(demonstration_env(args, "doorway"), "velocity-obstacle", 10, gamma=0.99, progress=False,
                                learner_env=stray, learner_features=stack)  # fmt: skip
+
+
+def test_the_shipped_lidar_policy_acts_without_torch():
+    from agents.rl import MODELS_DIR
+
+    meta = json.loads((MODELS_DIR / "ppo_lidar.json").read_text())
+    assert meta["args"]["observation"] == "lidar" and meta["training_seconds"] <= 3600  # the 60-minute budget
+    code = (
+        "import sys; sys.modules['torch'] = None; sys.modules['stable_baselines3'] = None\n"  # any import of either fails
+        "import gymnasium as gym, pathplan_env, agents\n"
+        "env = gym.make('DynamicObstacle-v0', scenario='doorway', observation='lidar', delta_d=0.25)\n"
+        "agent = agents.make('ppo-lidar', env, seed=0)\n"
+        "obs, _ = env.reset(seed=1_000_000_000); agent.reset()\n"
+        "for _ in range(40):\n"
+        "    obs, _, terminated, truncated, info = env.step(agent.predict(obs, deterministic=True)[0])\n"
+        "    if terminated or truncated: break\n"
+        "assert agent.backend == 'numpy'; print(info['is_success'] or not terminated)\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, env={"PYTHONPATH": str(ROOT), "PATH": ""})
+    assert done.returncode == 0, done.stderr

@@ -58,7 +58,8 @@ def export_encoder(extractor) -> dict[str, np.ndarray]:
     arrays = {
         PREFIX + "robot_features": np.array(extractor.features_dim - linear.out_features), PREFIX + "bins": np.array(extractor.bins),
         PREFIX + "frames": np.array(extractor.frames), PREFIX + "layers": np.array(len(convs)),
-        PREFIX + "linear_w": linear.weight.detach().cpu().numpy().T.astype(np.float32), PREFIX + "linear_b": linear.bias.detach().cpu().numpy().astype(np.float32),
+        PREFIX + "linear_w": linear.weight.detach().cpu().numpy().T.astype(np.float32),
+        PREFIX + "linear_b": linear.bias.detach().cpu().numpy().astype(np.float32),
     }  # fmt: skip
     for i, conv in enumerate(convs):
         arrays[f"{PREFIX}conv_w{i}"] = conv.weight.detach().cpu().numpy().astype(np.float32)

@@ -127,7 +127,10 @@ def test_numpy_forward_equals_sb3_predict_and_exports_through_the_script(lidar_m
     # the command line writes the same .npz beside the .zip
     copy = tmp_path / "copy.zip"
     copy.write_bytes(path.read_bytes())
-    subprocess.run([sys.executable, str(ROOT / "scripts" / "export_policy.py"), str(copy)], check=True, capture_output=True, cwd=ROOT)
+    sys.path.insert(0, str(ROOT / "scripts"))
+    import export_policy as script  # the command line, run in this process
+
+    script.main([str(copy)])
     np.testing.assert_allclose(NumpyPolicy(copy.with_suffix(".npz")).predict(features), expected, atol=1e-5)
 
 
@@ -204,7 +207,7 @@ def test_the_shipped_lidar_policy_acts_without_torch():
         "for _ in range(40):\n"
         "    obs, _, terminated, truncated, info = env.step(agent.predict(obs, deterministic=True)[0])\n"
         "    if terminated or truncated: break\n"
-        "assert agent.backend == 'numpy'; print(info['is_success'] or not terminated)\n"
+        "assert agent.backend == 'numpy'\n"
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, env={"PYTHONPATH": str(ROOT), "PATH": ""})
     assert done.returncode == 0, done.stderr

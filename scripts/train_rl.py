@@ -3,6 +3,9 @@
     python scripts/train_rl.py --total-timesteps 4000000 --seed 0 --out runs/ppo
     python scripts/train_rl.py --algo sac --teacher '' --n-envs 4 --total-timesteps 500000 --out runs/sac
     python scripts/train_rl.py ... --ship best       # also copy the best model to agents/models/<algo>.zip
+    python scripts/train_rl.py --observation lidar --scenarios random,doorway,random,cluttered-room,random,corridor,random,intersection
+        --teacher-steps 100000 --teacher-epochs 15 --total-timesteps 800000 --eval-freq 50000 --budget-minutes 57 --out runs/ppo_lidar
+        (one command: a lidar policy with a 1-D convolution encoder, run by agents.make("ppo-lidar", env))
 
 The policy sees ``pathplan_env.wrappers.make_learning_env``'s egocentric features and acts in its
 relative-waypoint action space, the same transforms ``agents.make("ppo", env)`` applies at test time.
@@ -16,6 +19,12 @@ sidecar beside each of those three (``best_model.json``, ...: the algorithm, k_n
 seed and figures, which ``agents.make("ppo", env, path=...)`` reads), ``evaluations.npz`` and
 ``learning_curve.png``. The PPO defaults are ``pathplan_env.zoo.PPO_SETTINGS``, which rl-zoo3's
 hyperparameters share; the training itself is the library ``agents.rl.training``.
+
+``--observation lidar`` trains on the ``"lidar"`` observation instead (``agents.rl.lidar_features``:
+the scan in the goal's frame, min-pooled to ``--lidar-bins``, with its change since the last step;
+``agents.rl.lidar_encoder``: stride-2 ``Conv1d`` layers with circular padding), cloned from a teacher
+that reads the exact state while a lockstep twin env records what the lidar sees; ``--scenarios``
+deals presets (wall families too) to the training envs; ``--budget-minutes`` caps the run's wall time.
 """
 
 from __future__ import annotations

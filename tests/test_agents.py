@@ -15,7 +15,7 @@ from agents.planners.pso import inertia_schedule
 from pathplan_env import Obstacle, Scenario
 
 # sb3 needs a model path; the unicycle's agents need a unicycle (tests/test_unicycle.py drives them)
-PLANNERS = [name for name in agents.available() if name not in ("straight", "ppo", "sb3", *agents.UNICYCLE_AGENTS)]
+PLANNERS = [name for name in agents.available() if name not in ("straight", "ppo", "ppo-lidar", "sb3", *agents.UNICYCLE_AGENTS)]
 
 
 def run_episode(agent, env, seed=0):

@@ -4,7 +4,8 @@
 beside it; :class:`NumpyPolicy` computes the same actions as ``model.predict`` (the mean when
 deterministic, within 1e-5 of SB3's: tested), so the main evaluation runs on a core install.
 Written by hand because the forward pass is three matrix products and torch is a multi-GB
-dependency for them.
+dependency for them. A policy with the lidar's convolution encoder (``agents.rl.lidar_encoder``)
+exports it too and runs it first (``agents.rl.numpy_conv``).
 """
 
 from __future__ import annotations
@@ -12,6 +13,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+
+from .numpy_conv import PREFIX, NumpyConvEncoder, export_encoder
 
 _ACTIVATIONS = {"Tanh": np.tanh, "ReLU": lambda x: np.maximum(x, 0.0)}
 
@@ -28,9 +31,12 @@ class NumpyPolicy:
             self.low, self.high = data["action_low"], data["action_high"]
             self.activation = _ACTIVATIONS[str(data["activation"])]
             self.observation_size = int(data["observation_size"])
+            self.encoder = NumpyConvEncoder(data) if PREFIX + "layers" in data else None
 
     def mean(self, features: np.ndarray) -> np.ndarray:
         x = np.asarray(features, dtype=np.float32)
+        if self.encoder is not None:
+            x = self.encoder(x)
         for i, (w, b) in enumerate(zip(self.weights, self.biases)):
             x = x @ w + b
             if i < len(self.weights) - 1:  # the last layer is the action head: no activation
@@ -46,10 +52,19 @@ class NumpyPolicy:
 
 
 def export_policy(model, path: str | Path) -> Path:
-    """Write ``model``'s (an SB3 PPO with an ``MlpPolicy``) actor to ``path`` (``.npz``)."""
+    """Write ``model``'s (an SB3 PPO with an ``MlpPolicy``, its features flat or through the lidar's
+    convolution encoder) actor to ``path`` (``.npz``)."""
     import torch
+    from stable_baselines3.common.torch_layers import FlattenExtractor
 
     policy = model.policy
+    encoder = {}
+    if not isinstance(policy.features_extractor, FlattenExtractor):
+        from .lidar_encoder import LidarConvExtractor
+
+        if not isinstance(policy.features_extractor, LidarConvExtractor) or not policy.share_features_extractor:
+            raise ValueError(f"model: only a flat input or a shared LidarConvExtractor exports, got {type(policy.features_extractor).__name__}")
+        encoder = export_encoder(policy.features_extractor)
     layers = [m for m in policy.mlp_extractor.policy_net if isinstance(m, torch.nn.Linear)] + [policy.action_net]
     activations = {type(m).__name__ for m in policy.mlp_extractor.policy_net if not isinstance(m, torch.nn.Linear)}
     if len(activations) != 1 or next(iter(activations)) not in _ACTIVATIONS:
@@ -58,7 +73,7 @@ def export_policy(model, path: str | Path) -> Path:
     arrays |= {f"b{i}": layer.bias.detach().cpu().numpy().astype(np.float32) for i, layer in enumerate(layers)}
     path = Path(path)
     np.savez_compressed(
-        path, **arrays, n_layers=len(layers), activation=next(iter(activations)),
+        path, **arrays, **encoder, n_layers=len(layers), activation=next(iter(activations)),
         log_std=policy.log_std.detach().cpu().numpy().astype(np.float32),
         action_low=model.action_space.low, action_high=model.action_space.high,
         observation_size=model.observation_space.shape[0],

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 from stable_baselines3.common.callbacks import BaseCallback, EvalCallback
 from stable_baselines3.common.evaluation import evaluate_policy
@@ -28,6 +30,21 @@ class DeltaDCurriculum(BaseCallback):
             self.training_env.env_method("set_delta_d", (0.0, high))
             self.logger.record("curriculum/delta_d_max", high)
         return True
+
+
+class WallClockBudget(BaseCallback):
+    """Stop training once ``seconds`` have passed since ``start`` (a ``time.perf_counter()`` reading
+    taken before the warm start, so the budget covers demonstrations, cloning and RL)."""
+
+    def __init__(self, start: float, seconds: float, verbose: int = 0):
+        super().__init__(verbose)
+        self.start, self.seconds = start, seconds
+
+    def _on_step(self) -> bool:
+        if time.perf_counter() - self.start < self.seconds:
+            return True
+        print(f"wall-clock budget of {self.seconds / 60:g} min reached at {self.num_timesteps} PPO steps: stopping")
+        return False
 
 
 class SameEpisodesEval(EvalCallback):

@@ -9,11 +9,16 @@ from __future__ import annotations
 import ast
 import dataclasses
 import inspect
+import json
 import shlex
 from dataclasses import dataclass
 
+from pathplan_env.presets import PRESETS
+from pathplan_env.sensor_params import SensorParams
 from pathplan_env.splits import training_seed_base
 from pathplan_env.zoo import PPO_SETTINGS
+
+from ..lidar_features import check_lidar_settings
 
 #: How a run is started from a shell (``Args.command_line``).
 SCRIPT = "scripts/train_rl.py"
@@ -46,7 +51,19 @@ class Args:
     static_fraction: float = 0.0
     """share of training episodes with Δd = 0 (static obstacles)"""
     k_nearest: int = 8
-    """obstacles in the observation features (nearest by surface gap)"""
+    """obstacles in the observation features (nearest by surface gap; observation 'state')"""
+    observation: str = "state"
+    """what the policy sees: 'state' (the k nearest obstacles, an MLP) or 'lidar' (a scan, a 1-D convolution encoder; ppo only)"""
+    observation_params: str = ""
+    """JSON of the 'lidar' observation's parameters (pathplan_env.sensor_params: lidar_beams, lidar_range, ...); '' = the defaults"""
+    lidar_bins: int = 90
+    """the scan is min-pooled into this many bins (must divide lidar_beams)"""
+    lidar_frames: int = 2
+    """scan channels: 1 (the scan) or 2 (and its change since the last step: motion)"""
+    conv_channels: str = "16,16,16"
+    """output channels of the lidar encoder's stride-2 convolutions"""
+    scenarios: str = "random"
+    """comma-separated presets of the training envs, dealt to them in turn (repeat a name to weight it); validation runs one env per distinct name"""
     learning_rate: float = PPO_SETTINGS.learning_rate
     """gentle by default: PPO fine-tunes the behaviour-cloned policy"""
     log_std_init: float = PPO_SETTINGS.log_std_init
@@ -75,6 +92,8 @@ class Args:
     """Δd of the validation episodes"""
     checkpoint_freq: int = 500_000
     """env steps between checkpoints"""
+    budget_minutes: float = 0.0
+    """stop RL when this much wall time has passed since the run began (demonstrations and cloning included); 0 = no limit"""
     torch_threads: int = 1
     """torch CPU threads"""
     out: str = "runs/ppo"
@@ -105,10 +124,47 @@ class Args:
             raise ValueError(f"n_obstacles_min/max must satisfy 0 <= min <= max, got {self.n_obstacles_min}, {self.n_obstacles_max}")
         if not 0 <= self.delta_d_start <= self.delta_d_max:
             raise ValueError(f"delta_d_start/max must satisfy 0 <= start <= max, got {self.delta_d_start}, {self.delta_d_max}")
+        if not self.budget_minutes >= 0:
+            raise ValueError(f"budget_minutes must be >= 0, got {self.budget_minutes!r}")
         if not 0 <= self.curriculum_fraction <= 1:
             raise ValueError(f"curriculum_fraction must be in [0, 1], got {self.curriculum_fraction}")
         self.hidden_sizes()  # "128,128": checked here, used by build_model
+        self.scenario_list()
+        self.sensor_params()
+        if self.observation == "lidar":
+            if self.algo != "ppo":
+                raise ValueError(f"observation: 'lidar' (the convolution encoder) is implemented for ppo, got algo {self.algo!r}")
+            params = SensorParams.of(self.sensor_params(), SensorParams._fields)
+            check_lidar_settings(params.lidar_beams, params.lidar_fov, self.lidar_bins, self.lidar_frames)
+            widths = [w.strip() for w in self.conv_channels.split(",")]
+            if not all(w.isdigit() and int(w) > 0 for w in widths):
+                raise ValueError(f"conv_channels must be comma-separated positive widths such as '16,16,16', got {self.conv_channels!r}")
         training_seed_base(self.seed)  # range check
+
+    def scenario_list(self) -> list[str]:
+        """``scenarios`` as preset names, one per training env in turn."""
+        names = [name.strip() for name in self.scenarios.split(",")]
+        unknown = [name for name in names if name not in PRESETS]
+        if not names or unknown:
+            raise ValueError(f"scenarios: unknown presets {unknown} in {self.scenarios!r}; known: {sorted(PRESETS)}")
+        return names
+
+    def sensor_params(self) -> dict:
+        """``observation_params`` as the env's ``observation_params`` dict (``{}`` for 'state')."""
+        if self.observation not in ("state", "lidar"):
+            raise ValueError(f"observation must be 'state' or 'lidar', got {self.observation!r}")
+        if not self.observation_params:
+            return {}
+        if self.observation == "state":
+            raise ValueError("observation_params: observation 'state' takes none")
+        try:
+            params = json.loads(self.observation_params)
+        except json.JSONDecodeError as error:
+            raise ValueError(f"observation_params must be a JSON object, got {self.observation_params!r} ({error})") from None
+        if not isinstance(params, dict):
+            raise ValueError(f"observation_params must be a JSON object, got {self.observation_params!r}")
+        SensorParams.of(params, SensorParams._fields)  # each field checked, named
+        return params
 
     def hidden_sizes(self) -> list[int]:
         """``net_arch`` as layer sizes."""

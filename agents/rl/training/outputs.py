@@ -27,8 +27,11 @@ def learning_curve(out: Path, delta_d: float, cloned_success: float | None = Non
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    data = np.load(out / "evaluations.npz")
-    steps, success = data["timesteps"], data["successes"].mean(axis=1)
+    if (out / "evaluations.npz").exists():
+        data = np.load(out / "evaluations.npz")
+        steps, success = data["timesteps"], data["successes"].mean(axis=1)
+    else:  # a wall-clock budget (``budget_minutes``) stopped the run before its first validation
+        steps, success = np.zeros(0, int), np.zeros(0)
     if cloned_success is not None:
         steps, success = np.concatenate([[0], steps]), np.concatenate([[cloned_success], success])
     fig, ax = plt.subplots(figsize=(6, 3.5))
@@ -56,6 +59,7 @@ def run_metadata(args: Args, command: str, total_timesteps: int, seconds: float,
     return {
         "algo": args.algo,
         "k_nearest": args.k_nearest,
+        "observation": args.observation,
         "command": command,
         "args": dataclasses.asdict(args),
         "total_timesteps": int(total_timesteps),
@@ -80,12 +84,18 @@ def write_sidecars(out: Path, meta: dict, models: tuple[str, ...] = ("cloned_mod
     return written
 
 
-def ship(out: Path, algo: str, which: str, models_dir: Path = MODELS_DIR, results_dir: Path = RESULTS_DIR) -> Path:
-    """Copy ``out/<which>_model.zip`` and its sidecar to ``models_dir/<algo>.zip`` / ``.json`` (PPO: with
-    its numpy export, ``.npz``, which the evaluation runs without torch) and the learning curve to
-    ``results_dir/<algo>_learning_curve.png``. Returns the shipped ``.zip``."""
+def shipped_name(args: Args) -> str:
+    """The name a run ships under: ``ppo`` (or ``sac``), ``ppo_lidar`` for a lidar policy."""
+    return args.algo if args.observation == "state" else f"{args.algo}_{args.observation}"
+
+
+def ship(out: Path, algo: str, which: str, models_dir: Path = MODELS_DIR, results_dir: Path = RESULTS_DIR, name: str | None = None) -> Path:
+    """Copy ``out/<which>_model.zip`` and its sidecar to ``models_dir/<name>.zip`` / ``.json`` (``name``:
+    ``algo`` unless given; PPO: with its numpy export, ``.npz``, which the evaluation runs without
+    torch) and the learning curve to ``results_dir/<name>_learning_curve.png``. Returns the shipped ``.zip``."""
+    name = name or algo
     models_dir.mkdir(exist_ok=True)
-    shipped = models_dir / f"{algo}.zip"
+    shipped = models_dir / f"{name}.zip"
     shutil.copyfile(out / f"{which}_model.zip", shipped)
     shutil.copyfile(out / f"{which}_model.json", shipped.with_suffix(".json"))
     if algo == "ppo":
@@ -94,5 +104,5 @@ def ship(out: Path, algo: str, which: str, models_dir: Path = MODELS_DIR, result
         from ..numpy_policy import export_policy
 
         export_policy(PPO.load(shipped, device="cpu"), shipped.with_suffix(".npz"))
-    shutil.copyfile(out / "learning_curve.png", results_dir / f"{algo}_learning_curve.png")
+    shutil.copyfile(out / "learning_curve.png", results_dir / f"{name}_learning_curve.png")
     return shipped

@@ -5,6 +5,10 @@ relative-waypoint action space, the same transforms ``agents.make("ppo", env)`` 
 Training episodes come from ``EpisodeSchedule`` streams of training seeds (disjoint from the
 validation and test splits of ``pathplan_env.splits``); the teacher's demonstrations take the second
 half of the run's seed block, the training envs the first.
+
+With ``observation='lidar'`` the policy sees ``agents.rl.lidar_features``' goal-frame scan through
+``agents.rl.lidar_encoder``'s convolutions; the teacher still plays on ``"state"`` (a privileged
+teacher: ``demonstrations``), and ``scenarios`` may mix the random preset with wall families.
 """
 
 from __future__ import annotations
@@ -18,40 +22,76 @@ import gymnasium as gym
 
 import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
 from pathplan_env.splits import TRAINING_SEEDS_PER_RUN, VALIDATION_SEED_BASE, training_seed_base
-from pathplan_env.wrappers import EpisodeSchedule, make_learning_env
+from pathplan_env.wrappers import EnvFacts, EpisodeSchedule, make_learning_env
 from pathplan_env.zoo import PPO_SETTINGS
 
+from ..lidar_features import LidarFeatureStack, LidarLearningEnv
 from .config import Args
-from .demonstrations import collect_demonstrations
-from .outputs import learning_curve, run_metadata, ship, write_sidecars
+from .demonstrations import collect_demonstrations, concatenate
+from .outputs import learning_curve, run_metadata, ship, shipped_name, write_sidecars
 
 
-def _training_env(args: Args) -> gym.Env:
-    return gym.make("DynamicObstacle-v0", scenario="random", reward_collision=args.reward_collision, reward_proximity=args.reward_proximity)
+def _training_env(args: Args, scenario: str = "random", observation: str | None = None) -> gym.Env:
+    observation = args.observation if observation is None else observation
+    params = args.sensor_params() if observation == args.observation else {}
+    return gym.make("DynamicObstacle-v0", scenario=scenario, reward_collision=args.reward_collision, reward_proximity=args.reward_proximity,
+                    observation=observation, observation_params=params or None)  # fmt: skip
 
 
-def make_env(args: Args, first_seed: int, stride: int, delta_d, n_obstacles, static_fraction: float = 0.0) -> Callable[[], gym.Env]:
-    """A thunk for a vector env: random scenes from an ``EpisodeSchedule`` (seeds ``first_seed``,
+def _obstacle_counts(args: Args, scenario: str, n_obstacles):
+    """The random preset draws its count from ``n_obstacles``; a wall family keeps its own."""
+    return n_obstacles if scenario == "random" else None
+
+
+def learning_env(args: Args, env: gym.Env) -> gym.Env:
+    """The policy's wrappers around a raw env: the egocentric features ('state') or the lidar's."""
+    if args.observation == "lidar":
+        return LidarLearningEnv(env, args.lidar_bins, args.lidar_frames)
+    return make_learning_env(env, k_nearest=args.k_nearest)
+
+
+def make_env(args: Args, first_seed: int, stride: int, delta_d, n_obstacles, static_fraction: float = 0.0,
+             scenario: str = "random") -> Callable[[], gym.Env]:  # fmt: skip
+    """A thunk for a vector env: ``scenario``'s scenes from an ``EpisodeSchedule`` (seeds ``first_seed``,
     ``first_seed + stride``, ...), the training reward, the learning wrappers, SB3's ``Monitor``."""
 
     def thunk():
         from stable_baselines3.common.monitor import Monitor
 
         env = EpisodeSchedule(
-            _training_env(args), first_seed=first_seed, stride=stride, delta_d=delta_d, n_obstacles=n_obstacles, static_fraction=static_fraction
-        )
-        return Monitor(make_learning_env(env, k_nearest=args.k_nearest))
+            _training_env(args, scenario), first_seed=first_seed, stride=stride, delta_d=delta_d,
+            n_obstacles=_obstacle_counts(args, scenario, n_obstacles), static_fraction=static_fraction,
+        )  # fmt: skip
+        return Monitor(learning_env(args, env))
 
     return thunk
 
 
-def demonstration_env(args: Args) -> gym.Env:
-    """The raw env the teacher plays: the second half of the run's training seed block, Δd from [0, delta_d_max]."""
+def demonstration_env(args: Args, scenario: str = "random", observation: str = "state") -> gym.Env:
+    """The raw env the teacher plays (``observation='state'``; the learner's twin with ``args.observation``):
+    the second half of the run's training seed block, Δd from [0, delta_d_max]."""
     first = training_seed_base(args.seed) + TRAINING_SEEDS_PER_RUN // 2
     return EpisodeSchedule(
-        _training_env(args), first_seed=first, delta_d=(0.0, args.delta_d_max), n_obstacles=(args.n_obstacles_min, args.n_obstacles_max),
-        static_fraction=args.static_fraction,
+        _training_env(args, scenario, observation), first_seed=first, delta_d=(0.0, args.delta_d_max),
+        n_obstacles=_obstacle_counts(args, scenario, (args.n_obstacles_min, args.n_obstacles_max)), static_fraction=args.static_fraction,
     )  # fmt: skip
+
+
+def scenario_demonstrations(args: Args, gamma: float):
+    """The teacher's successful episodes on each training scenario, in proportion to its share of the
+    training envs; with a lidar learner, recorded as the learner sees them (a lockstep twin env)."""
+    names = args.scenario_list()
+    parts = []
+    for scenario in dict.fromkeys(names):
+        steps = args.teacher_steps * names.count(scenario) // len(names)
+        twin = {}
+        if args.observation == "lidar":
+            twin_env = demonstration_env(args, scenario, "lidar")
+            twin = {"learner_env": twin_env, "learner_features": LidarFeatureStack(EnvFacts.of(twin_env), args.lidar_bins, args.lidar_frames)}
+        parts.append(collect_demonstrations(demonstration_env(args, scenario), args.teacher, steps, gamma=gamma, k_nearest=args.k_nearest,
+                                            seed=args.seed, progress=args.progress, **twin))  # fmt: skip
+        print(f"demonstrations on {scenario}: kept {parts[-1].kept} of {parts[-1].episodes} {args.teacher} episodes, {len(parts[-1])} steps")
+    return concatenate(parts)
 
 
 def build_model(args: Args, env, log_dir: Path):
@@ -68,10 +108,15 @@ def build_model(args: Args, env, log_dir: Path):
     common = dict(learning_rate=args.learning_rate, verbose=0, device="cpu", tensorboard_log=str(log_dir / "tb"))
     if args.algo == "ppo":
         settings = PPO_SETTINGS
+        policy_kwargs = dict(net_arch=net_arch, activation_fn=getattr(torch.nn, settings.activation), log_std_init=args.log_std_init)
+        if args.observation == "lidar":
+            from ..lidar_encoder import LidarConvExtractor
+
+            policy_kwargs |= dict(features_extractor_class=LidarConvExtractor,
+                                  features_extractor_kwargs=dict(bins=args.lidar_bins, frames=args.lidar_frames, channels=args.conv_channels))  # fmt: skip
         model = PPO(
             "MlpPolicy", env, n_steps=args.n_steps, batch_size=settings.batch_size, n_epochs=settings.n_epochs, gamma=settings.gamma,
-            gae_lambda=settings.gae_lambda, clip_range=settings.clip_range, ent_coef=args.ent_coef,
-            policy_kwargs=dict(net_arch=net_arch, activation_fn=getattr(torch.nn, settings.activation), log_std_init=args.log_std_init), **common,
+            gae_lambda=settings.gae_lambda, clip_range=settings.clip_range, ent_coef=args.ent_coef, policy_kwargs=policy_kwargs, **common,
         )  # fmt: skip
     else:
         model = SAC("MlpPolicy", env, buffer_size=300_000, batch_size=256, learning_starts=10_000, policy_kwargs=dict(net_arch=net_arch), **common)
@@ -93,7 +138,7 @@ def train(args: Args, command: str | None = None) -> dict:
     from stable_baselines3.common.callbacks import CallbackList, CheckpointCallback
     from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
 
-    from .callbacks import DeltaDCurriculum, SameEpisodesEval, validation_success
+    from .callbacks import DeltaDCurriculum, SameEpisodesEval, WallClockBudget, validation_success
     from .cloning import behaviour_cloning
 
     torch.set_num_threads(args.torch_threads)
@@ -101,10 +146,12 @@ def train(args: Args, command: str | None = None) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     n_obstacles = (args.n_obstacles_min, args.n_obstacles_max)
     base = training_seed_base(args.seed)
-    thunks = [make_env(args, base + i, args.n_envs, (0.0, args.delta_d_start), n_obstacles, args.static_fraction) for i in range(args.n_envs)]
+    names = args.scenario_list()
+    thunks = [make_env(args, base + i, args.n_envs, (0.0, args.delta_d_start), n_obstacles, args.static_fraction, names[i % len(names)])
+              for i in range(args.n_envs)]  # fmt: skip
     train_env = (DummyVecEnv if args.vec_env == "dummy" else SubprocVecEnv)(thunks)
-    # one validation env: its episodes run in seed order, and are rewound before every evaluation
-    eval_env = DummyVecEnv([make_env(args, VALIDATION_SEED_BASE, 1, args.eval_delta_d, n_obstacles)])
+    # one validation env per scenario: its episodes run in seed order, and are rewound before every evaluation
+    eval_env = DummyVecEnv([make_env(args, VALIDATION_SEED_BASE, 1, args.eval_delta_d, n_obstacles, scenario=name) for name in dict.fromkeys(names)])
 
     def every(steps: int) -> int:  # callbacks count vector steps
         return max(1, steps // args.n_envs)
@@ -118,14 +165,20 @@ def train(args: Args, command: str | None = None) -> dict:
     model = build_model(args, train_env, out)
     cloned_success = None
     start = time.perf_counter()
+    if args.budget_minutes:
+        callbacks.callbacks.append(WallClockBudget(start, 60 * args.budget_minutes))  # learn() initialises it with the rest
     if args.teacher:
-        demonstrations = collect_demonstrations(
-            demonstration_env(args), args.teacher, args.teacher_steps, gamma=model.gamma, k_nearest=args.k_nearest, seed=args.seed,
-            progress=args.progress,
-        )  # fmt: skip
-        kept = f"{demonstrations.kept} of {demonstrations.episodes} {args.teacher} episodes (the successful ones)"
-        print(f"demonstrations: kept {kept}, {len(demonstrations)} steps")
-        behaviour_cloning(model.policy, demonstrations, args.teacher_epochs, args.seed)
+        if args.observation == "state" and names == ["random"]:  # as it always was: one env, one call
+            demos = collect_demonstrations(
+                demonstration_env(args), args.teacher, args.teacher_steps, gamma=model.gamma, k_nearest=args.k_nearest, seed=args.seed,
+                progress=args.progress,
+            )  # fmt: skip
+        else:
+            demos = scenario_demonstrations(args, model.gamma)
+        kept = f"{demos.kept} of {demos.episodes} {args.teacher} episodes (the successful ones)"
+        print(f"demonstrations: kept {kept}, {len(demos)} steps ({time.perf_counter() - start:.0f} s)")
+        behaviour_cloning(model.policy, demos, args.teacher_epochs, args.seed)
+        print(f"behaviour cloning done ({time.perf_counter() - start:.0f} s)")
         model.save(out / "cloned_model.zip")
         cloned_success = validation_success(model, eval_env, args.eval_episodes)
         print(f"cloned policy: validation success {cloned_success:.2f}")
@@ -140,7 +193,7 @@ def train(args: Args, command: str | None = None) -> dict:
     meta = run_metadata(args, command or args.command_line(), model.num_timesteps, seconds, validation)
     write_sidecars(out, meta)
     if args.ship:
-        shipped = ship(out, args.algo, args.ship)
+        shipped = ship(out, args.algo, args.ship, name=shipped_name(args))
         print(f"shipped {args.ship} model to {shipped}")
     print(json.dumps({k: meta[k] for k in ("total_timesteps", "training_seconds", "env_steps_per_second", "validation")}, indent=2))
     return meta

@@ -52,7 +52,7 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--episodes", type=int, default=40)
     parser.add_argument("--deltas", type=float, nargs="+", default=[0.25, 0.5])
     parser.add_argument("--split", choices=("test", "validation"), default="test")
-    parser.add_argument("--agents", nargs="+", default=AGENTS)
+    parser.add_argument("--agents", default=",".join(AGENTS), help="comma-separated agent names")
     parser.add_argument("--obstacles", type=int, default=8)
     parser.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE", help="overrides for the *-unicycle agents")
     return parser.parse_args(argv)
@@ -66,7 +66,7 @@ def main(argv=None) -> None:
           + (f", overrides {overrides}" if overrides else ""))  # fmt: skip
     print("| agent | " + " | ".join(f"Δd {d}: success (collisions)" for d in args.deltas) + " | median plan ms | median plan CPU ms | wall s |")
     print("|---|" + "---:|" * (len(args.deltas) + 3))
-    for name in args.agents:
+    for name in args.agents.split(","):
         begin = time.perf_counter()
         cells, plan_ms, cpu_ms = [], [], []
         for delta_d in args.deltas:

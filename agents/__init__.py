@@ -8,6 +8,7 @@ from functools import partial
 from .base import Agent, available, make, register, rollout
 from .oracles import ClairvoyantOracle, StaticOracleAgent
 from .planners import MetaheuristicAgent, SpacetimeAStarAgent, SpacetimeMetaheuristicAgent
+from .planners.unicycle_astar import UnicycleAStarAgent
 from .reactive import ORCAAgent, StraightAgent, VelocityObstacleAgent
 from .reactive.dwa import DWAAgent
 from .reactive.tracker import TrackedAgent
@@ -32,15 +33,16 @@ register("pso-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="pso"))
 register("abc-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="abc", population=40))  # 20 food sources
 # the unicycle (robot="unicycle"): the dynamic window approach, and any waypoint planner driven by pure pursuit
 register("dwa", DWAAgent)
+register("astar-unicycle", UnicycleAStarAgent)  # space-time A* over the unicycle's own moves (agents.planners.unicycle_search)
 register("tracked", TrackedAgent)  # agents.make("tracked", env, planner="pso-spacetime")
 for _planner in ("astar-spacetime", "astar-crowd", "pso-spacetime", "abc-spacetime", "pso", "abc", "velocity-obstacle", "orca",
                  "oracle-static", "straight"):  # fmt: skip
     register(f"tracked-{_planner}", partial(TrackedAgent, planner=_planner))
 #: The registered agents that drive only a unicycle (``gym.make(..., robot="unicycle")``).
-UNICYCLE_AGENTS = frozenset(name for name in available() if name == "dwa" or name.startswith("tracked"))
+UNICYCLE_AGENTS = frozenset(name for name in available() if name in ("dwa", "astar-unicycle") or name.startswith("tracked"))
 
 __all__ = [
-    "Agent", "ClairvoyantOracle", "DWAAgent", "TrackedAgent", "MetaheuristicAgent", "ORCAAgent", "RLAgent", "SpacetimeAStarAgent",
+    "Agent", "ClairvoyantOracle", "DWAAgent", "TrackedAgent", "UnicycleAStarAgent", "MetaheuristicAgent", "ORCAAgent", "RLAgent", "SpacetimeAStarAgent",
     "SpacetimeMetaheuristicAgent", "StaticOracleAgent", "StraightAgent", "UNICYCLE_AGENTS", "VelocityObstacleAgent",
     "available", "make", "register", "rollout",
 ]  # fmt: skip

@@ -32,7 +32,7 @@ from pathplan_env.unicycle import arena_edges
 from ..base import Agent
 from ..planners.spacetime_search import SpacetimeProblem, provably_lost
 from ..planners.unicycle_astar import unicycle_model
-from ..planners.unicycle_search import BUDGET, FOUND, UnicycleProblem, search, settings
+from ..planners.unicycle_search import BUDGET, EXHAUSTED, FOUND, HORIZON, UnicycleProblem, UnicycleResult, search, settings
 from .future import simulator_of, true_future
 
 
@@ -44,16 +44,19 @@ class UnicycleClairvoyantOracle(Agent):
 
     :param speed_steps, turn_steps: the primitives, fractions of the dynamic window
         (:func:`agents.planners.unicycle_search.settings`).
-    :param searches: the successive searches, ``(heuristic weight, merge grid in m, heading bin in rad)``
-        each; a search that spends ``max_expansions`` without an answer hands over to the next.
+    :param receding: the first try, ``(horizon steps, steps committed, merge grid in m, heading bin in rad,
+        node budget, retry factor)``: :meth:`receding_plan`, the ``astar-unicycle`` planner's scheme on
+        the true future; ``None`` to skip it.
+    :param searches: then the successive searches over the whole episode, ``(heuristic weight, merge grid
+        in m, heading bin in rad)`` each; a search that fails hands over to the next.
     :param max_expansions: node budget of each search; after the last the episode is "undetermined"
         unless the reachable-set test proves it lost.
     :param lost_cell: grid (m) of that test.
     """
 
     def __init__(self, env, seed: int | None = None, *, speed_steps=(-1.0, 0.0, 1.0), turn_steps=(-1.0, -0.5, 0.0, 0.5, 1.0),
-                 searches=((3.0, 0.03, 0.05), (1.5, 0.03, 0.05), (3.0, 0.06, 0.1)), max_expansions: int = 100_000,
-                 lost_cell: float = 0.005):  # fmt: skip
+                 receding=(20, 10, 0.05, 0.1, 2000, 20), searches=((3.0, 0.03, 0.05), (1.5, 0.03, 0.05), (3.0, 0.06, 0.1)),
+                 max_expansions: int = 100_000, lost_cell: float = 0.005):  # fmt: skip
         super().__init__(env, seed)
         self._env, self.max_steps = simulator_of(env)
         self.model = unicycle_model(env)
@@ -68,6 +71,46 @@ class UnicycleClairvoyantOracle(Agent):
         # checked here, each by name (settings raises ValueError naming the field)
         self.unicycle_searches = tuple(settings(speed_steps, turn_steps, 1, cell, heading_bin, self.max_expansions, weight)
                                        for weight, cell, heading_bin in searches)  # fmt: skip
+        self.receding = None
+        if receding is not None:
+            if len(receding) != 6:
+                raise ValueError(f"receding must be (horizon, commit, grid, heading bin, budget, retry factor) or None, got {receding!r}")
+            horizon, commit, cell, heading_bin, budget, retry = receding
+            if isinstance(commit, bool) or int(commit) != commit or not 1 <= commit <= horizon:
+                raise ValueError(f"receding: its steps committed must be an integer in [1, horizon], got {commit!r}")
+            if isinstance(retry, bool) or int(retry) != retry or retry < 1:
+                raise ValueError(f"receding: its retry factor must be a positive integer, got {retry!r}")
+            self.receding = (settings(speed_steps, turn_steps, horizon, cell, heading_bin, budget, 3.0), int(commit), int(retry))
+
+    def receding_plan(self, problem: UnicycleProblem, remaining: int) -> tuple[UnicycleResult, int]:
+        """The planner's scheme on the true future: search ``horizon`` steps ahead (a failed search retried
+        with ``retry`` times the budget), fly ``commit`` steps of a plan that survives the horizon (one
+        step of one that does not: its first step is still free), search again from there. Every step is
+        the search's exact move, so the result is a plan of the whole episode, ``FOUND`` if it reaches the goal.
+
+        :return: ``(result, expansions)``: the actions and poses flown, and the nodes expanded."""
+        entry, commit, retry = self.receding
+        trajectory, n = problem.trajectory, problem.substeps
+        actions, poses, step, expansions = [], [problem.start[None]], 0, 0
+        outcome = EXHAUSTED
+        while step < remaining:
+            horizon = min(entry.max_steps, remaining - step)
+            window = problem._replace(trajectory=trajectory[step * n : (step + horizon) * n + 1], start=poses[-1][-1])
+            for budget in (entry.max_expansions, entry.max_expansions * retry):
+                result = search(window, entry._replace(max_steps=horizon, max_expansions=budget))
+                expansions += result.expansions
+                if result.outcome != BUDGET:
+                    break
+            take = len(result.actions) if result.outcome == FOUND else min(commit if result.outcome == HORIZON else 1, len(result.actions))
+            if take == 0:
+                break  # every move touches
+            actions.append(result.actions[:take])
+            poses.append(result.poses[1 : take + 1])
+            step += take
+            if result.outcome == FOUND:
+                outcome = FOUND
+                break
+        return UnicycleResult(outcome, np.concatenate(actions or [np.zeros((0, 2), np.float32)]), np.concatenate(poses), expansions), expansions
 
     def solve(self) -> dict:
         """Search from the env's current state; returns the memory entries the episode flies."""
@@ -80,10 +123,12 @@ class UnicycleClairvoyantOracle(Agent):
         problem = UnicycleProblem(trajectory, substeps, scenario.robot_radius, world.radii, start, np.array(scenario.goal),
                                   scenario.goal_radius, self.model, walls, ctg)  # fmt: skip
         expansions = 0
-        for entry in self.unicycle_searches:
-            result = search(problem, entry._replace(max_steps=remaining))
+        if self.receding is not None:  # cheap where it works; the searches over the whole episode where it does not
+            result, expansions = self.receding_plan(problem, remaining)
+        for entry in self.unicycle_searches if self.receding is None or result.outcome != FOUND else ():
+            result = search(problem, entry._replace(max_steps=remaining))  # a failed search hands over: its grid may be why
             expansions += result.expansions
-            if result.outcome != BUDGET:
+            if result.outcome == FOUND:
                 break
         lost_at = None
         if result.outcome == FOUND:

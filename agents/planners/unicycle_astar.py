@@ -48,15 +48,17 @@ class UnicycleAStarAgent:
         ``retry_factor`` times the budget.
     :param keep_plan_steps: the previous plan is flown on while the new prediction finds all of it
         free and it still runs this many steps (or to the goal).
+    :param prediction, cone_degrees: :class:`~agents.planners.spacetime.SpacetimeModel`'s obstacle
+        prediction (``"cone"``: three futures per obstacle, for crowds that steer).
     """
 
     def __init__(self, env, seed: int | None = None, *, horizon_steps: int = 20, margin: float = 0.005,
                  speed_steps=(-1.0, 0.0, 1.0), turn_steps=(-1.0, -0.5, 0.0, 0.5, 1.0), cell: float = 0.05,
-                 heading_bin: float = 0.1, h_weight: float = 3.0, max_expansions: int = 1000, retry_factor: int = 5,
-                 keep_plan_steps: int = 10):  # fmt: skip
+                 heading_bin: float = 0.1, h_weight: float = 3.0, max_expansions: int = 2000, retry_factor: int = 20,
+                 keep_plan_steps: int = 10, prediction: str = "physics", cone_degrees: float = 20.0):  # fmt: skip
         self.model = unicycle_model(env)
         self.facts = EnvFacts.of(env)
-        self.spacetime = SpacetimeModel(self.facts, horizon_steps, margin)
+        self.spacetime = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees)
         self.settings = settings(speed_steps, turn_steps, horizon_steps, cell, heading_bin, max_expansions, h_weight)
         for name, value in (("retry_factor", retry_factor), ("keep_plan_steps", keep_plan_steps)):
             if isinstance(value, bool) or int(value) != value or value < 1:

@@ -34,12 +34,14 @@ register("abc-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="abc", 
 # the unicycle (robot="unicycle"): the dynamic window approach, and any waypoint planner driven by pure pursuit
 register("dwa", DWAAgent)
 register("astar-unicycle", UnicycleAStarAgent)  # space-time A* over the unicycle's own moves (agents.planners.unicycle_search)
+# for crowds that steer, as astar-crowd: a cone of three predicted futures per obstacle and a 15 % margin
+register("astar-unicycle-crowd", partial(UnicycleAStarAgent, prediction="cone", margin=0.15, retry_factor=5))
 register("tracked", TrackedAgent)  # agents.make("tracked", env, planner="pso-spacetime")
 for _planner in ("astar-spacetime", "astar-crowd", "pso-spacetime", "abc-spacetime", "pso", "abc", "velocity-obstacle", "orca",
                  "oracle-static", "straight"):  # fmt: skip
     register(f"tracked-{_planner}", partial(TrackedAgent, planner=_planner))
 #: The registered agents that drive only a unicycle (``gym.make(..., robot="unicycle")``).
-UNICYCLE_AGENTS = frozenset(name for name in available() if name in ("dwa", "astar-unicycle") or name.startswith("tracked"))
+UNICYCLE_AGENTS = frozenset(name for name in available() if name == "dwa" or name.startswith(("tracked", "astar-unicycle")))
 
 __all__ = [
     "Agent", "ClairvoyantOracle", "DWAAgent", "TrackedAgent", "UnicycleAStarAgent", "MetaheuristicAgent", "ORCAAgent", "RLAgent", "SpacetimeAStarAgent",

@@ -67,19 +67,19 @@ def success_table(episodes: int, deltas: list[float], n_obstacles: int = 8, only
 
 
 #: ``--limit``: each robot's agents, each run against its own robot's limit.
-LIMIT_AGENTS = {"unicycle": ["astar-unicycle", "dwa", "tracked-astar-spacetime"], "holonomic": ["astar-spacetime"]}
+LIMIT_AGENTS = {"unicycle": ["astar-unicycle", "astar-unicycle-crowd", "dwa", "tracked-astar-spacetime"], "holonomic": ["astar-spacetime", "astar-crowd"]}
 LIMIT_SCENARIOS = [("random", "deltas"), ("crowdnav-circle-crossing", None)]  # None: the scenario's own speeds
 
 
 def limit_table(episodes: int, deltas: list[float], split: str, workers: int, out: str, only: list[str] | None = None,
-                robots: list[str] | None = None) -> list[dict]:  # fmt: skip
+                robots: list[str] | None = None, scenarios: list[str] | None = None) -> list[dict]:  # fmt: skip
     """Run the harness per robot and scenario; print one row per (agent, scenario, Δd) with success ÷ limit."""
     from agents.evaluation import evaluate
 
     rows = []
     for robot in robots or list(LIMIT_AGENTS):
         names = [n for n in LIMIT_AGENTS[robot] if not only or n in only]
-        for scenario, cell in LIMIT_SCENARIOS:
+        for scenario, cell in [(s, c) for s, c in LIMIT_SCENARIOS if not scenarios or s in scenarios]:
             cells = deltas if cell == "deltas" else [None]
             options = {"robot": robot} if robot != "holonomic" else None
             rows += [r | {"robot": robot} for r in evaluate(names, [scenario], cells, episodes, f"{out}/{robot}-{scenario}", split=split,
@@ -124,6 +124,7 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--split", default="test", help="--limit: the seeds' split (test, validation)")
     parser.add_argument("--robots", nargs="+", choices=sorted(LIMIT_AGENTS), help="--limit: the robots (default: both)")
     parser.add_argument("--workers", type=int, default=1, help="--limit: harness processes")
+    parser.add_argument("--scenarios", nargs="+", choices=[s for s, _ in LIMIT_SCENARIOS], help="--limit: the scenarios (default: all)")
     parser.add_argument("--out", default="results/bench_unicycle", help="--limit: the harness's output directory")
     return parser.parse_args(argv)
 
@@ -132,7 +133,7 @@ def main(argv=None) -> None:
     args = parse_args(argv)
     start = time.perf_counter()
     if args.limit:
-        limit_table(args.episodes, args.deltas, args.split, args.workers, args.out, args.only, args.robots)
+        limit_table(args.episodes, args.deltas, args.split, args.workers, args.out, args.only, args.robots, args.scenarios)
         print(f"\n({time.perf_counter() - start:.0f} s)")
         return
     if not args.skip_speed:

@@ -85,7 +85,8 @@ class UnicycleClairvoyantOracle(Agent):
     def receding_plan(self, problem: UnicycleProblem, remaining: int) -> tuple[UnicycleResult, int]:
         """The planner's scheme on the true future: search ``horizon`` steps ahead (a failed search retried
         with ``retry`` times the budget), fly ``commit`` steps of a plan that survives the horizon (one
-        step of one that does not: its first step is still free), search again from there. Every step is
+        step of one that does not: its first step is still free), search again from there, spending at most
+        what the whole-episode searches may (``max_expansions`` each). Every step is
         the search's exact move, so the result is a plan of the whole episode, ``FOUND`` if it reaches the goal.
 
         :return: ``(result, expansions)``: the actions and poses flown, and the nodes expanded."""
@@ -93,7 +94,7 @@ class UnicycleClairvoyantOracle(Agent):
         trajectory, n = problem.trajectory, problem.substeps
         actions, poses, step, expansions = [], [problem.start[None]], 0, 0
         outcome = EXHAUSTED
-        while step < remaining:
+        while step < remaining and expansions < len(self.unicycle_searches) * self.max_expansions:  # at most what the searches spend
             horizon = min(entry.max_steps, remaining - step)
             window = problem._replace(trajectory=trajectory[step * n : (step + horizon) * n + 1], start=poses[-1][-1])
             for budget in (entry.max_expansions, entry.max_expansions * retry):

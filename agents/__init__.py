@@ -8,6 +8,7 @@ from functools import partial
 from .base import Agent, available, make, register, rollout
 from .oracles import ClairvoyantOracle, StaticOracleAgent
 from .planners import MetaheuristicAgent, SpacetimeAStarAgent, SpacetimeMetaheuristicAgent
+from .planners.unicycle_astar import UnicycleAStarAgent
 from .planners.unicycle_metaheuristic import UnicycleMetaheuristicAgent
 from .reactive import ORCAAgent, StraightAgent, VelocityObstacleAgent
 from .reactive.dwa import DWAAgent
@@ -35,6 +36,9 @@ register("pso-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="pso"))
 register("abc-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="abc", population=40))  # 20 food sources
 # the unicycle (robot="unicycle"): the dynamic window approach, and any waypoint planner driven by pure pursuit
 register("dwa", DWAAgent)
+register("astar-unicycle", UnicycleAStarAgent)  # space-time A* over the unicycle's own moves (agents.planners.unicycle_search)
+# for crowds that steer, as astar-crowd: a cone of three predicted futures per obstacle and a 15 % margin
+register("astar-unicycle-crowd", partial(UnicycleAStarAgent, prediction="cone", margin=0.15, retry_factor=5))
 register("tracked", TrackedAgent)  # agents.make("tracked", env, planner="pso-spacetime")
 for _planner in ("astar-spacetime", "astar-crowd", "pso-spacetime", "abc-spacetime", "pso", "abc", "velocity-obstacle", "orca",
                  "oracle-static", "straight"):  # fmt: skip
@@ -43,10 +47,13 @@ for _planner in ("astar-spacetime", "astar-crowd", "pso-spacetime", "abc-spaceti
 register("pso-unicycle", partial(UnicycleMetaheuristicAgent, optimizer="pso"))
 register("abc-unicycle", partial(UnicycleMetaheuristicAgent, optimizer="abc", population=40))  # 20 food sources
 #: The registered agents that drive only a unicycle (``gym.make(..., robot="unicycle")``).
-UNICYCLE_AGENTS = frozenset(name for name in available() if name in ("dwa", "pso-unicycle", "abc-unicycle") or name.startswith("tracked"))
+UNICYCLE_AGENTS = frozenset(
+    name for name in available() if name in ("dwa", "pso-unicycle", "abc-unicycle") or name.startswith(("tracked", "astar-unicycle"))
+)
 
 __all__ = [
-    "Agent", "ClairvoyantOracle", "DWAAgent", "TrackedAgent", "MetaheuristicAgent", "ORCAAgent", "RLAgent", "SpacetimeAStarAgent",
-    "SpacetimeMetaheuristicAgent", "StaticOracleAgent", "StraightAgent", "UNICYCLE_AGENTS", "UnicycleMetaheuristicAgent", "VelocityObstacleAgent",
+    "Agent", "ClairvoyantOracle", "DWAAgent", "TrackedAgent", "UnicycleAStarAgent", "MetaheuristicAgent", "ORCAAgent", "RLAgent",
+    "SpacetimeAStarAgent", "SpacetimeMetaheuristicAgent", "StaticOracleAgent", "StraightAgent", "UNICYCLE_AGENTS",
+    "UnicycleMetaheuristicAgent", "VelocityObstacleAgent",
     "available", "make", "register", "rollout",
 ]  # fmt: skip

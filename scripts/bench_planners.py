@@ -123,7 +123,7 @@ def optimality(n_scenes: int) -> list[tuple[str, int, float, float, float]]:
     return rows
 
 
-SPACETIME_PLANNERS = ("astar-spacetime", "pso-spacetime", "abc-spacetime")
+SPACETIME_PLANNERS = ("astar-spacetime", "pso-spacetime", "abc-spacetime", "astar-unicycle")  # the last drives the unicycle
 SPACETIME_TARGET_MS = (5.0, 50.0)  # median, p95
 
 
@@ -134,7 +134,8 @@ def spacetime_replan_times(episodes: int, deltas=(0.25, 0.5, 1.0, 2.0)) -> list[
     rows = []
     for name in tqdm(SPACETIME_PLANNERS, desc="space-time replans", leave=False):
         for delta_d in deltas:
-            env = gym.make("DynamicObstacle-v0", scenario="random", delta_d=delta_d)
+            robot = "unicycle" if name in agents.UNICYCLE_AGENTS else "holonomic"
+            env = gym.make("DynamicObstacle-v0", scenario="random", delta_d=delta_d, robot=robot)
             agent = agents.make(name, env, seed=0)
             agents.rollout(agent, env, seed=heldout_seeds(9, 1)[0])  # warm-up: numba's cache loads here
             times = []

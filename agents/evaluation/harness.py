@@ -101,9 +101,6 @@ def evaluate(
     for spec in entrants:
         if spec.label == LIMIT_AGENT and (spec.target is not limit_spec.target or spec.kwargs):
             raise ValueError(f"agent_names: the label {LIMIT_AGENT!r} is the physical limit's; give this agent another")
-    if limit and options.get("robot", "holonomic") != "holonomic":  # its search flies the holonomic robot's moves
-        raise ValueError(f"env_options: the limit ({LIMIT_AGENT}) exists for the holonomic robot only, not robot="
-                         f"{options['robot']!r}; run without it (limit=False, --no-limit)")  # fmt: skip
     if limit and LIMIT_AGENT not in own:
         entrants.append(limit_spec)
         own[LIMIT_AGENT] = {}  # the kwargs are meant for the agents asked for

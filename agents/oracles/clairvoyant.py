@@ -2,8 +2,11 @@
 
 Not a policy anyone could deploy, and the only agent allowed to look past the observation: it
 reads the episode's :class:`~pathplan_env.Scenario` from the env and steps a fresh copy of the
-world ahead, which gives every obstacle's position at every substep of the episode (the robot
-never moves an obstacle, so that future does not depend on what the robot does). It then searches
+world ahead, which gives every obstacle's position at every substep of the episode
+(:mod:`agents.oracles.future`: the robot never moves an obstacle, so that future does not depend
+on what the robot does). When the env's robot is a unicycle, ``ClairvoyantOracle(env)`` is the
+unicycle's oracle (:mod:`agents.oracles.clairvoyant_unicycle`), which searches the unicycle's own
+moves on the same future. Otherwise it searches
 (step, position) for the earliest collision-free arrival (:mod:`agents.planners.spacetime_search`:
 the scene's walls and polygons in its contact test and its lost-episode proof, its heuristic the
 static cost-to-go around them and the obstacles that never move) and flies the plan, which
@@ -17,18 +20,16 @@ they would have without the robot, says so (verdict ``"reactive"``) and gives no
 
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
 
-import pathplan_env
-from pathplan_env.env import DynamicObstacleEnv
-from pathplan_env.world import World
+from pathplan_env.unicycle import UnicycleAction
 
 from ..base import Agent
-from ..planners.costtogo import cost_to_go
 from ..planners.spacetime_search import BUDGET, FOUND, SearchSettings, SpacetimeProblem, heading_moves, provably_lost, search
+from .clairvoyant_unicycle import UnicycleClairvoyantOracle
+from .future import simulator_of, true_future
 
 #: What the oracle concludes about an episode: a plan, provably no plan, a failed search, or no
 #: limit because the obstacles react to the robot.
@@ -50,11 +51,18 @@ class ClairvoyantOracle(Agent):
     :param lost_cell: grid (m) of that reachable-set test.
     """
 
+    def __new__(cls, *args, **kwargs):
+        # the limit searches the env's own robot's moves: a unicycle's env gets the unicycle's oracle,
+        # built whole here (one name, ``oracle-clairvoyant``, is the harness's limit for every robot)
+        env = args[0] if args else kwargs.get("env")
+        if cls is ClairvoyantOracle and isinstance(getattr(getattr(env, "unwrapped", None), "action_type", None), UnicycleAction):
+            return UnicycleClairvoyantOracle(*args, **kwargs)
+        return super().__new__(cls)
+
     def __init__(self, env, seed: int | None = None, *, n_headings: int = 32, speed_fractions=(1.0, 0.5),
                  searches=((3.0, 0.03), (1.5, 0.03), (3.0, 0.06)), max_expansions: int = 100_000, lost_cell: float = 0.005):  # fmt: skip
         super().__init__(env, seed)
-        if not isinstance(getattr(env, "unwrapped", None), DynamicObstacleEnv):
-            raise ValueError("oracle-clairvoyant reads the simulator: it needs one DynamicObstacleEnv, not a vector env")
+        self._env, self.max_steps = simulator_of(env)
         if int(n_headings) != n_headings or n_headings < 4:
             raise ValueError(f"n_headings must be an integer >= 4, got {n_headings!r}")
         self.searches = tuple((float(w), float(c)) for w, c in searches)
@@ -62,9 +70,6 @@ class ClairvoyantOracle(Agent):
             raise ValueError(f"searches must be (weight >= 1, grid > 0) pairs, got {searches!r}")
         if not lost_cell > 0:
             raise ValueError(f"lost_cell must be > 0, got {lost_cell!r}")
-        self._env: DynamicObstacleEnv = env.unwrapped
-        spec = getattr(env, "spec", None)
-        self.max_steps = int(spec.max_episode_steps) if spec is not None and spec.max_episode_steps else pathplan_env.MAX_EPISODE_STEPS
         self.moves = heading_moves(int(n_headings), speed_fractions)
         self.max_expansions, self.lost_cell = int(max_expansions), float(lost_cell)
         self.verdict: str | None = None  # of the episode planned last
@@ -75,23 +80,10 @@ class ClairvoyantOracle(Agent):
         env = self._env
         scenario, world = env.scenario, env.world
         begin = time.perf_counter()
-        now = int(round(world.time / scenario.dt))
-        max_steps = self.max_steps
-        if scenario.time_limit is not None:  # the env truncates once the scenario's time limit has passed
-            max_steps = min(max_steps, math.ceil(scenario.time_limit / scenario.dt * (1.0 - 1e-12)))
-        remaining = max_steps - now
-        reactive = scenario.robot_visible and scenario.goal_directed
-        # the same episode, bit for bit, from its start (for reacting obstacles: as if the robot were invisible)
-        future = World(scenario.with_robot_visible(False) if reactive else scenario)
-        trajectory = future.obstacle_trajectory(max_steps)[now * future.substeps :]
-        problem = SpacetimeProblem(trajectory, future.substeps, scenario.robot_radius, world.radii, np.array(world.robot_xy),
-                                   np.array(scenario.goal), scenario.goal_radius, env.arena.box, env.robot_step_length)  # fmt: skip
-        if len(world.static_segments) or len(world.radii):  # walls in the contact test, the cost-to-go as heuristic
-            still = (trajectory[:, :, :2] == trajectory[:1, :, :2]).all(axis=(0, 2))  # obstacles that never move
-            statics = np.ascontiguousarray(world.static_segments, np.float64).reshape(-1, 5)
-            problem = problem._replace(statics=statics, cost_to_go=cost_to_go(
-                problem.goal, problem.goal_radius, problem.box, statics, problem.robot_radius,
-                trajectory[0, still, :2], world.radii[still]))  # fmt: skip
+        trajectory, substeps, remaining, reactive, statics, ctg = true_future(env, self.max_steps)
+        problem = SpacetimeProblem(trajectory, substeps, scenario.robot_radius, world.radii, np.array(world.robot_xy),
+                                   np.array(scenario.goal), scenario.goal_radius, env.arena.box, env.robot_step_length,
+                                   statics, ctg)  # fmt: skip
         expansions = 0
         for weight, cell in self.searches:
             result = search(problem, SearchSettings(self.moves, remaining, cell, self.max_expansions, weight))

@@ -34,3 +34,14 @@ def test_prediction_bounces_off_walls_as_the_env_does():
     assert hit >= 10, hit
     assert np.mean(with_walls < 1e-3) >= 0.75, sorted(with_walls)[-6:]
     assert np.mean(blind < 1e-3) <= 0.6
+
+
+def test_pso_spacetime_crosses_the_maze_where_the_walls_past_its_horizon_held_it():
+    """Past the horizon a wall scene's rest of the path is the cost-to-go, which goes around the
+    walls: charging Eq. 4 on the walls the rest's straight pieces cut as well held pso-spacetime at
+    a local minimum (this episode timed out at the start: 0.48 m in 200 steps)."""
+    import agents
+
+    env = gym.make("DynamicObstacle-v0", scenario="maze", delta_d=0.25)
+    info = agents.rollout(agents.make("pso-spacetime", env, seed=1000000002), env, 1000000002)
+    assert info["is_success"]

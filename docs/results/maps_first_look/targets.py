@@ -1,6 +1,6 @@
 """Issue 21's targets from runs of scripts/evaluate.py: per family and Δd, the limit (oracle-clairvoyant's
-success rate) and each planner's success ÷ limit, on the episodes every entrant of the cell finished
-(a run cut short still counts only episodes common to all).
+success rate) and each planner's success ÷ limit, each on the episodes both it and the limit finished
+(a planner with fewer than the cell's episodes, in a run cut short, shows its count).
 
     PYTHONPATH=. python docs/results/maps_first_look/targets.py docs/results/maps_first_look/bouncing docs/results/maps_first_look/crowd
 
@@ -37,16 +37,22 @@ def table(records: list[dict]) -> list[str]:
     for (scenario, delta_d), agents in sorted(cells.items()):
         if LIMIT not in agents:
             continue
-        common = set.intersection(*(set(done) for done in agents.values()))
-        limit = sum(agents[LIMIT][e] for e in common) / max(len(common), 1)
-        ratios = {p: sum(agents[p][e] for e in common) / max(len(common), 1) / limit if p in agents and limit > 0 else None for p in PLANNERS}
+        limits = agents[LIMIT]
+        ratios, counts = {}, {}
+        for p in PLANNERS:
+            common = set(agents.get(p, {})) & set(limits)
+            wins = sum(limits[e] for e in common)
+            ratios[p] = sum(agents[p][e] for e in common) / wins if common and wins else None
+            counts[p] = len(common)
         best = max((v for v in ratios.values() if v is not None), default=None)
+        limit = sum(limits.values()) / len(limits)
         crowd = scenario.endswith("-crowd")
         met = best is not None and best >= (0.95 if crowd else 0.97)
         meta = all(ratios[p] is not None and ratios[p] >= 0.90 for p in ("pso-spacetime", "abc-spacetime"))
         verdict = ("best ok" if met else "best FAILS") + ", " + ("pso/abc ok" if meta else "pso/abc FAIL")
-        cols = " | ".join("" if ratios[p] is None else f"{ratios[p]:.2f}" for p in PLANNERS)
-        lines.append(f"| {scenario} | {delta_d:g} | {len(common)} | {limit:.2f} | {cols} | {best:.2f} | {verdict} |")
+        best_text = "" if best is None else f"{best:.2f}"
+        cols = " | ".join("" if ratios[p] is None else f"{ratios[p]:.2f}" + (f" (n={counts[p]})" if counts[p] < len(limits) else "") for p in PLANNERS)
+        lines.append(f"| {scenario} | {delta_d:g} | {len(limits)} | {limit:.2f} | {cols} | {best_text} | {verdict} |")
     return lines
 
 

@@ -277,6 +277,9 @@ def timed_path_cost(x, scene):
     if arrival < 0.0:  # past the horizon: the rest of the path at top speed, against the horizon's obstacles
         last = traj[horizon_steps * n]
         rest = 0.0
+        # the walls the rest's straight pieces cut pay Eq. 4 only without a cost-to-go: with one, the
+        # rest costs at least the way around them (charging both held the planners at local minima)
+        rest_statics = statics if scene.cost_to_go.field.size == 0 else statics[:0]
         ax, ay = px, py
         for s in range(seg + 1, k + 2):
             bx, by = pts[s, 0], pts[s, 1]
@@ -287,7 +290,7 @@ def timed_path_cost(x, scene):
                 if d2 < r * r:
                     touched[o] = True
                     depth[o] = max(depth[o], r - math.sqrt(d2))
-            detour += capsule_penalty(ax, ay, bx, by, statics, robot_radius, penalty_weight)  # through a wall: Eq. 4
+            detour += capsule_penalty(ax, ay, bx, by, rest_statics, robot_radius, penalty_weight)  # through a wall: Eq. 4
             ax, ay = bx, by
         # and it is at least the static cost-to-go from where the horizon leaves the robot (the
         # straight line without walls: then the path's own rest, always as long, decides as before)

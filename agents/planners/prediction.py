@@ -30,14 +30,25 @@ def substeps_for(velocities: np.ndarray, radii: np.ndarray, dt: float) -> int:
 SOLVER_ITERATIONS = 10
 
 
+_NO_SEGMENTS = np.zeros((0, 5))
+
+
 @numba.njit(cache=True)
 def predict_obstacles(positions, velocities, radii, bounds, dt, n_steps, substeps):
+    """:func:`predict_among` in a scene without walls or polygons."""
+    return predict_among(positions, velocities, radii, bounds, _NO_SEGMENTS, dt, n_steps, substeps)
+
+
+@numba.njit(cache=True)
+def predict_among(positions, velocities, radii, bounds, segments, dt, n_steps, substeps):
     """Obstacle states ``(n_steps * substeps + 1, N, 4)`` (x, y, vx, vy) at every substep from now.
 
     Each substep moves every body, then solves all its contacts together as Chipmunk does:
     sequential impulses with restitution 1 (the target separating speed is the approaching speed
     at the start of the solve), accumulated impulses that never pull, ``SOLVER_ITERATIONS`` sweeps;
     walls and resting obstacles have infinite mass. Then every obstacle gets its own speed back.
+    The scene's walls and polygon edges (``segments``, capsule rows ``(x0, y0, x1, y1, half)``, as
+    pymunk's segment shapes) are walls too: the contact normal runs from the segment's nearest point.
     """
     n = radii.shape[0]
     out = np.empty((n_steps * substeps + 1, n, 4))
@@ -52,7 +63,8 @@ def predict_obstacles(positions, velocities, radii, bounds, dt, n_steps, substep
     h = dt / substeps
     lo = (bounds[0], bounds[1])
     hi = (bounds[2], bounds[3])
-    cap = n * (n - 1) // 2 + 4 * n + 1
+    n_seg = segments.shape[0]
+    cap = n * (n - 1) // 2 + 4 * n + n * n_seg + 1
     ca = np.empty(cap, np.int64)  # body a, or -1 for a wall
     cb = np.empty(cap, np.int64)
     cn = np.empty((cap, 2))  # normal from a to b
@@ -73,6 +85,17 @@ def predict_obstacles(positions, velocities, radii, bounds, dt, n_steps, substep
                         cn[m, 0], cn[m, 1] = 0.0, 0.0
                         cn[m, axis] = 1.0 if side == 0 else -1.0
                         m += 1
+            for k in range(n_seg if inv_mass[i] > 0.0 else 0):  # the scene's walls and polygon edges
+                ax, ay, ex, ey = segments[k, 0], segments[k, 1], segments[k, 2] - segments[k, 0], segments[k, 3] - segments[k, 1]
+                length_sq = ex * ex + ey * ey
+                t = ((x[i, 0] - ax) * ex + (x[i, 1] - ay) * ey) / length_sq if length_sq > 0.0 else 0.0
+                t = min(max(t, 0.0), 1.0)
+                dx, dy = x[i, 0] - (ax + t * ex), x[i, 1] - (ay + t * ey)
+                d = math.hypot(dx, dy)
+                if d < radii[i] + segments[k, 4] and d > 0.0:
+                    ca[m], cb[m] = -1, i
+                    cn[m, 0], cn[m, 1] = dx / d, dy / d
+                    m += 1
             for j in range(i + 1, n):
                 dx, dy = x[j, 0] - x[i, 0], x[j, 1] - x[i, 1]
                 d = math.hypot(dx, dy)

@@ -24,11 +24,11 @@ import numpy as np
 from pathplan_env.geometry import segment_segment_distance
 from pathplan_env.wrappers import EnvFacts
 
-from ..base import Agent, real_obstacles
+from ..base import Agent, real_obstacles, real_static_segments
 from .costtogo import CostToGo, observed_cost_to_go, route, waypoints_on
 from .metaheuristic import MetaheuristicAgent
 from .objective import TimedScene, walk_along
-from .prediction import predict_obstacles, substeps_for
+from .prediction import predict_among, substeps_for
 from .spacetime_search import BUDGET, EXHAUSTED, SearchSettings, SpacetimeProblem, heading_moves, replay, search
 
 #: How the planners predict the obstacles: the env's bounce physics, or a cone of three such
@@ -63,17 +63,18 @@ class SpacetimeModel:
     def predict_scene(self, obs):
         """``(trajectory, substeps, contact_radii, robot, goal)`` for one observation."""
         centers, velocities, radii = real_obstacles(obs)
+        segments = real_static_segments(obs)  # the obstacles bounce off walls as off the arena's edges
         n = substeps_for(velocities, radii, self.facts.dt)
         if self.prediction == "cone":  # three futures per obstacle: its heading and turned either way
             parts = []
             for angle in (-self.cone, 0.0, self.cone):
                 c, s_ = np.cos(angle), np.sin(angle)
                 turned = np.ascontiguousarray(velocities @ np.array([[c, s_], [-s_, c]]))
-                parts.append(predict_obstacles(centers, turned, radii, self.bounds, self.facts.dt, self.horizon_steps, n))
+                parts.append(predict_among(centers, turned, radii, self.bounds, segments, self.facts.dt, self.horizon_steps, n))
             trajectory = np.ascontiguousarray(np.concatenate(parts, axis=1))
             radii = np.concatenate([radii] * 3)
         else:
-            trajectory = predict_obstacles(centers, velocities, radii, self.bounds, self.facts.dt, self.horizon_steps, n)
+            trajectory = predict_among(centers, velocities, radii, self.bounds, segments, self.facts.dt, self.horizon_steps, n)
         rr = self.facts.robot_radius
         contact_radii = (radii + rr) * (1.0 + self.margin) - rr  # the margin on the contact distance
         robot = np.asarray(obs["robot_position"], np.float64)

@@ -37,6 +37,7 @@ test: $(FULL)
 BENCH_VENV := .venv-bench
 bench: $(CORE)
 	$(PY) scripts/bench_env.py
+	$(PY) scripts/bench_families.py
 	$(PY) -m pip install --quiet -e ".[sensors-bench]"
 	$(PY) scripts/bench_sensors.py
 	test -x $(BENCH_VENV)/bin/python || $(PYTHON) -m venv $(BENCH_VENV)

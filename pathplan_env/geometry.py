@@ -275,8 +275,18 @@ def shortest_path(
                 arc_info[(a, b)] = (c, t0, sw)
                 arc_info[(b, a)] = (c, t0 + sw, -sw)
 
+    chain, length = _graph_chain(rows, cols, weights, len(xy), eps)
+    if chain is None:
+        return None, math.inf
+    return _chain_points(chain, xy, arc_info, centers, radii, arc_resolution), length
+
+
+def _graph_chain(rows, cols, weights, n_nodes: int, eps: float) -> tuple[list[int] | None, float]:
+    """Dijkstra from node 0 (the start) to node 1 (the goal) over the tangent graph's edge lists:
+    the chain of nodes and its length (each edge's ``eps``, which keeps zero-length edges in the
+    sparse graph, taken back off); ``(None, inf)`` if the goal is unreachable."""
     rows, cols, w = np.concatenate(rows), np.concatenate(cols), np.concatenate(weights)
-    graph = coo_matrix((w + eps, (rows, cols)), shape=(len(xy), len(xy))).tocsr()
+    graph = coo_matrix((w + eps, (rows, cols)), shape=(n_nodes, n_nodes)).tocsr()
     dist, pred = dijkstra(graph, directed=False, indices=0, return_predecessors=True)
     if not np.isfinite(dist[1]):
         return None, math.inf
@@ -284,6 +294,12 @@ def shortest_path(
     while chain[-1] != 0:
         chain.append(pred[chain[-1]])
     chain.reverse()
+    return chain, float(dist[1] - eps * (len(chain) - 1))
+
+
+def _chain_points(chain, xy, arc_info, centers, radii, arc_resolution: float) -> np.ndarray:
+    """The chain as a polyline: straight edges as their end points, arcs (``arc_info[(a, b)]`` =
+    circle, start angle, sweep) sampled every ``arc_resolution`` metres."""
     points = [xy[chain[0]]]
     for a, b in zip(chain[:-1], chain[1:]):
         if (a, b) in arc_info:
@@ -293,5 +309,4 @@ def shortest_path(
             points.extend(centers[c] + radii[c] * np.stack([np.cos(ang), np.sin(ang)], axis=1))
         else:
             points.append(xy[b])
-    length = float(dist[1] - eps * (len(chain) - 1))
-    return np.asarray(points), length
+    return np.asarray(points)

@@ -19,10 +19,8 @@ from typing import NamedTuple
 
 import numba
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import dijkstra
 
-from pathplan_env.geometry import _bitangents, _capsule_ends, _point_tangents
+from pathplan_env.geometry import _bitangents, _capsule_ends, _chain_points, _graph_chain, _point_tangents
 
 _TOL = 1e-7  # the reference's tolerance: a point this close to a boundary is outside
 _SLACK = 1e-6  # pruning margin, far above float error: a pruned shape is farther than this from the point
@@ -251,15 +249,9 @@ def shortest_path(start, goal, centers, radii, bounds=None, arc_resolution: floa
             mine = ok & (arc_circle == c)
             arcs[int(c)] = (order[mine], nxt[mine], th[mine], sweep[mine])
 
-    rows, cols, w = np.concatenate(rows), np.concatenate(cols), np.concatenate(weights)
-    graph = coo_matrix((w + eps, (rows, cols)), shape=(len(xy), len(xy))).tocsr()
-    dist, pred = dijkstra(graph, directed=False, indices=0, return_predecessors=True)
-    if not np.isfinite(dist[1]):
+    chain, length = _graph_chain(rows, cols, weights, len(xy), eps)
+    if chain is None:
         return None, math.inf
-    chain = [1]
-    while chain[-1] != 0:
-        chain.append(pred[chain[-1]])
-    chain.reverse()
     arc_info = {}
     for c in sorted({int(circle[a]) for a in chain if circle[a] >= 0 and int(circle[a]) in arcs}):
         for a, b, t0, sw in zip(*arcs[c]):
@@ -267,14 +259,4 @@ def shortest_path(start, goal, centers, radii, bounds=None, arc_resolution: floa
             if (a, b) not in arc_info or abs(arc_info[(a, b)][2]) > sw:
                 arc_info[(a, b)] = (c, t0, sw)
                 arc_info[(b, a)] = (c, t0 + sw, -sw)
-    points = [xy[chain[0]]]
-    for a, b in zip(chain[:-1], chain[1:]):
-        if (a, b) in arc_info:
-            c, t0, sw = arc_info[(a, b)]
-            steps = max(2, int(math.ceil(abs(sw) * radii[c] / arc_resolution)))
-            ang = t0 + sw * np.linspace(0.0, 1.0, steps + 1)[1:]
-            points.extend(centers[c] + radii[c] * np.stack([np.cos(ang), np.sin(ang)], axis=1))
-        else:
-            points.append(xy[b])
-    length = float(dist[1] - eps * (len(chain) - 1))
-    return np.asarray(points), length
+    return _chain_points(chain, xy, arc_info, centers, radii, arc_resolution), length

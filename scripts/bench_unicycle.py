@@ -8,11 +8,17 @@ pursuit (``agents.reactive.tracker``), ``dwa`` the dynamic window approach (``ag
 
 ``--limit`` runs the evaluation harness instead (``agents.evaluation.evaluate``, ``--split test`` by
 default): each robot's agents and its clairvoyant limit (``oracle-clairvoyant``, which searches the
-unicycle's own moves when the robot is one) on random scenes at ``--deltas`` and on CrowdNav's circle
-crossing at its own speeds, and prints success ÷ limit with the median and p95 replanning time.
+unicycle's own moves when the robot is one) on random scenes at ``--deltas``, on CrowdNav's circle
+crossing at its own speeds and on a wall family (``--scenarios``; doorway by default) at ``--wall-delta``.
+The holonomic robot runs its best planner (``astar-spacetime``; ``astar-crowd`` on the crowd), the
+unicycle its native agents (space-time A* over its moves, ``astar-unicycle-crowd`` on the crowd;
+``pso-unicycle``, ``abc-unicycle``, ``dwa``). It writes the harness's outputs to ``--out/<robot>-<scenario>``
+as each finishes (``--resume`` continues them), prints one row per agent and cell with success ÷ limit and
+the replanning time, then the scene table for the README: both limits and each agent's success ÷ its
+own robot's limit.
 
     python scripts/bench_unicycle.py [--episodes 40] [--deltas 0.25 0.5] [--steps 20000]
-    python scripts/bench_unicycle.py --limit --episodes 40 --deltas 0.25 0.5 1 [--workers 2] [--out results/unicycle]
+    python scripts/bench_unicycle.py --limit --episodes 40 --deltas 0.25 0.5 1 --wall-delta 0.25 --workers 2 --out docs/results/unicycle [--resume]
 """
 
 from __future__ import annotations
@@ -25,6 +31,7 @@ import numpy as np
 
 import agents
 import pathplan_env  # noqa: F401
+from pathplan_env.families import FAMILIES
 from pathplan_env.splits import validation_seeds
 
 #: (label, agent, robot)
@@ -66,24 +73,45 @@ def success_table(episodes: int, deltas: list[float], n_obstacles: int = 8, only
         print(f"| {label} | {robot} | " + " | ".join(cells) + f" | {np.median(plan_ms):.1f} |", flush=True)
 
 
-#: ``--limit``: each robot's agents, each run against its own robot's limit.
-LIMIT_AGENTS = {"unicycle": ["astar-unicycle", "astar-unicycle-crowd", "dwa", "tracked-astar-spacetime"], "holonomic": ["astar-spacetime", "astar-crowd"]}
-LIMIT_SCENARIOS = [("random", "deltas"), ("crowdnav-circle-crossing", None)]  # None: the scenario's own speeds
+#: ``--limit``: per robot and kind of scene, its agents (each run against its own robot's limit): the best
+#: holonomic planner (the crowd-aware A* where humans walk toward goals), and the unicycle's native agents.
+LIMIT_AGENTS = {
+    "holonomic": {"random": ["astar-spacetime"], "crowd": ["astar-crowd"], "walls": ["astar-spacetime"]},
+    "unicycle": {
+        "random": ["astar-unicycle", "pso-unicycle", "abc-unicycle", "dwa"],
+        "crowd": ["astar-unicycle-crowd", "pso-unicycle", "abc-unicycle", "dwa"],
+        "walls": ["astar-unicycle", "pso-unicycle", "abc-unicycle", "dwa"],
+    },
+}
+#: (scenario, kind, cells): "deltas" runs ``--deltas``, "wall" ``--wall-delta``, None the scenario's own speeds
+LIMIT_SCENARIOS = [("random", "random", "deltas"), ("crowdnav-circle-crossing", "crowd", None)] + [(family, "walls", "wall") for family in FAMILIES]
+DEFAULT_SCENARIOS = ["random", "crowdnav-circle-crossing", "doorway"]
+#: the scene table's columns: (heading, robot, the agents filling it, one per kind of scene)
+COLUMNS = [
+    ("holonomic: space-time A* ÷ limit", "holonomic", ("astar-spacetime", "astar-crowd")),
+    ("unicycle: space-time A* ÷ limit", "unicycle", ("astar-unicycle", "astar-unicycle-crowd")),
+    ("pso-unicycle ÷ limit", "unicycle", ("pso-unicycle",)),
+    ("abc-unicycle ÷ limit", "unicycle", ("abc-unicycle",)),
+    ("dwa ÷ limit", "unicycle", ("dwa",)),
+]
 
 
 def limit_table(episodes: int, deltas: list[float], split: str, workers: int, out: str, only: list[str] | None = None,
-                robots: list[str] | None = None, scenarios: list[str] | None = None) -> list[dict]:  # fmt: skip
-    """Run the harness per robot and scenario; print one row per (agent, scenario, Δd) with success ÷ limit."""
+                robots: list[str] | None = None, scenarios: list[str] | None = None, wall_delta: float = 0.25,
+                resume: bool = False) -> list[dict]:  # fmt: skip
+    """Run the harness per robot and scenario (outputs under ``out/<robot>-<scenario>``); print one row per
+    (agent, scenario, Δd) with success ÷ limit, then the scene table (:func:`scene_table`)."""
     from agents.evaluation import evaluate
 
     rows = []
-    for robot in robots or list(LIMIT_AGENTS):
-        names = [n for n in LIMIT_AGENTS[robot] if not only or n in only]
-        for scenario, cell in [(s, c) for s, c in LIMIT_SCENARIOS if not scenarios or s in scenarios]:
-            cells = deltas if cell == "deltas" else [None]
+    chosen = [entry for entry in LIMIT_SCENARIOS if entry[0] in (scenarios or DEFAULT_SCENARIOS)]
+    for scenario, kind, cell in chosen:  # scene by scene, both robots: a cut-short run still has whole rows
+        cells = deltas if cell == "deltas" else [wall_delta] if cell == "wall" else [None]
+        for robot in robots or list(LIMIT_AGENTS):
+            names = [n for n in LIMIT_AGENTS[robot][kind] if not only or n in only]
             options = {"robot": robot} if robot != "holonomic" else None
             rows += [r | {"robot": robot} for r in evaluate(names, [scenario], cells, episodes, f"{out}/{robot}-{scenario}", split=split,
-                                                            workers=workers, env_options=options, plots=False)]  # fmt: skip
+                                                            workers=workers, env_options=options, plots=False, resume=resume)]  # fmt: skip
     print(f"\n{episodes} {split} episodes a cell (8 obstacles on random scenes); limit: oracle-clairvoyant on the same robot")
     print("| agent | robot | scenario | Δd | success | limit | success ÷ limit | plan ms median | p95 |")
     print("|---|---|---|---:|---:|---:|---:|---:|---:|")
@@ -94,7 +122,33 @@ def limit_table(episodes: int, deltas: list[float], split: str, workers: int, ou
         delta = "own" if r["delta_d"] is None else f"{r['delta_d']:g}"
         print(f"| {r['agent']} | {r['robot']} | {r['scenario']} | {delta} | {r['success_rate']:.3f} | {r.get('limit', float('nan')):.3f} | "
               f"{'-' if over is None else f'{over:.3f}'} | {r['plan_ms_median']:.2f} | {r['plan_ms_p95']:.1f} |", flush=True)  # fmt: skip
+    print()
+    print(scene_table(rows))
     return rows
+
+
+def scene_table(rows: list[dict]) -> str:
+    """Markdown: one row per scene (scenario, Δd), each robot's limit (oracle-clairvoyant's success) and
+    each agent's success ÷ its own robot's limit ("-" where not run, "n/a" where there is no limit)."""
+    by = {(r["robot"], r["agent"], r["scenario"], r["delta_d"]): r for r in rows}
+    scenes = list(dict.fromkeys((r["scenario"], r["delta_d"]) for r in rows))
+
+    def limit(robot, scene):
+        return next((r["limit"] for (rb, _, s, d), r in by.items() if rb == robot and (s, d) == scene and "limit" in r), None)
+
+    def ratio(robot, agents, scene):
+        found = [by[(robot, a, *scene)] for a in agents if (robot, a, *scene) in by]
+        over = found[0].get("success_over_limit") if found else None
+        return "-" if not found else "n/a" if over is None else f"{over:.2f}"
+
+    lines = ["| scene | holonomic limit | unicycle limit | " + " | ".join(c[0] for c in COLUMNS) + " |",
+             "|---|" + "---:|" * (2 + len(COLUMNS))]  # fmt: skip
+    for scene in scenes:
+        name = scene[0] + ("" if scene[1] is None else f", Δd {scene[1]:g}")
+        limits = [limit(robot, scene) for robot in ("holonomic", "unicycle")]
+        lines.append(f"| {name} | " + " | ".join("-" if v is None else f"{v:.2f}" for v in limits) + " | "
+                     + " | ".join(ratio(robot, agents, scene) for _, robot, agents in COLUMNS) + " |")  # fmt: skip
+    return "\n".join(lines)
 
 
 def speed_table(steps: int, repeats: int) -> None:
@@ -124,7 +178,14 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--split", default="test", help="--limit: the seeds' split (test, validation)")
     parser.add_argument("--robots", nargs="+", choices=sorted(LIMIT_AGENTS), help="--limit: the robots (default: both)")
     parser.add_argument("--workers", type=int, default=1, help="--limit: harness processes")
-    parser.add_argument("--scenarios", nargs="+", choices=[s for s, _ in LIMIT_SCENARIOS], help="--limit: the scenarios (default: all)")
+    parser.add_argument(
+        "--scenarios",
+        nargs="+",
+        choices=[s for s, _, _ in LIMIT_SCENARIOS],
+        help=f"--limit: the scenarios (default: {' '.join(DEFAULT_SCENARIOS)}; a wall family at --wall-delta)",
+    )
+    parser.add_argument("--wall-delta", type=float, default=0.25, help="--limit: the wall family's Δd")
+    parser.add_argument("--resume", action="store_true", help="--limit: continue the harness's runs under --out")
     parser.add_argument("--out", default="results/bench_unicycle", help="--limit: the harness's output directory")
     return parser.parse_args(argv)
 
@@ -133,7 +194,7 @@ def main(argv=None) -> None:
     args = parse_args(argv)
     start = time.perf_counter()
     if args.limit:
-        limit_table(args.episodes, args.deltas, args.split, args.workers, args.out, args.only, args.robots, args.scenarios)
+        limit_table(args.episodes, args.deltas, args.split, args.workers, args.out, args.only, args.robots, args.scenarios, args.wall_delta, args.resume)
         print(f"\n({time.perf_counter() - start:.0f} s)")
         return
     if not args.skip_speed:

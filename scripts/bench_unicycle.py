@@ -28,8 +28,8 @@ import time
 
 import gymnasium as gym
 import numpy as np
+from bench_unicycle_controls import run_cell  # the episode loop both scripts use
 
-import agents
 import pathplan_env  # noqa: F401
 from pathplan_env.families import FAMILIES
 from pathplan_env.splits import validation_seeds
@@ -55,20 +55,8 @@ def success_table(episodes: int, deltas: list[float], n_obstacles: int = 8, only
             continue
         cells, plan_ms = [], []
         for delta_d in deltas:
-            env = gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=n_obstacles, delta_d=delta_d, robot=robot)
-            agent = agents.make(name, env, seed=0)
-            outcomes = []
-            for seed in seeds:
-                agent.reset()
-                obs, info = env.reset(seed=seed)
-                while True:
-                    action, _ = agent.predict(obs, deterministic=True)
-                    plan_ms.append(1e3 * agent.last_plan_seconds)
-                    obs, _, terminated, truncated, info = env.step(action)
-                    if terminated or truncated:
-                        break
-                outcomes.append((info["is_success"], info["collision"]))
-            won, hit = np.mean(outcomes, axis=0)
+            won, hit, cell_ms, _ = run_cell(name, delta_d, seeds, n_obstacles, {}, robot=robot)
+            plan_ms += cell_ms
             cells.append(f"{won:.3f} ({hit:.3f})")
         print(f"| {label} | {robot} | " + " | ".join(cells) + f" | {np.median(plan_ms):.1f} |", flush=True)
 

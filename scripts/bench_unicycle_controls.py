@@ -25,10 +25,12 @@ from pathplan_env.splits import episode_seeds
 AGENTS = ["pso-unicycle", "abc-unicycle", "tracked-pso-spacetime", "dwa"]
 
 
-def run_cell(name: str, delta_d: float, seeds: list[int], n_obstacles: int, overrides: dict) -> tuple[float, float, list[float], list[float]]:
+def run_cell(name: str, delta_d: float, seeds: list[int], n_obstacles: int, overrides: dict,
+             robot: str = "unicycle") -> tuple[float, float, list[float], list[float]]:  # fmt: skip
     """``(success rate, collision rate, plan times in ms, plan CPU times in ms)`` of one agent on the
-    episodes ``seeds`` (the CPU time, this process's, is what a shared machine's load changes least)."""
-    env = gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=n_obstacles, delta_d=delta_d, robot="unicycle")
+    random-scene episodes ``seeds`` (the CPU time, this process's, is what a shared machine's load
+    changes least); ``overrides`` go to the ``*-unicycle`` agents only. ``bench_unicycle`` runs it too."""
+    env = gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=n_obstacles, delta_d=delta_d, robot=robot)
     agent = agents.make(name, env, seed=0, **(overrides if name.endswith("-unicycle") else {}))
     outcomes, plan_ms, cpu_ms = [], [], []
     for seed in seeds:

@@ -189,13 +189,7 @@ def shortest_path(
     :return: ``(polyline, length)``: the path as points (arcs sampled every ``arc_resolution``
         metres), or ``(None, inf)`` when the goal cannot be reached.
     """
-    start, goal = np.asarray(start, float), np.asarray(goal, float)
-    centers = np.asarray(centers, float).reshape(-1, 2)
-    radii = np.asarray(radii, float).reshape(-1)
-    capsules = np.empty((0, 5)) if capsules is None else np.asarray(capsules, float).reshape(-1, 5)
-    if len(capsules):
-        ends, reaches = _capsule_ends(capsules)
-        centers, radii = np.concatenate([centers, ends]), np.concatenate([radii, reaches])
+    start, goal, centers, radii, capsules = _path_inputs(start, goal, centers, radii, capsules)
     eps = 1e-9
     # nodes: 0 start, 1 goal, then tangent points (circle index, angle)
     node_xy = [start, goal]
@@ -279,6 +273,19 @@ def shortest_path(
     if chain is None:
         return None, math.inf
     return _chain_points(chain, xy, arc_info, centers, radii, arc_resolution), length
+
+
+def _path_inputs(start, goal, centers, radii, capsules):
+    """The shortest path's arguments as float arrays, every capsule's two end discs appended to the
+    circles (a path turns round a wall's end as round a disc)."""
+    start, goal = np.asarray(start, float), np.asarray(goal, float)
+    centers = np.asarray(centers, float).reshape(-1, 2)
+    radii = np.asarray(radii, float).reshape(-1)
+    capsules = np.empty((0, 5)) if capsules is None else np.asarray(capsules, float).reshape(-1, 5)
+    if len(capsules):
+        ends, reaches = _capsule_ends(capsules)
+        centers, radii = np.concatenate([centers, ends]), np.concatenate([radii, reaches])
+    return start, goal, centers, radii, capsules
 
 
 def _graph_chain(rows, cols, weights, n_nodes: int, eps: float) -> tuple[list[int] | None, float]:

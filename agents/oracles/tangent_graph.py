@@ -20,7 +20,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from pathplan_env.geometry import _bitangents, _capsule_ends, _chain_points, _graph_chain, _point_tangents
+from pathplan_env.geometry import _bitangents, _chain_points, _graph_chain, _path_inputs, _point_tangents
 
 _TOL = 1e-7  # the reference's tolerance: a point this close to a boundary is outside
 _SLACK = 1e-6  # pruning margin, far above float error: a pruned shape is farther than this from the point
@@ -175,13 +175,7 @@ def arcs_blocked(points, circle, shapes, bounds):
 
 def shortest_path(start, goal, centers, radii, bounds=None, arc_resolution: float = 0.05, capsules=None):
     """``pathplan_env.geometry.shortest_path``, argument for argument and result for result."""
-    start, goal = np.asarray(start, float), np.asarray(goal, float)
-    centers = np.asarray(centers, float).reshape(-1, 2)
-    radii = np.asarray(radii, float).reshape(-1)
-    capsules = np.empty((0, 5)) if capsules is None else np.asarray(capsules, float).reshape(-1, 5)
-    if len(capsules):
-        ends, reaches = _capsule_ends(capsules)
-        centers, radii = np.concatenate([centers, ends]), np.concatenate([radii, reaches])
+    start, goal, centers, radii, capsules = _path_inputs(start, goal, centers, radii, capsules)
     centers, radii, capsules = np.ascontiguousarray(centers), np.ascontiguousarray(radii), np.ascontiguousarray(capsules)
     shapes = Shapes(centers, radii, capsules)
     eps = 1e-9

@@ -49,14 +49,19 @@ class UnicycleClairvoyantOracle(Agent):
         the true future; ``None`` to skip it.
     :param searches: then the successive searches over the whole episode, ``(heuristic weight, merge grid
         in m, heading bin in rad)`` each; a search that fails hands over to the next.
-    :param max_expansions: node budget of each search; after the last the episode is "undetermined"
-        unless the reachable-set test proves it lost.
+    :param max_expansions: node budget of each search.
+    :param last_resort: where all of those fail, one more search over the whole episode, ``(heuristic weight,
+        merge grid in m, heading bin in rad, budget factor)``: its budget is ``budget factor × max_expansions``
+        (hard episodes need more nodes than the first tries may spend: at Δd 0.5 and 1, 140,000-670,000 on
+        the coarse grid); the worst case stays bounded, at about ``(2 × len(searches) + budget factor) ×
+        max_expansions`` nodes in all (the receding scheme spends at most what the searches may); ``None`` to skip it. After it the episode is
+        "undetermined" unless the reachable-set test proves it lost.
     :param lost_cell: grid (m) of that test.
     """
 
     def __init__(self, env, seed: int | None = None, *, speed_steps=(-1.0, 0.0, 1.0), turn_steps=(-1.0, -0.5, 0.0, 0.5, 1.0),
                  receding=(20, 10, 0.05, 0.1, 2000, 20), searches=((3.0, 0.03, 0.05), (1.5, 0.03, 0.05), (3.0, 0.06, 0.1)),
-                 max_expansions: int = 100_000, lost_cell: float = 0.005):  # fmt: skip
+                 max_expansions: int = 100_000, last_resort=(3.0, 0.06, 0.1, 10), lost_cell: float = 0.005):  # fmt: skip
         super().__init__(env, seed)
         self._env, self.max_steps = simulator_of(env)
         self.model = unicycle_model(env)
@@ -71,6 +76,14 @@ class UnicycleClairvoyantOracle(Agent):
         # checked here, each by name (settings raises ValueError naming the field)
         self.unicycle_searches = tuple(settings(speed_steps, turn_steps, 1, cell, heading_bin, self.max_expansions, weight)
                                        for weight, cell, heading_bin in searches)  # fmt: skip
+        self.last_resort = None
+        if last_resort is not None:
+            if len(last_resort) != 4:
+                raise ValueError(f"last_resort must be (weight, grid, heading bin, budget factor) or None, got {last_resort!r}")
+            weight, cell, heading_bin, factor = last_resort
+            if isinstance(factor, bool) or int(factor) != factor or factor < 1:
+                raise ValueError(f"last_resort: its budget factor must be a positive integer, got {factor!r}")
+            self.last_resort = settings(speed_steps, turn_steps, 1, cell, heading_bin, self.max_expansions * int(factor), weight)
         self.receding = None
         if receding is not None:
             if len(receding) != 6:
@@ -123,13 +136,17 @@ class UnicycleClairvoyantOracle(Agent):
         walls = np.ascontiguousarray(np.vstack([statics, arena_edges(scenario.bounds)]))  # the arena's edges: walls to a unicycle
         problem = UnicycleProblem(trajectory, substeps, scenario.robot_radius, world.radii, start, np.array(scenario.goal),
                                   scenario.goal_radius, self.model, walls, ctg)  # fmt: skip
-        expansions = 0
+        expansions, found_by = 0, None
         if self.receding is not None:  # cheap where it works; the searches over the whole episode where it does not
             result, expansions = self.receding_plan(problem, remaining)
-        for entry in self.unicycle_searches if self.receding is None or result.outcome != FOUND else ():
+            found_by = "receding" if result.outcome == FOUND else None
+        stages = [(f"search {i + 1}", entry) for i, entry in enumerate(self.unicycle_searches)]
+        stages += [("last resort", self.last_resort)] if self.last_resort is not None else []
+        for name, entry in stages if found_by is None else ():
             result = search(problem, entry._replace(max_steps=remaining))  # a failed search hands over: its grid may be why
             expansions += result.expansions
             if result.outcome == FOUND:
+                found_by = name
                 break
         lost_at = None
         if result.outcome == FOUND:
@@ -143,7 +160,7 @@ class UnicycleClairvoyantOracle(Agent):
         if reactive:
             verdict = "reactive"
         self.verdict = verdict
-        self.last_search = {"verdict": verdict, "steps": len(result.actions), "expansions": int(expansions),
+        self.last_search = {"verdict": verdict, "found_by": found_by, "steps": len(result.actions), "expansions": int(expansions),
                             "lost_at_step": lost_at, "seconds": time.perf_counter() - begin}  # fmt: skip
         return {"actions": result.actions, "poses": result.poses, "next": 0}
 

@@ -46,9 +46,12 @@ for _planner in ("astar-spacetime", "astar-crowd", "pso-spacetime", "abc-spaceti
 # the paper's optimisers on the unicycle's own control sequence
 register("pso-unicycle", partial(UnicycleMetaheuristicAgent, optimizer="pso"))
 register("abc-unicycle", partial(UnicycleMetaheuristicAgent, optimizer="abc", population=40))  # 20 food sources
+# for crowds that steer (CrowdNav's circle crossing): the cone of predicted futures and a 10 % margin
+register("pso-unicycle-crowd", partial(UnicycleMetaheuristicAgent, optimizer="pso", prediction="cone", margin=0.1))
+register("abc-unicycle-crowd", partial(UnicycleMetaheuristicAgent, optimizer="abc", population=40, prediction="cone", margin=0.1))
 #: The registered agents that drive only a unicycle (``gym.make(..., robot="unicycle")``).
 UNICYCLE_AGENTS = frozenset(
-    name for name in available() if name in ("dwa", "pso-unicycle", "abc-unicycle") or name.startswith(("tracked", "astar-unicycle"))
+    name for name in available() if name == "dwa" or name.startswith(("tracked", "astar-unicycle", "pso-unicycle", "abc-unicycle"))
 )
 
 __all__ = [

@@ -11,19 +11,22 @@ default): each robot's agents and its clairvoyant limit (``oracle-clairvoyant``,
 unicycle's own moves when the robot is one) on random scenes at ``--deltas``, on CrowdNav's circle
 crossing at its own speeds and on a wall family (``--scenarios``; doorway by default) at ``--wall-delta``.
 The holonomic robot runs its best planner (``astar-spacetime``; ``astar-crowd`` on the crowd), the
-unicycle its native agents (space-time A* over its moves, ``astar-unicycle-crowd`` on the crowd;
-``pso-unicycle``, ``abc-unicycle``, ``dwa``). It writes the harness's outputs to ``--out/<robot>-<scenario>``
+unicycle its native agents (space-time A* over its moves, ``pso-unicycle``, ``abc-unicycle``, ``dwa``;
+on the crowd their ``-crowd`` variants, which predict a cone of futures with a larger margin). It writes the harness's outputs to ``--out/<robot>-<scenario>``
 as each finishes (``--resume`` continues them), prints one row per agent and cell with success ÷ limit and
 the replanning time, then the scene table for the README: both limits and each agent's success ÷ its
-own robot's limit.
+own robot's limit. ``--tables-only`` prints both tables from the ``summary.json`` files under ``--out``
+(the committed results; ``--resume`` needs the git-ignored ``episodes.jsonl`` records).
 
     python scripts/bench_unicycle.py [--episodes 40] [--deltas 0.25 0.5] [--steps 20000]
     python scripts/bench_unicycle.py --limit --episodes 40 --deltas 0.25 0.5 1 --wall-delta 0.25 --workers 2 --out docs/results/unicycle [--resume]
+    python scripts/bench_unicycle.py --tables-only --out docs/results/unicycle
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import time
 
 import gymnasium as gym
@@ -67,7 +70,7 @@ LIMIT_AGENTS = {
     "holonomic": {"random": ["astar-spacetime"], "crowd": ["astar-crowd"], "walls": ["astar-spacetime"]},
     "unicycle": {
         "random": ["astar-unicycle", "pso-unicycle", "abc-unicycle", "dwa"],
-        "crowd": ["astar-unicycle-crowd", "pso-unicycle", "abc-unicycle", "dwa"],
+        "crowd": ["astar-unicycle-crowd", "pso-unicycle-crowd", "abc-unicycle-crowd", "dwa"],
         "walls": ["astar-unicycle", "pso-unicycle", "abc-unicycle", "dwa"],
     },
 }
@@ -78,8 +81,8 @@ DEFAULT_SCENARIOS = ["random", "crowdnav-circle-crossing", "doorway"]
 COLUMNS = [
     ("holonomic: space-time A* ÷ limit", "holonomic", ("astar-spacetime", "astar-crowd")),
     ("unicycle: space-time A* ÷ limit", "unicycle", ("astar-unicycle", "astar-unicycle-crowd")),
-    ("pso-unicycle ÷ limit", "unicycle", ("pso-unicycle",)),
-    ("abc-unicycle ÷ limit", "unicycle", ("abc-unicycle",)),
+    ("pso-unicycle ÷ limit", "unicycle", ("pso-unicycle", "pso-unicycle-crowd")),
+    ("abc-unicycle ÷ limit", "unicycle", ("abc-unicycle", "abc-unicycle-crowd")),
     ("dwa ÷ limit", "unicycle", ("dwa",)),
 ]
 
@@ -100,7 +103,26 @@ def limit_table(episodes: int, deltas: list[float], split: str, workers: int, ou
             options = {"robot": robot} if robot != "holonomic" else None
             rows += [r | {"robot": robot} for r in evaluate(names, [scenario], cells, episodes, f"{out}/{robot}-{scenario}", split=split,
                                                             workers=workers, env_options=options, plots=False, resume=resume)]  # fmt: skip
-    print(f"\n{episodes} {split} episodes a cell (8 obstacles on random scenes); limit: oracle-clairvoyant on the same robot")
+    print_tables(rows, f"{episodes} {split} episodes a cell")
+    return rows
+
+
+def rows_on_record(out: str) -> list[dict]:
+    """The summary rows of every ``out/<robot>-<scenario>/summary.json``, each with its robot, in the run's order."""
+    from pathlib import Path
+
+    rows = []
+    for scenario, _, _ in LIMIT_SCENARIOS:
+        for robot in LIMIT_AGENTS:
+            path = Path(out) / f"{robot}-{scenario}" / "summary.json"
+            if path.exists():
+                rows += [r | {"robot": robot} for r in json.loads(path.read_text())["results"]]
+    return rows
+
+
+def print_tables(rows: list[dict], episodes: str) -> None:
+    """One row per agent and cell with success ÷ limit and the replanning time, then :func:`scene_table`."""
+    print(f"\n{episodes} (8 obstacles on random scenes); limit: oracle-clairvoyant on the same robot")
     print("| agent | robot | scenario | Δd | success | limit | success ÷ limit | plan ms median | p95 |")
     print("|---|---|---|---:|---:|---:|---:|---:|---:|")
     for r in rows:
@@ -112,7 +134,6 @@ def limit_table(episodes: int, deltas: list[float], split: str, workers: int, ou
               f"{'-' if over is None else f'{over:.3f}'} | {r['plan_ms_median']:.2f} | {r['plan_ms_p95']:.1f} |", flush=True)  # fmt: skip
     print()
     print(scene_table(rows))
-    return rows
 
 
 def scene_table(rows: list[dict]) -> str:
@@ -174,6 +195,7 @@ def parse_args(argv=None) -> argparse.Namespace:
     )
     parser.add_argument("--wall-delta", type=float, default=0.25, help="--limit: the wall family's Δd")
     parser.add_argument("--resume", action="store_true", help="--limit: continue the harness's runs under --out")
+    parser.add_argument("--tables-only", action="store_true", help="print the --limit tables from the summary.json files under --out")
     parser.add_argument("--out", default="results/bench_unicycle", help="--limit: the harness's output directory")
     return parser.parse_args(argv)
 
@@ -181,6 +203,10 @@ def parse_args(argv=None) -> argparse.Namespace:
 def main(argv=None) -> None:
     args = parse_args(argv)
     start = time.perf_counter()
+    if args.tables_only:
+        rows = rows_on_record(args.out)
+        print_tables(rows, "episodes as on record in each cell's summary.json")
+        return
     if args.limit:
         limit_table(args.episodes, args.deltas, args.split, args.workers, args.out, args.only, args.robots, args.scenarios, args.wall_delta, args.resume)
         print(f"\n({time.perf_counter() - start:.0f} s)")

@@ -4,9 +4,12 @@ control sequences) beside ``tracked-pso-spacetime`` (the holonomic planner drive
 
 Random scenes (8 obstacles), ``robot="unicycle"``; ``--split test`` (default) draws
 ``pathplan_env.splits`` test seeds, never used for tuning (tune on ``--split validation``).
+``--scenario`` runs a preset at its own speeds instead (e.g. ``crowdnav-circle-crossing``) and lists
+the seeds of the episodes each agent fails (``c``: a collision, ``t``: a timeout).
 
     python scripts/bench_unicycle_controls.py [--episodes 40] [--deltas 0.25 0.5] [--split test]
-        [--agents pso-unicycle abc-unicycle tracked-pso-spacetime dwa] [--set iterations=20 ...]
+        [--agents pso-unicycle,abc-unicycle,tracked-pso-spacetime,dwa] [--set iterations=20 ...]
+    python scripts/bench_unicycle_controls.py --scenario crowdnav-circle-crossing --split validation --agents abc-unicycle
 """
 
 from __future__ import annotations
@@ -25,18 +28,21 @@ from pathplan_env.splits import episode_seeds
 AGENTS = ["pso-unicycle", "abc-unicycle", "tracked-pso-spacetime", "dwa"]
 
 
-def run_cell(name: str, delta_d: float, seeds: list[int], n_obstacles: int, overrides: dict,
-             robot: str = "unicycle") -> tuple[float, float, list[float], list[float]]:  # fmt: skip
+def run_cell(name: str, delta_d: float | None, seeds: list[int], n_obstacles: int | None, overrides: dict, robot: str = "unicycle",
+             scenario: str = "random", outcomes: list | None = None) -> tuple[float, float, list[float], list[float]]:  # fmt: skip
     """``(success rate, collision rate, plan times in ms, plan CPU times in ms)`` of one agent on the
-    random-scene episodes ``seeds`` (the CPU time, this process's, is what a shared machine's load
-    changes least); ``overrides`` go to the ``*-unicycle`` agents only. ``bench_unicycle`` runs it too."""
-    env = gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=n_obstacles, delta_d=delta_d, robot=robot)
-    agent = agents.make(name, env, seed=0, **(overrides if name.endswith("-unicycle") else {}))
-    outcomes, plan_ms, cpu_ms = [], [], []
+    episodes ``seeds`` of ``scenario`` (the CPU time, this process's, is what a shared machine's load
+    changes least); ``overrides`` go to the ``*-unicycle`` agents only; ``outcomes``, if given, receives each
+    episode's ``(seed, success, collision, steps)``. ``bench_unicycle`` runs it too."""
+    env = gym.make("DynamicObstacle-v0", scenario=scenario, n_obstacles=n_obstacles, delta_d=delta_d, robot=robot)
+    agent = agents.make(name, env, seed=0, **(overrides if name.endswith(("-unicycle", "-unicycle-crowd")) else {}))
+    results, plan_ms, cpu_ms = [], [], []
     for seed in seeds:
         agent.reset()
         obs, info = env.reset(seed=seed)
+        steps = 0
         while True:
+            steps += 1
             cpu = time.process_time()
             action, _ = agent.predict(obs, deterministic=True)
             cpu_ms.append(1e3 * (time.process_time() - cpu))
@@ -44,8 +50,10 @@ def run_cell(name: str, delta_d: float, seeds: list[int], n_obstacles: int, over
             obs, _, terminated, truncated, info = env.step(action)
             if terminated or truncated:
                 break
-        outcomes.append((info["is_success"], info["collision"]))
-    won, hit = np.mean(outcomes, axis=0)
+        results.append((info["is_success"], info["collision"]))
+        if outcomes is not None:
+            outcomes.append((seed, bool(info["is_success"]), bool(info["collision"]), steps))
+    won, hit = np.mean(results, axis=0)
     return float(won), float(hit), plan_ms, cpu_ms
 
 
@@ -56,6 +64,7 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--split", choices=("test", "validation"), default="test")
     parser.add_argument("--agents", default=",".join(AGENTS), help="comma-separated agent names")
     parser.add_argument("--obstacles", type=int, default=8)
+    parser.add_argument("--scenario", default="random", help="a preset; any but random runs at its own speeds and obstacle count")
     parser.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE", help="overrides for the *-unicycle agents")
     return parser.parse_args(argv)
 
@@ -64,19 +73,25 @@ def main(argv=None) -> None:
     args = parse_args(argv)
     overrides = {key: ast.literal_eval(value) for key, value in (item.split("=", 1) for item in args.set)}
     seeds = [int(s) for s in episode_seeds(args.split, 0, args.episodes)]
-    print(f"random scenes, {args.obstacles} obstacles, unicycle, {args.episodes} {args.split} episodes (seeds {seeds[0]}..{seeds[-1]})"
+    own = args.scenario != "random"
+    deltas, n_obstacles = ([None], None) if own else (args.deltas, args.obstacles)
+    scene = f"{args.scenario} at its own speeds" if own else f"random scenes, {args.obstacles} obstacles"
+    print(f"{scene}, unicycle, {args.episodes} {args.split} episodes (seeds {seeds[0]}..{seeds[-1]})"
           + (f", overrides {overrides}" if overrides else ""))  # fmt: skip
-    print("| agent | " + " | ".join(f"Δd {d}: success (collisions)" for d in args.deltas) + " | median plan ms | median plan CPU ms | wall s |")
-    print("|---|" + "---:|" * (len(args.deltas) + 3))
+    heads = ["success (collisions)"] if own else [f"Δd {d}: success (collisions)" for d in deltas]
+    print("| agent | " + " | ".join(heads) + " | median plan ms | median plan CPU ms | wall s |" + (" failed episodes |" if own else ""))
+    print("|---|" + "---:|" * (len(deltas) + 3) + ("---|" if own else ""))
     for name in args.agents.split(","):
         begin = time.perf_counter()
-        cells, plan_ms, cpu_ms = [], [], []
-        for delta_d in args.deltas:
-            won, hit, times, cpu = run_cell(name, delta_d, seeds, args.obstacles, overrides)
+        cells, plan_ms, cpu_ms, outcomes = [], [], [], []
+        for delta_d in deltas:
+            won, hit, times, cpu = run_cell(name, delta_d, seeds, n_obstacles, overrides, scenario=args.scenario, outcomes=outcomes)
             cells.append(f"{won:.3f} ({hit:.3f})")
             plan_ms, cpu_ms = plan_ms + times, cpu_ms + cpu
         wall = time.perf_counter() - begin
-        print(f"| {name} | " + " | ".join(cells) + f" | {np.median(plan_ms):.2f} | {np.median(cpu_ms):.2f} | {wall:.0f} |", flush=True)
+        failed = " ".join(f"{seed - seeds[0]}{'c' if hit else 't'}" for seed, won, hit, _ in outcomes if not won)
+        print(f"| {name} | " + " | ".join(cells) + f" | {np.median(plan_ms):.2f} | {np.median(cpu_ms):.2f} | {wall:.0f} |"
+              + (f" {failed} |" if own else ""), flush=True)  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -111,3 +111,16 @@ def test_they_drive_only_a_unicycle():
     assert {"pso-unicycle", "abc-unicycle"} <= agents.UNICYCLE_AGENTS
     with pytest.raises(ValueError, match="unicycle"):
         agents.make("abc-unicycle", gym.make("DynamicObstacle-v0"))
+
+
+@pytest.mark.parametrize("name", ["pso-unicycle-crowd", "abc-unicycle-crowd"])
+def test_the_crowd_variants_predict_a_cone_with_a_margin(name):
+    assert name in agents.UNICYCLE_AGENTS
+    env = gym.make("DynamicObstacle-v0", scenario="crowdnav-circle-crossing", robot="unicycle")
+    agent = agents.make(name, env, seed=0)
+    assert agent.model.prediction == "cone" and agent.model.margin == 0.1
+    obs, _ = env.reset(seed=0)
+    humans = len(agents.make(name.removesuffix("-crowd"), env, seed=0).problem(obs).contact_radii)
+    assert len(agent.problem(obs).contact_radii) == 3 * humans  # three futures per human
+    action, _ = agent.predict(obs)
+    assert action.shape == (2,) and env.action_space.contains(action)

@@ -54,8 +54,9 @@ class UnicycleClairvoyantOracle(Agent):
         merge grid in m, heading bin in rad, budget factor)``: its budget is ``budget factor × max_expansions``
         (hard episodes need more nodes than the first tries may spend: at Δd 0.5 and 1, 140,000-670,000 on
         the coarse grid); the worst case stays bounded, at about ``(2 × len(searches) + budget factor) ×
-        max_expansions`` nodes in all (the receding scheme spends at most what the searches may); ``None`` to skip it. After it the episode is
-        "undetermined" unless the reachable-set test proves it lost.
+        max_expansions`` nodes in all (the receding scheme spends at most what the searches may); ``None``
+        to skip it. It runs only where every earlier search failed, so it changes no episode they solve.
+        After it the episode is "undetermined" unless the reachable-set test proves it lost.
     :param lost_cell: grid (m) of that test.
     """
 

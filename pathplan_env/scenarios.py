@@ -335,13 +335,27 @@ class Scenario:
         return scenario
 
     def _with_preferred_speeds(self, delta_d: float, bounce_velocities: np.ndarray) -> Scenario:
-        obstacles = []
+        """The goal-directed obstacles at Δd's preferred speed, the others at ``bounce_velocities``:
+        a copy that is not validated again (a third of a crowd family's reset): only speeds change,
+        and :meth:`with_delta_d` has checked them against the arena (the fields are the values
+        ``dataclasses.replace`` would normalise them to: tested)."""
+        obstacles, velocities = [], bounce_velocities.tolist()
         for i, ob in enumerate(self.obstacles):
             if self.behaviour_of(i).goal_directed:
-                obstacles.append(dataclasses.replace(ob, preferred_speed=delta_d * ob.radius / self.dt))
+                speed, velocity = delta_d * ob.radius / self.dt, ob.velocity
             else:
-                obstacles.append(dataclasses.replace(ob, velocity=tuple(bounce_velocities[i].tolist())))
-        return dataclasses.replace(self, obstacles=tuple(obstacles))
+                speed, velocity = ob.preferred_speed, tuple(velocities[i])
+            moved = copy.copy(ob)
+            object.__setattr__(moved, "preferred_speed", speed)
+            object.__setattr__(moved, "velocity", velocity)
+            obstacles.append(moved)
+        scenario = copy.copy(self)
+        object.__setattr__(scenario, "obstacles", tuple(obstacles))
+        n = len(obstacles)
+        new_velocities = np.array([ob.velocity for ob in obstacles], dtype=np.float64).reshape(n, 2)
+        new_velocities.flags.writeable = False
+        object.__setattr__(scenario, "_arrays", {**self._arrays, "velocities": new_velocities})
+        return scenario
 
     @classmethod
     def from_dict(cls, data: dict) -> Scenario:

@@ -78,6 +78,8 @@ def _scenario(rng, n: int, regions: list[Box], **fields) -> Scenario:
     """The layout validated once, then its obstacles, valid by construction (inside the regions,
     which lie in the arena, and clear of everything): not validated again, as the random preset's."""
     layout = Scenario(robot_radius=ROBOT_RADIUS, robot_speed=ROBOT_SPEED, dt=DT, **fields)
+    if n == 0:  # a crowd family's layout: no obstacles to place (and placing none draws nothing)
+        return layout
     centres, radii = _place_obstacles(rng, n, regions, layout)
     obstacles = tuple(Obstacle._from_checked(tuple(c), r, (0.0, 0.0)) for c, r in zip(centres.tolist(), radii.tolist()))
     arrays = {"positions": centres, "velocities": np.zeros((n, 2)), "radii": radii}

@@ -186,16 +186,17 @@ class Scenario:
         about a fifth of a reset with 50 obstacles. Fields left out take their defaults.
         """
         scenario = object.__new__(cls)
+        values = {**_SCENARIO_DEFAULTS, **fields}  # (the instance's __dict__ written at once: a frozen dataclass's setattr per field cost more)
+        if len(values) != len(_SCENARIO_DEFAULTS):
+            raise TypeError(f"unknown Scenario fields {sorted(set(fields) - set(_SCENARIO_DEFAULTS))}")
         for name, default in _SCENARIO_DEFAULTS.items():
             if default is dataclasses.MISSING and name not in fields:
                 raise TypeError(f"Scenario field {name!r} is required")
-            object.__setattr__(scenario, name, fields.pop(name, default))
-        if fields:
-            raise TypeError(f"unknown Scenario fields {sorted(fields)}")
         for a in arrays.values():
             a.flags.writeable = False
-        object.__setattr__(scenario, "_arrays", arrays)
-        object.__setattr__(scenario, "_segments", segments_of(scenario.walls, scenario.wall_thickness, scenario.polygons))
+        values["_arrays"] = arrays
+        values["_segments"] = segments_of(values["walls"], values["wall_thickness"], values["polygons"])
+        scenario.__dict__.update(values)
         return scenario
 
     def _check_geometry(self) -> None:
@@ -271,7 +272,9 @@ class Scenario:
     @property
     def goal_directed(self) -> bool:
         """Whether any obstacle steers itself (then its moves depend on the others, and maybe the robot)."""
-        return self.behaviour.goal_directed or any(ob.behaviour is not None and ob.behaviour.goal_directed for ob in self.obstacles)
+        if self.behaviour.goal_directed:
+            return True
+        return any(ob.behaviour is not None and ob.behaviour.goal_directed for ob in self.obstacles) if self.obstacles else False
 
     def top_speeds(self) -> np.ndarray:
         """The fastest each obstacle can move (m/s): its speed, or for a goal-directed one the larger

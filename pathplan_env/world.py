@@ -24,7 +24,7 @@ import numpy as np
 import pymunk
 import pymunk.batch
 
-from .chipmunk import READ_BODY, WRITE_BODY, BatchBuffer, each_body, ffi, set_mass, space_add, space_remove, space_step
+from .chipmunk import READ_BODY, WRITE_BODY, BatchBuffer, each_body, ffi, set_mass, set_radius, space_add, space_remove, space_step
 from .geometry import NO_CONTACT
 from .routing import drivers_statics
 from .scenarios import Scenario
@@ -98,7 +98,7 @@ class World:
             if speed > 0 and spare:
                 body, shape = spare.pop()
                 set_mass(body._body, r * r)  # Body.mass's own C call, without its Python property layers
-                shape.unsafe_set_radius(r)
+                set_radius(shape._shape, r)  # Circle.unsafe_set_radius's own C call
             else:
                 if speed > 0:
                     body = pymunk.Body(mass=r * r, moment=math.inf)  # equal density; discs never spin

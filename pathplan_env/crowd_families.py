@@ -25,8 +25,8 @@ discomfort distance), 0.1 m clear of walls and polygons, and clear of the robot'
 
 from __future__ import annotations
 
-from collections.abc import Callable
 import math
+from collections.abc import Callable
 from functools import cache
 
 import numba

@@ -116,8 +116,8 @@ class StateObservation(ObservationType):
     finite bounds; rows past the episode's obstacles are padding (zeros at the arena's lower corner,
     mask 0). The table is the env's docstring's.
 
-    Every observation is one float32 block (:class:`StateLayout`) copied from the episode's template
-    and filled in by one compiled call; the entries are views of it.
+    Every observation is one float32 row (:class:`StateLayout`) of a block of :data:`BLOCK_ROWS`,
+    copied from the episode's template and filled in by one compiled call; the entries are views of it.
     """
 
     name = "state"

@@ -32,9 +32,10 @@ from functools import cached_property
 import numba
 import numpy as np
 
-from .orca import NO_OBSTACLES, ORCAAgentState, ORCAParams, orca_velocity_among, preferred_velocity
+from .orca import NO_OBSTACLES, ORCAAgentState, ORCAObstacles, ORCAParams, orca_velocity_among, preferred_velocity
 
 _NO_SEGMENTS = np.empty((0, 5))
+_NO_OBSTACLE_FIELDS = tuple(NO_OBSTACLES)
 
 #: Goal-directed agents slow down within this time of their goal (CrowdNav's rule: 1 s at 1 m/s).
 SLOW_DOWN_TIME = 1.0
@@ -96,15 +97,19 @@ class ORCA:
         """The compiled kernel's record, built once (not per step)."""
         return ORCAParams(self.neighbor_dist, self.max_neighbors, self.time_horizon, self.time_horizon_obst)
 
+    @cached_property
+    def _params_fields(self) -> tuple:
+        return tuple(self.params)  # what _orca_step_fields takes (a plain tuple)
+
     def steer(self, idx, state, body_state, speeds, radii, goals, preferred, robot, dt, statics=None) -> None:
         """Set the velocities of obstacles ``idx`` for this step (see :func:`_write_velocities`);
         ``statics``: the scene's :class:`~pathplan_env.routing.HumanStatics`, if it has walls."""
         pad = self.radius_padding + self.safety_space
         if statics is None:
-            _orca_step(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, self.params, pad, NO_OBSTACLES)
+            _orca_step_fields(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, self._params_fields, pad, _NO_OBSTACLE_FIELDS)
         else:
             targets = statics.targets(idx, state, goals)
-            _orca_step(idx, state, body_state, speeds, radii, targets, preferred, robot, dt, self.params, pad, statics.obstacles)
+            _orca_step_fields(idx, state, body_state, speeds, radii, targets, preferred, robot, dt, self._params_fields, pad, tuple(statics.obstacles))
 
 
 @dataclass(frozen=True)
@@ -222,6 +227,14 @@ def _orca_step(idx, state, body_state, speeds, radii, goals, preferred, robot, d
         agent = ORCAAgentState(state[i, 0], state[i, 1], state[i, 2], state[i, 3], padded[i], preferred[i], px, py)
         out[k, 0], out[k, 1] = orca_velocity_among(agent, i, positions, velocities, padded, obstacles, params, dt)
     _write_velocities(idx, out, state, body_state, speeds)
+
+
+@numba.njit(cache=True)
+def _orca_step_fields(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, params_fields, pad, obstacle_fields):
+    """:func:`_orca_step` with its records passed as plain tuples of their fields and rebuilt here:
+    numba types a NamedTuple argument in Python on every call (~5 µs each, a tenth of a crowd's
+    step), a plain tuple in C."""
+    _orca_step(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, ORCAParams(*params_fields), pad, ORCAObstacles(*obstacle_fields))
 
 
 @numba.njit(cache=True)

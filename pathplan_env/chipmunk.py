@@ -12,7 +12,7 @@ import pymunk.batch
 from pymunk._util import _dead_ref
 
 _batch = pymunk.batch  # its ffi and lib
-space_step, each_body, set_mass = _batch.lib.cpSpaceStep, _batch.lib.cpSpaceEachBody, _batch.lib.cpBodySetMass
+space_step, each_body, set_mass, set_radius = _batch.lib.cpSpaceStep, _batch.lib.cpSpaceEachBody, _batch.lib.cpBodySetMass, _batch.lib.cpCircleShapeSetRadius
 add_body, add_shape = _batch.lib.cpSpaceAddBody, _batch.lib.cpSpaceAddShape
 remove_body, remove_shape = _batch.lib.cpSpaceRemoveBody, _batch.lib.cpSpaceRemoveShape
 READ_BODY = _batch.ffi.addressof(_batch.lib, "pmSpaceBodyGetIteratorFuncBatched")

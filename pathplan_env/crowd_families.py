@@ -25,9 +25,11 @@ discomfort distance), 0.1 m clear of walls and polygons, and clear of the robot'
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from functools import cache
 
+import numba
 import numpy as np
 
 from . import families
@@ -72,19 +74,49 @@ def _humans(rng, n: int, layout: Scenario, draw: Callable) -> tuple[Obstacle, ..
     starts, goals = draw(rng, n * _CANDIDATES)
     ok = _fitting(starts, goals, layout)
     starts, goals, ok = starts.reshape(n, _CANDIDATES, 2), goals.reshape(n, _CANDIDATES, 2), ok.reshape(n, _CANDIDATES)
-    humans = []
-    for i in range(n):
-        mine_s, mine_g, fits = starts[i], goals[i], ok[i] & _spaced(starts[i], goals[i], humans)
+    centers, ends = np.empty((n, 2)), np.empty((n, 2))
+    i = _place_spaced(starts, goals, ok, centers, ends, 0, SPACING)
+    while i < n:  # human i found no place among its first candidates: more batches
         for _ in range(_MORE_BATCHES):
+            mine_s, mine_g = draw(rng, _CANDIDATES)
+            fits = _fitting(mine_s, mine_g, layout) & _spaced(mine_s, mine_g, centers[:i], ends[:i])
             if fits.any():
                 break
-            mine_s, mine_g = draw(rng, _CANDIDATES)
-            fits = _fitting(mine_s, mine_g, layout) & _spaced(mine_s, mine_g, humans)
         if not fits.any():
             raise ValueError(f"n_obstacles: could not place {n} humans in the {layout.name!r} layout (placed {i})")
         k = int(np.argmax(fits))
-        humans.append(Obstacle(tuple(mine_s[k].tolist()), HUMAN_RADIUS, goal=tuple(mine_g[k].tolist()), preferred_speed=HUMAN_SPEED))
-    return tuple(humans)
+        centers[i], ends[i] = mine_s[k], mine_g[k]
+        i = _place_spaced(starts, goals, ok, centers, ends, i + 1, SPACING)
+    # valid by construction (inside the arena, clear of the walls, the robot and each other): not validated again
+    return tuple(Obstacle._from_checked(tuple(c), HUMAN_RADIUS, (0.0, 0.0), tuple(g), HUMAN_SPEED) for c, g in zip(centers.tolist(), ends.tolist()))
+
+
+@numba.njit(cache=True)
+def _place_spaced(starts, goals, ok, centers, ends, first, spacing):
+    """Humans ``first..`` in turn take their first candidate ``k`` with ``ok[i, k]`` whose start and goal
+    keep ``spacing`` from every human placed (``centers``, ``ends``, filled in); returns the index of
+    the first human with no such candidate (``n`` when all are placed). Compiled: this loop was most
+    of a 20-human reset; the same ``hypot`` comparisons as :func:`_spaced`, so the same choices."""
+    n, m = ok.shape
+    for i in range(first, n):
+        chosen = -1
+        for k in range(m):
+            if not ok[i, k]:
+                continue
+            clear = True
+            for j in range(i):
+                if (math.hypot(starts[i, k, 0] - centers[j, 0], starts[i, k, 1] - centers[j, 1]) < spacing
+                        or math.hypot(goals[i, k, 0] - ends[j, 0], goals[i, k, 1] - ends[j, 1]) < spacing):  # fmt: skip
+                    clear = False
+                    break
+            if clear:
+                chosen = k
+                break
+        if chosen < 0:
+            return i
+        centers[i, 0], centers[i, 1] = starts[i, chosen, 0], starts[i, chosen, 1]
+        ends[i, 0], ends[i, 1] = goals[i, chosen, 0], goals[i, chosen, 1]
+    return n
 
 
 def _fitting(starts: np.ndarray, goals: np.ndarray, layout: Scenario) -> np.ndarray:
@@ -96,21 +128,23 @@ def _fitting(starts: np.ndarray, goals: np.ndarray, layout: Scenario) -> np.ndar
     return ok
 
 
-def _spaced(starts: np.ndarray, goals: np.ndarray, humans: list[Obstacle]) -> np.ndarray:
-    """Which candidates keep ``SPACING`` from the humans placed, at the start and at the goal."""
-    if not humans:
-        return np.ones(len(starts), bool)
-    # every pair at once (the same differences and hypot as one human at a time: a reset of 20 humans
-    # spent ~10 ms in a Python loop here)
-    centers, ends = np.array([h.center for h in humans]), np.array([h.goal for h in humans])
+def _spaced(starts: np.ndarray, goals: np.ndarray, centers: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """Which candidates keep ``SPACING`` from the humans placed (``centers`` (m, 2), their goals ``ends``)."""
     near_start = np.hypot(starts[:, None, 0] - centers[None, :, 0], starts[:, None, 1] - centers[None, :, 1]) < SPACING
     near_goal = np.hypot(goals[:, None, 0] - ends[None, :, 0], goals[:, None, 1] - ends[None, :, 1]) < SPACING
     return ~(near_start | near_goal).any(axis=1)
 
 
 def _crowd(rng, n: int, layout: Scenario, draw: Callable) -> Scenario:
-    return Scenario(**{**{name: getattr(layout, name) for name in Scenario.__dataclass_fields__},
-                       "obstacles": _humans(rng, n, layout, draw), "behaviour": HUMAN_ORCA, "name": layout.name + "-crowd"})  # fmt: skip
+    """The layout (validated when it was built) with ``n`` humans (valid by construction), not validated
+    again, as the CrowdNav presets' scenes (``tests/test_speed_reset.py``: the same scenario as a validated one)."""
+    humans = _humans(rng, n, layout, draw)
+    arrays = {"positions": np.array([h.center for h in humans], np.float64).reshape(n, 2), "velocities": np.zeros((n, 2)),
+              "radii": np.full(n, HUMAN_RADIUS)}  # fmt: skip
+    fields = {name: getattr(layout, name) for name in Scenario.__dataclass_fields__}
+    scenario = Scenario._from_checked(arrays, **{**fields, "obstacles": humans, "behaviour": HUMAN_ORCA, "name": layout.name + "-crowd"})
+    object.__setattr__(scenario, "_polygon_shapes", polygon_shapes(layout))  # (shapely's, immutable: shared)
+    return scenario
 
 
 def _uniform(rng, box, k: int) -> np.ndarray:

@@ -74,10 +74,20 @@ def _place_obstacles(rng, n: int, regions: list[Box], layout: Scenario) -> tuple
     return centres, radii
 
 
+_NO_OBSTACLES = {"positions": np.empty((0, 2)), "velocities": np.empty((0, 2)), "radii": np.empty(0)}
+
+
 def _scenario(rng, n: int, regions: list[Box], **fields) -> Scenario:
-    """The layout validated once, then its obstacles, valid by construction (inside the regions,
-    which lie in the arena, and clear of everything): not validated again, as the random preset's."""
-    layout = Scenario(robot_radius=ROBOT_RADIUS, robot_speed=ROBOT_SPEED, dt=DT, **fields)
+    """The layout, then its obstacles, both valid by construction, so not validated, as the random
+    preset's scenes (validating the layout was a fifth of a crowd family's reset): each family draws
+    its start and goal clear of its walls and polygons, which lie in the arena and are simple (its
+    docstring), and the obstacles lie inside the regions, clear of everything. ``fields`` are
+    normalised already (float tuples). ``tests/test_speed_reset.py`` checks every family's scenes
+    against validated ones."""
+    layout = Scenario._from_checked(dict(_NO_OBSTACLES), robot_radius=ROBOT_RADIUS, robot_speed=ROBOT_SPEED, dt=DT, goal_radius=ROBOT_RADIUS,
+                                    **fields)  # fmt: skip
+    if n == 0:  # a crowd family's layout: no obstacles to place (and placing none draws nothing)
+        return layout
     centres, radii = _place_obstacles(rng, n, regions, layout)
     obstacles = tuple(Obstacle._from_checked(tuple(c), r, (0.0, 0.0)) for c, r in zip(centres.tolist(), radii.tolist()))
     arrays = {"positions": centres, "velocities": np.zeros((n, 2)), "radii": radii}

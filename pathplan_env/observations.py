@@ -116,8 +116,8 @@ class StateObservation(ObservationType):
     finite bounds; rows past the episode's obstacles are padding (zeros at the arena's lower corner,
     mask 0). The table is the env's docstring's.
 
-    Every observation is one float32 block (:class:`StateLayout`) copied from the episode's template
-    and filled in by one compiled call; the entries are views of it.
+    Every observation is one float32 row (:class:`StateLayout`) of a block of :data:`BLOCK_ROWS`,
+    copied from the episode's template and filled in by one compiled call; the entries are views of it.
     """
 
     name = "state"
@@ -125,6 +125,11 @@ class StateObservation(ObservationType):
     #: (:func:`static_segment_capacity`): room for a family's varying count (``cluttered-room``: up
     #: to 6 boxes, 24 edges) from the first scene's.
     MIN_STATIC_SEGMENTS = 64
+    #: Observations allocated at once: each is a row of a block, its entries views of that row taken
+    #: by index from views of the whole block made once (a slice and a reshape per entry were a
+    #: fifth of a unicycle's step). A row is never written twice; a used-up block stays alive as
+    #: long as observations hold its rows.
+    BLOCK_ROWS = 256
 
     def __init__(self, arena: Arena, dt: float, max_obstacles: int):
         super().__init__(arena, dt, max_obstacles)
@@ -132,6 +137,7 @@ class StateObservation(ObservationType):
         self._slices = self.layout.slices()
         self._pairs = (self.max_obstacles, 2)
         self._template = np.zeros(self.layout.size, np.float32)
+        self._rows_used = self.BLOCK_ROWS  # no block yet: the first observation allocates one
         self.reserve_static_segments(0)
 
     def reserve_static_segments(self, count: int) -> None:
@@ -194,18 +200,37 @@ class StateObservation(ObservationType):
 
     def observe(self, world) -> dict[str, np.ndarray]:
         (x, y), (vx, vy) = world.robot_xy, world.robot_velocity_xy
-        # one allocation per observation; the entries are views of it
-        block = _observation_block(self._template, x, y, vx, vy, world.obstacle_state, self.max_obstacles)
-        s, pairs = self._slices, self._pairs
+        i = self._rows_used
+        if i == self.BLOCK_ROWS:
+            self._new_block()
+            i = 0
+        self._rows_used = i + 1
+        _observation_row(self._block[i], self._template, x, y, vx, vy, world.obstacle_state, self.max_obstacles)
+        position, velocity, goal, positions, velocities, radii, mask = self._entries
         return {
-            "robot_position": block[s.robot_position],
-            "robot_velocity": block[s.robot_velocity],
-            "goal": block[s.goal],
-            "obstacle_positions": block[s.obstacle_positions].reshape(pairs),
-            "obstacle_velocities": block[s.obstacle_velocities].reshape(pairs),
-            "obstacle_radii": block[s.obstacle_radii],
-            "obstacle_mask": block[s.obstacle_mask],
+            "robot_position": position[i],
+            "robot_velocity": velocity[i],
+            "goal": goal[i],
+            "obstacle_positions": positions[i],
+            "obstacle_velocities": velocities[i],
+            "obstacle_radii": radii[i],
+            "obstacle_mask": mask[i],
         } | self._static_entries()
+
+    def _new_block(self) -> None:
+        """A block of :data:`BLOCK_ROWS` observations and each entry's view across it."""
+        n, s, (m, _) = self.BLOCK_ROWS, self._slices, self._pairs
+        self._block = block = np.empty((n, self.layout.size), np.float32)
+        self._entries = (block[:, s.robot_position], block[:, s.robot_velocity], block[:, s.goal],
+                         block[:, s.obstacle_positions].reshape(n, m, 2), block[:, s.obstacle_velocities].reshape(n, m, 2),
+                         block[:, s.obstacle_radii], block[:, s.obstacle_mask])  # fmt: skip
+
+    def __getstate__(self):
+        state = self.__dict__.copy()  # a copy of the env starts a block of its own
+        state.pop("_block", None)
+        state.pop("_entries", None)
+        state["_rows_used"] = self.BLOCK_ROWS
+        return state
 
     def _static_entries(self) -> dict[str, np.ndarray]:
         if not self.max_static_segments:
@@ -230,11 +255,11 @@ def _fill_template(template, gx, gy, arena_low, radii, n_max):
 
 
 @numba.njit(cache=True)
-def _observation_block(template, x, y, vx, vy, obstacle_state, n_max):
-    """A copy of the episode's template with the robot's and the obstacles' state written in
-    (float32), in one compiled call instead of a copy and six numpy slice assignments."""
+def _observation_row(block, template, x, y, vx, vy, obstacle_state, n_max):
+    """``block`` (an observation's row) := the episode's template with the robot's and the obstacles'
+    state written in (float32), in one compiled call instead of a copy and six numpy slice assignments."""
     at = state_layout(n_max)
-    block = template.copy()
+    block[:] = template
     block[at.robot_position], block[at.robot_position + 1] = x, y
     block[at.robot_velocity], block[at.robot_velocity + 1] = vx, vy
     for i in range(obstacle_state.shape[0]):
@@ -242,7 +267,6 @@ def _observation_block(template, x, y, vx, vy, obstacle_state, n_max):
         block[at.obstacle_positions + 2 * i + 1] = obstacle_state[i, 1]
         block[at.obstacle_velocities + 2 * i] = obstacle_state[i, 2]
         block[at.obstacle_velocities + 2 * i + 1] = obstacle_state[i, 3]
-    return block
 
 
 #: Observation types by the name ``DynamicObstacleEnv(observation=...)`` takes.

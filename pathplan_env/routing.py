@@ -60,6 +60,7 @@ class Routes(NamedTuple):
     pred: np.ndarray  # (routed, rows * cols) int32: the next cell toward the goal; < 0 at the goal or unreachable
     row_of: np.ndarray  # (n_obstacles,) int64: obstacle i's row in dist/pred, -1 if not routed
     ready: np.ndarray  # (routed,) bool: whether the row's Dijkstra has run (rows are filled when first needed)
+    blocked_below: np.ndarray  # (rows + 1, cols + 1) int64: blocked cells below and left of each corner (a summed-area table)
 
 
 class HumanStatics(NamedTuple):
@@ -75,14 +76,15 @@ class HumanStatics(NamedTuple):
         """``(n, 2)`` preferred-velocity targets of the humans ``idx`` (rows of others: their goals)."""
         targets = goals.copy()
         missing = np.empty(len(idx), np.int64)
-        n_missing = route_targets(self.routes, idx, state, goals, targets, missing)
+        fields = tuple(self.routes)
+        n_missing = _route_targets_fields(fields, idx, state, goals, targets, missing)
         if n_missing:  # the first loss of sight: run those humans' Dijkstra, then route again
             from scipy.sparse.csgraph import dijkstra
 
             rows = self.routes.row_of[missing[:n_missing]]
             dist, pred = dijkstra(self.graph, directed=False, indices=self.goal_cells[rows], return_predecessors=True)
             self.routes.dist[rows], self.routes.pred[rows], self.routes.ready[rows] = dist, pred, True
-            route_targets(self.routes, idx, state, goals, targets, missing)
+            _route_targets_fields(fields, idx, state, goals, targets, missing)
         return targets
 
 
@@ -95,6 +97,7 @@ class _Grid(NamedTuple):
     free: np.ndarray
     nearest: np.ndarray
     graph: object  # scipy CSR: 8-connected free cells
+    blocked_below: np.ndarray  # (rows + 1, cols + 1) int64 (Routes.blocked_below)
 
 
 def _geometry_key(scenario) -> tuple:
@@ -142,7 +145,9 @@ def _grid(key: tuple, clearance: float, cell: float) -> _Grid:
         weights.append(np.full(int(ok.sum()), cell * math.hypot(di, dj)))
     head, tail, weight = np.concatenate(heads), np.concatenate(tails), np.concatenate(weights)
     graph = scipy.sparse.csr_matrix((weight, (head, tail)), shape=(rows * cols, rows * cols))
-    return _Grid(xmin, ymin, cell, rows, cols, free, nearest, graph)
+    blocked_below = np.zeros((rows + 1, cols + 1), np.int64)
+    blocked_below[1:, 1:] = (~grid).cumsum(axis=0).cumsum(axis=1)
+    return _Grid(xmin, ymin, cell, rows, cols, free, nearest, graph, blocked_below)
 
 
 @lru_cache(maxsize=16)
@@ -178,12 +183,13 @@ def human_statics(scenario, goals: np.ndarray, routed: np.ndarray, clearance: fl
     """Everything the goal-directed obstacles ``routed`` (indices, goals ``goals[i]``) need; free cells
     keep ``clearance + ROUTE_MARGIN`` from the geometry."""
     grid = _grid(_geometry_key(scenario), float(clearance) + ROUTE_MARGIN, GRID_CELL)
-    goal_cells = np.array([grid.nearest[_cell_of(grid, goals[i, 0], goals[i, 1])] for i in routed.tolist()], np.int64)
+    goal_cells = grid.nearest[_cells_of(grid, goals[routed])]
     row_of = np.full(len(goals), -1, np.int64)
     row_of[routed] = np.arange(len(routed))
     n_cells = grid.rows * grid.cols
     dist, pred = np.empty((len(routed), n_cells)), np.empty((len(routed), n_cells), np.int32)
-    routes = Routes(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.free, grid.nearest, dist, pred, row_of, np.zeros(len(routed), np.bool_))
+    routes = Routes(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.free, grid.nearest, dist, pred, row_of, np.zeros(len(routed), np.bool_),
+                    grid.blocked_below)  # fmt: skip
     return HumanStatics(orca_obstacles(scenario), scenario.static_segments, routes, grid.graph, goal_cells)
 
 
@@ -202,8 +208,7 @@ def path_lengths(scenario, starts: np.ndarray, goals: np.ndarray, clearance: flo
     grid, dist = _all_pairs(_geometry_key(scenario), float(clearance), float(cell))
     ok = np.isfinite(starts).all(axis=1) & np.isfinite(goals).all(axis=1)
     out = np.full(len(starts), np.inf)
-    a = np.array([grid.nearest[_cell_of(grid, x, y)] for x, y in starts[ok].tolist()], np.int64)
-    b = np.array([grid.nearest[_cell_of(grid, x, y)] for x, y in goals[ok].tolist()], np.int64)
+    a, b = grid.nearest[_cells_of(grid, starts[ok])], grid.nearest[_cells_of(grid, goals[ok])]
     out[ok] = dist[a, b] if len(a) else out[ok]
     return out
 
@@ -216,9 +221,11 @@ def drivers_statics(scenario, drivers: list) -> HumanStatics:
     return human_statics(scenario, drivers[0][2], routed, float(radii[routed].max()))
 
 
-def _cell_of(grid, x: float, y: float) -> int:
-    j = min(max(int((x - grid.x0) / grid.cell), 0), grid.cols - 1)
-    i = min(max(int((y - grid.y0) / grid.cell), 0), grid.rows - 1)
+def _cells_of(grid, points: np.ndarray) -> np.ndarray:
+    """The grid cell of every row of ``points`` (m, 2): truncated toward zero as ``int()`` does (what
+    the per-point loop of before did), clamped into the grid."""
+    j = np.minimum(np.maximum(((points[:, 0] - grid.x0) / grid.cell).astype(np.int64), 0), grid.cols - 1)
+    i = np.minimum(np.maximum(((points[:, 1] - grid.y0) / grid.cell).astype(np.int64), 0), grid.rows - 1)
     return i * grid.cols + j
 
 
@@ -230,10 +237,26 @@ def _cell(routes, x, y):
 
 
 @numba.njit(cache=True)
+def _box_free(routes, ax, ay, bx, by):
+    """Whether every cell of the box with corners ``a`` and ``b``, one cell wider on every side, is
+    free (four reads of the summed-area table). Then every point sampled on the segment is: a
+    sample's cell index is monotone in its coordinate, and rounding moves a sample off the box by an
+    ulp, at most one cell."""
+    j0 = min(max(int((min(ax, bx) - routes.x0) / routes.cell) - 1, 0), routes.cols - 1)
+    j1 = min(max(int((max(ax, bx) - routes.x0) / routes.cell) + 1, 0), routes.cols - 1)
+    i0 = min(max(int((min(ay, by) - routes.y0) / routes.cell) - 1, 0), routes.rows - 1)
+    i1 = min(max(int((max(ay, by) - routes.y0) / routes.cell) + 1, 0), routes.rows - 1)
+    below = routes.blocked_below
+    return below[i1 + 1, j1 + 1] - below[i0, j1 + 1] - below[i1 + 1, j0] + below[i0, j0] == 0
+
+
+@numba.njit(cache=True)
 def _sees(routes, ax, ay, bx, by):
     """Whether the segment from ``a`` to ``b`` stays in free cells beyond its first :data:`LEAVE`
     metres (a human pressed into a wall's margin is at most ``ROUTE_MARGIN`` deep in it; a wall's far
     side is a radius away, so this never sees through one)."""
+    if _box_free(routes, ax, ay, bx, by):  # the common case in open space: no sample to test
+        return True
     length = math.hypot(bx - ax, by - ay)
     n = int(length / (0.5 * routes.cell)) + 1
     for k in range(n + 1):
@@ -280,6 +303,13 @@ def route_targets(routes, idx, state, goals, targets, missing):
         remaining = d + routes.dist[row, best]
         targets[i, 0], targets[i, 1] = x + (wx - x) / d * remaining, y + (wy - y) / d * remaining
     return n_missing
+
+
+@numba.njit(cache=True)
+def _route_targets_fields(routes_fields, idx, state, goals, targets, missing):
+    """:func:`route_targets` with its :class:`Routes` passed as a plain tuple of its fields and rebuilt
+    here: numba types a NamedTuple argument in Python on every call (~5 µs, as long as the routing)."""
+    return route_targets(Routes(*routes_fields), idx, state, goals, targets, missing)
 
 
 __all__ = ["GRID_CELL", "HumanStatics", "ROUTE_MARGIN", "Routes", "drivers_statics", "human_statics", "path_lengths", "orca_obstacles", "route_targets"]

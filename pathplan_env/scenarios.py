@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .arena import Arena
+from .arguments import check_count, check_delta_d, check_n_obstacles  # noqa: F401 (their old home)
 from .behaviours import BOUNCE, Behaviour, make_behaviour
 from .statics import DEFAULT_WALL_THICKNESS, as_point, check_static_geometry, normalise_polygons, normalise_walls, segments_of
 
@@ -186,16 +187,17 @@ class Scenario:
         about a fifth of a reset with 50 obstacles. Fields left out take their defaults.
         """
         scenario = object.__new__(cls)
+        values = {**_SCENARIO_DEFAULTS, **fields}  # (the instance's __dict__ written at once: a frozen dataclass's setattr per field cost more)
+        if len(values) != len(_SCENARIO_DEFAULTS):
+            raise TypeError(f"unknown Scenario fields {sorted(set(fields) - set(_SCENARIO_DEFAULTS))}")
         for name, default in _SCENARIO_DEFAULTS.items():
             if default is dataclasses.MISSING and name not in fields:
                 raise TypeError(f"Scenario field {name!r} is required")
-            object.__setattr__(scenario, name, fields.pop(name, default))
-        if fields:
-            raise TypeError(f"unknown Scenario fields {sorted(fields)}")
         for a in arrays.values():
             a.flags.writeable = False
-        object.__setattr__(scenario, "_arrays", arrays)
-        object.__setattr__(scenario, "_segments", segments_of(scenario.walls, scenario.wall_thickness, scenario.polygons))
+        values["_arrays"] = arrays
+        values["_segments"] = segments_of(values["walls"], values["wall_thickness"], values["polygons"])
+        scenario.__dict__.update(values)
         return scenario
 
     def _check_geometry(self) -> None:
@@ -271,7 +273,9 @@ class Scenario:
     @property
     def goal_directed(self) -> bool:
         """Whether any obstacle steers itself (then its moves depend on the others, and maybe the robot)."""
-        return self.behaviour.goal_directed or any(ob.behaviour is not None and ob.behaviour.goal_directed for ob in self.obstacles)
+        if self.behaviour.goal_directed:
+            return True
+        return any(ob.behaviour is not None and ob.behaviour.goal_directed for ob in self.obstacles) if self.obstacles else False
 
     def top_speeds(self) -> np.ndarray:
         """The fastest each obstacle can move (m/s): its speed, or for a goal-directed one the larger
@@ -314,14 +318,16 @@ class Scenario:
             raise ValueError(f"delta_d must be finite and >= 0, got {delta_d!r}")
         angles = rng.uniform(0.0, 2 * math.pi, size=len(self.obstacles))
         velocities, radii = self._arrays["velocities"], self._arrays["radii"]
+        if len(radii) and delta_d * float(radii.max()) > self.arena_diagonal:
+            raise ValueError(f"delta_d {delta_d} makes obstacles cross the whole arena in one step; lower delta_d")
+        if self.behaviour.goal_directed and all(ob.behaviour is None for ob in self.obstacles):
+            return self._with_preferred_speeds(delta_d, None)  # a crowd: no obstacle bounces, no bounce velocity to compute
         speeds = np.hypot(velocities[:, 0], velocities[:, 1])
         moving = speeds > 0
         units = np.where(
             moving[:, None], velocities / np.where(moving, speeds, 1.0)[:, None], np.stack([np.cos(angles), np.sin(angles)], axis=1)
         )
         new_velocities = (delta_d * radii / self.dt)[:, None] * units
-        if len(radii) and delta_d * float(radii.max()) > self.arena_diagonal:
-            raise ValueError(f"delta_d {delta_d} makes obstacles cross the whole arena in one step; lower delta_d")
         if self.goal_directed:
             return self._with_preferred_speeds(delta_d, new_velocities)
         moved = tuple(
@@ -334,14 +340,28 @@ class Scenario:
         object.__setattr__(scenario, "_arrays", {**self._arrays, "velocities": new_velocities})
         return scenario
 
-    def _with_preferred_speeds(self, delta_d: float, bounce_velocities: np.ndarray) -> Scenario:
-        obstacles = []
+    def _with_preferred_speeds(self, delta_d: float, bounce_velocities: np.ndarray | None) -> Scenario:
+        """The goal-directed obstacles at Δd's preferred speed, the others at ``bounce_velocities``:
+        a copy that is not validated again (a third of a crowd family's reset): only speeds change,
+        and :meth:`with_delta_d` has checked them against the arena (the fields are the values
+        ``dataclasses.replace`` would normalise them to: tested)."""
+        obstacles, velocities = [], None if bounce_velocities is None else bounce_velocities.tolist()
         for i, ob in enumerate(self.obstacles):
             if self.behaviour_of(i).goal_directed:
-                obstacles.append(dataclasses.replace(ob, preferred_speed=delta_d * ob.radius / self.dt))
+                speed, velocity = delta_d * ob.radius / self.dt, ob.velocity
             else:
-                obstacles.append(dataclasses.replace(ob, velocity=tuple(bounce_velocities[i].tolist())))
-        return dataclasses.replace(self, obstacles=tuple(obstacles))
+                speed, velocity = ob.preferred_speed, tuple(velocities[i])
+            moved = object.__new__(Obstacle)  # copy.copy of a frozen dataclass costs ten times this
+            moved.__dict__.update(ob.__dict__, preferred_speed=speed, velocity=velocity)
+            obstacles.append(moved)
+        scenario = object.__new__(Scenario)  # a copy (copy.copy of a frozen dataclass costs ten times this)
+        scenario.__dict__.update(self.__dict__)
+        object.__setattr__(scenario, "obstacles", tuple(obstacles))
+        n = len(obstacles)
+        new_velocities = np.array([ob.velocity for ob in obstacles], dtype=np.float64).reshape(n, 2)
+        new_velocities.flags.writeable = False
+        object.__setattr__(scenario, "_arrays", {**self._arrays, "velocities": new_velocities})
+        return scenario
 
     @classmethod
     def from_dict(cls, data: dict) -> Scenario:
@@ -371,33 +391,6 @@ class Scenario:
 
 
 _SCENARIO_DEFAULTS = {f.name: f.default for f in dataclasses.fields(Scenario)}
-
-
-def check_delta_d(delta_d) -> float | None:
-    """Validate a ``delta_d`` argument early, naming it in the error."""
-    if delta_d is None:  # the scenario's own speeds
-        return None
-    try:
-        value = float(delta_d)
-    except (TypeError, ValueError):
-        raise ValueError(f"delta_d must be a number >= 0 or None, got {delta_d!r}") from None
-    if not (math.isfinite(value) and value >= 0):
-        raise ValueError(f"delta_d must be finite and >= 0, got {delta_d!r}")
-    return value
-
-
-def check_count(value, name: str) -> int:
-    """A whole number >= 0 (an integral float too), or a ValueError naming the argument: never a
-    TypeError or OverflowError from ``int()`` on a list, a string, NaN or infinity."""
-    integral = isinstance(value, (int, np.integer)) or (isinstance(value, (float, np.floating)) and float(value).is_integer())
-    if isinstance(value, (bool, np.bool_)) or not integral or value < 0:
-        raise ValueError(f"{name} must be a non-negative integer, got {value!r}")
-    return int(value)
-
-
-def check_n_obstacles(n) -> int | None:
-    """Validate an ``n_obstacles`` argument (``None``: the preset's own count), naming it in the error."""
-    return None if n is None else check_count(n, "n_obstacles")
 
 
 __all__ = ["MAX_COORDINATE", "MIN_LENGTH", "Obstacle", "Scenario", "check_delta_d", "check_n_obstacles"]

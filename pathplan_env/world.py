@@ -20,64 +20,20 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 import pymunk
 import pymunk.batch
 
-from .chipmunk import READ_BODY, WRITE_BODY, BatchBuffer, each_body, ffi, set_mass, space_add, space_remove, space_step
-from .geometry import NO_CONTACT, swept_contact
+from .chipmunk import READ_BODY, WRITE_BODY, BatchBuffer, each_body, ffi, set_mass, set_radius, space_add, space_remove, space_step
+from .geometry import NO_CONTACT
 from .routing import drivers_statics
 from .scenarios import Scenario
 from .statics import capsules_clearance, pymunk_segments, static_stop
+from .substep_kernels import SPEED_TOLERANCE, _clearance, _finish_substep, _gap_until  # noqa: F401 (SPEED_TOLERANCE: its old home)
 from .substeps import MAX_SUBSTEP_DISPLACEMENT, MAX_SUBSTEPS, SUBSTEP_SLACK, scenario_substeps, substeps_for  # noqa: F401 (their old home)
 
-#: Relative speed change that counts as a bounce to undo (Chipmunk's elastic impulses change speeds
-#: by far more; numerical drift of a free body is far less).
-SPEED_TOLERANCE = 1e-9
 _STATE_FIELDS = pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.VELOCITY
-
-
 _NO_ROBOT = np.empty(0)  # what humans see of an invisible robot
-
-
-@numba.njit(cache=True)
-def _finish_substep(state, new_state, ax, ay, bx, by, robot_radius, radii, speeds):
-    """The robot's swept contact test from ``state`` to ``new_state``, then restore every obstacle's speed.
-
-    Compiled because it runs on every substep: one call instead of a dozen numpy calls on tiny
-    arrays. Bounces keep directions but give each obstacle its own speed back (in ``new_state``,
-    which is then copied into ``state``). Returns ``(min_gap, t_contact, any_restored)``.
-    """
-    min_gap, t_contact = swept_contact(ax, ay, bx, by, robot_radius, state, new_state, radii)
-    restored = False
-    for i in range(radii.shape[0]):
-        vx, vy = new_state[i, 2], new_state[i, 3]
-        norm = math.hypot(vx, vy)
-        if norm > 0.0 and abs(norm - speeds[i]) > SPEED_TOLERANCE * speeds[i]:
-            new_state[i, 2] = vx * (speeds[i] / norm)
-            new_state[i, 3] = vy * (speeds[i] / norm)
-            restored = True
-        for j in range(4):
-            state[i, j] = new_state[i, j]
-    return min_gap, t_contact, restored
-
-
-@numba.njit(cache=True)
-def _gap_until(ax, ay, bx, by, until, robot_radius, state, new_state, radii):
-    """Smallest surface gap over the first ``until`` (in [0, 1]) of a substep's linear motion."""
-    part_way = state + until * (new_state - state)  # once an episode: on the step that reaches the goal
-    return swept_contact(ax, ay, ax + until * (bx - ax), ay + until * (by - ay), robot_radius, state, part_way, radii)[0]
-
-
-@numba.njit(cache=True)
-def _clearance(state, radii, x, y, robot_radius):
-    """Smallest surface gap from the robot at ``(x, y)`` to the obstacles (one call: numpy 2's
-    per-call cost on a few rows exceeded the arithmetic)."""
-    gap = np.inf
-    for i in range(radii.shape[0]):
-        gap = min(gap, math.hypot(state[i, 0] - x, state[i, 1] - y) - radii[i] - robot_radius)
-    return gap
 
 
 class World:
@@ -127,10 +83,13 @@ class World:
         #: edges are not rows: they are ``scenario.bounds``. Read by sensors and planners.
         self.static_segments = scenario.static_segments
         self._has_statics = len(self.static_segments) > 0  # read every step: no walls, no cost
+        self._statics = ()
         if self._has_statics:
             # (before the state view below is attached: a body added later would make the batch read
             # reallocate the array under the view)
-            space_add(self.space, pymunk_segments(self.static_segments.tolist()))
+            statics = recycle._release_statics(self.static_segments) if recycle is not None else None
+            self._statics = statics if statics is not None else pymunk_segments(self.static_segments.tolist())
+            space_add(self.space, self._statics)
         # what goal-directed obstacles know of the walls: RVO2 obstacles, routes (routing.py)
         self._human_statics = drivers_statics(scenario, self._drivers) if self._drivers and self._has_statics else None
         spare = recycle._release_moving_obstacles() if recycle is not None else []
@@ -139,7 +98,7 @@ class World:
             if speed > 0 and spare:
                 body, shape = spare.pop()
                 set_mass(body._body, r * r)  # Body.mass's own C call, without its Python property layers
-                shape.unsafe_set_radius(r)
+                set_radius(shape._shape, r)  # Circle.unsafe_set_radius's own C call
             else:
                 if speed > 0:
                     body = pymunk.Body(mass=r * r, moment=math.inf)  # equal density; discs never spin
@@ -229,6 +188,16 @@ class World:
         space_remove(self.space, self._walls)
         walls, self._walls = self._walls, ()
         return walls
+
+    def _release_statics(self, segments: np.ndarray) -> tuple | None:
+        """Hand this world's wall and polygon segments to the next one if its geometry is the same
+        (a family's episodes share it: building them was a tenth of a crowd family's reset). Chipmunk
+        gives a shape a new id when it is added, so a recycled segment is a new one to the space."""
+        if not self._statics or self.static_segments.shape != segments.shape or not np.array_equal(self.static_segments, segments):
+            return None
+        space_remove(self.space, self._statics)
+        statics, self._statics = self._statics, ()
+        return statics
 
     def _attach_state_view(self) -> None:
         """Read the bodies once and keep a numpy view onto pymunk's batch array.

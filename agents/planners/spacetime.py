@@ -116,6 +116,11 @@ class SpacetimeAStarAgent(Agent):
         determinism**: the same seed may fly another path on a busier machine.
     :param partial, partial_min_steps: the rule that picks the partial plan when the budget runs out
         (:data:`agents.planners.spacetime_anytime.PARTIAL_RULES`) and the survival it asks for.
+    :param coarse_cell, coarse_headings, fine_share: when the search (``cell``, ``n_headings``) runs
+        out of ``fine_share`` of the work budget, a coarse one (``coarse_cell``, ``coarse_headings``
+        at top and half speed) spends the rest: among many fast obstacles a fine grid floods the first
+        steps with nodes and reaches no depth, a coarse one finds a plan that survives the horizon.
+        The partial plan is then chosen from both trees. ``coarse_cell=None``: one search, the whole budget.
     :param keep_plan_steps: the previous plan is flown on, without a search, while the new
         prediction finds all of it free of contact and it still runs this many steps (or to the goal).
     :param prediction, cone_degrees: :class:`SpacetimeModel`'s obstacle prediction.
@@ -128,7 +133,8 @@ class SpacetimeAStarAgent(Agent):
     def __init__(self, env, seed: int | None = None, *, horizon_steps: int = 20, margin: float = 0.005, n_headings: int = 32,
                  speed_fractions=(1.0, 0.5), cell: float = 0.03, h_weight: float = 3.0, max_expansions: int = 20_000,
                  max_work: float | None = WORK_BUDGET, time_budget_ms: float | None = None, partial: str = "progress",
-                 partial_min_steps: int = 5, keep_plan_steps: int = 10, prediction: str = "physics",
+                 partial_min_steps: int = 5, coarse_cell: float | None = 0.1, coarse_headings: int = 16, fine_share: float = 0.5,
+                 keep_plan_steps: int = 10, prediction: str = "physics",
                  cone_degrees: float = 20.0, escape_trapped: bool = False, escape_steps: int = 4):  # fmt: skip
         super().__init__(env, seed)
         self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees)
@@ -144,8 +150,14 @@ class SpacetimeAStarAgent(Agent):
             raise ValueError(f"partial must be one of {PARTIAL_RULES}, got {partial!r}")
         if int(partial_min_steps) != partial_min_steps or partial_min_steps < 1:
             raise ValueError(f"partial_min_steps must be a positive integer, got {partial_min_steps!r}")
+        if coarse_cell is not None and not coarse_cell > 0:
+            raise ValueError(f"coarse_cell must be > 0 or None, got {coarse_cell!r}")
+        if not 0.0 < fine_share <= 1.0:
+            raise ValueError(f"fine_share must be in (0, 1], got {fine_share!r}")
         self.horizon_steps = self.model.horizon_steps
         self.moves = heading_moves(int(n_headings), speed_fractions)
+        self.coarse_moves = None if coarse_cell is None else heading_moves(int(coarse_headings), speed_fractions)
+        self.coarse_cell, self.fine_share = (None if coarse_cell is None else float(coarse_cell)), float(fine_share)
         self.cell, self.h_weight, self.max_expansions = float(cell), float(h_weight), int(max_expansions)
         self.max_work = float("inf") if max_work is None else float(max_work)
         self.time_budget_ms = None if time_budget_ms is None else float(time_budget_ms)
@@ -175,16 +187,23 @@ class SpacetimeAStarAgent(Agent):
         else:
             keep = False
         if not keep:
-            begin = time.perf_counter()
-            settings = SearchSettings(self.moves, self.horizon_steps, self.cell, self.max_expansions, self.h_weight, self.work_budget())
-            result = search(problem, settings)
-            outcome, targets = result.outcome, result.targets
+            begin, budget = time.perf_counter(), self.work_budget()
+            share = budget if self.coarse_moves is None else budget * self.fine_share
+            result = search(problem, SearchSettings(self.moves, self.horizon_steps, self.cell, self.max_expansions, self.h_weight, share))
+            outcome, targets, trees, work = result.outcome, result.targets, [result.tree], result.work
+            if outcome == BUDGET and self.coarse_moves is not None and budget > work:
+                coarse = search(problem, SearchSettings(self.coarse_moves, self.horizon_steps, self.coarse_cell, self.max_expansions,
+                                                        self.h_weight, budget - work))  # fmt: skip
+                work += coarse.work
+                if coarse.outcome not in (BUDGET, EXHAUSTED):  # a plan to the goal or the horizon (its merging proves no trap)
+                    outcome, targets = coarse.outcome, coarse.targets
+                trees.append(coarse.tree)
             if outcome == BUDGET:  # anytime: act on the best plan found so far
-                targets = partial_plan(result.tree, self.partial, self.partial_min_steps)
+                targets = partial_plan(trees, self.partial, self.partial_min_steps)
             if self.time_budget_ms is not None:
-                rate = result.work / max(1e3 * (time.perf_counter() - begin), 1e-3)
+                rate = work / max(1e3 * (time.perf_counter() - begin), 1e-3)
                 self._work_per_ms = rate if self._work_per_ms is None else 0.5 * (self._work_per_ms + rate)
-            self.last_search = {"outcome": int(outcome), "expansions": int(result.expansions), "work": int(result.work), "steps": len(targets)}
+            self.last_search = {"outcome": int(outcome), "work": int(work), "steps": len(targets)}
         if len(targets) == 0 or (not keep and outcome == EXHAUSTED and self.escape_trapped):
             # every move is predicted to touch (within the margin), or every plan ends in contact
             # before the horizon: get as far clear as it can

@@ -24,14 +24,15 @@ from .spacetime_search import SearchTree
 PARTIAL_RULES = ("deepest", "progress")
 
 
-def partial_plan(tree: SearchTree, rule: str = "progress", min_steps: int = 5) -> np.ndarray:
-    """The waypoints (steps, 2) of the node ``rule`` picks from ``tree``; empty when the tree is the
-    root alone (no move is free of contact)."""
+def partial_plan(tree: SearchTree | list[SearchTree], rule: str = "progress", min_steps: int = 5) -> np.ndarray:
+    """The waypoints (steps, 2) of the node ``rule`` picks from ``tree`` (or from several searches'
+    trees of one problem, as one); empty when there is only the root (no move is free of contact)."""
     if rule not in PARTIAL_RULES:
         raise ValueError(f"rule must be one of {PARTIAL_RULES}, got {rule!r}")
-    if len(tree.k) <= 1:
-        return np.empty((0, 2))
+    tree = tree if isinstance(tree, SearchTree) else merged(tree)
     depth = tree.k
+    if depth.max(initial=0) == 0:
+        return np.empty((0, 2))
     if rule == "deepest":
         candidates = np.flatnonzero(depth == depth.max())
     else:
@@ -39,6 +40,14 @@ def partial_plan(tree: SearchTree, rule: str = "progress", min_steps: int = 5) -
     # lexsort's last key sorts first: fewest steps to go, then deepest, then first generated
     best = candidates[np.lexsort((candidates, -depth[candidates], tree.h[candidates]))[0]]
     return path_to(tree, int(best))
+
+
+def merged(trees: list[SearchTree]) -> SearchTree:
+    """Several trees as one (each one's parents offset by the nodes before it), in the given order."""
+    offsets = np.cumsum([0] + [len(t.k) for t in trees[:-1]])
+    parents = [np.where(t.parent >= 0, t.parent + offset, -1) for t, offset in zip(trees, offsets)]
+    columns = {name: np.concatenate([getattr(t, name) for t in trees]) for name in SearchTree._fields if name != "parent"}
+    return SearchTree(parent=np.concatenate(parents), **columns)
 
 
 def path_to(tree: SearchTree, node: int) -> np.ndarray:

@@ -3,9 +3,9 @@
     python scripts/plot_dense.py results/dense [results/default ...] --out docs/results/dense
 
 Reads each run's ``summary.json`` (``scripts/evaluate.py --suite dense``, or any run of the random
-preset); a cell's obstacle count is its row's ``n_obstacles`` (a preset's own count, or the run's),
-else the run's ``--n-obstacles``, else the preset's default (8). Writes ``success_over_limit.png``
-and prints the table it drew.
+preset); a cell's obstacle count is its scenario's in the run's config (``scenario_n_obstacles``:
+a preset's own count, or the run's), else the run's ``--n-obstacles``, else the preset's default
+(8). Writes ``success_over_limit.png`` and prints the table it drew.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ def cells(runs: list[Path]) -> dict[tuple[str, int, float], float]:
         for row in summary["results"]:
             if row.get("success_over_limit") is None or row["delta_d"] is None or row["agent"] == "oracle-clairvoyant":
                 continue
-            n = row.get("n_obstacles") or config.get("scenario_n_obstacles", {}).get(row["scenario"]) or config.get("n_obstacles")
+            n = config.get("scenario_n_obstacles", {}).get(row["scenario"]) or config.get("n_obstacles")
             out[(row["agent"], int(n or DEFAULT_OBSTACLES), float(row["delta_d"]))] = float(row["success_over_limit"])
     return out
 

@@ -144,7 +144,7 @@ def evaluate(
             run_jobs(jobs, workers, record)
     elapsed = time.perf_counter() - start
     results.sort(key=lambda r: (r.agent, r.scenario, delta_order(r.delta_d), r.episode))
-    rows = [r | {"n_obstacles": obstacles[r["scenario"]]} for r in _summarize(results)]  # None: the preset's default
+    rows = _summarize(results)
     config = (config or {}) | {"agents": [a.label for a in entrants], "scenarios": [s.label for s in run.scenarios],
                                "agent_sources": {a.label: a.source for a in entrants},
                                "custom_scenarios": {s.label: s.definition for s in run.scenarios if s.definition},

@@ -87,7 +87,7 @@ class SpacetimeModel:
 
 #: ``astar-spacetime``'s default work budget per replan (obstacle and wall tests; calibrated by
 #: ``scripts/bench_planners.py --dense``: p95 replan near 50 ms at 30 obstacles, Δd 4).
-WORK_BUDGET = 250_000
+WORK_BUDGET = 400_000
 
 
 class SpacetimeAStarAgent(Agent):
@@ -123,8 +123,6 @@ class SpacetimeAStarAgent(Agent):
         ``coarse_cell=None``: one search, the whole budget.
     :param keep_plan_steps: the previous plan is flown on, without a search, while the new
         prediction finds all of it free of contact and it still runs this many steps (or to the goal).
-    :param keep_partial_steps: the same for a partial plan (the budget ran out): it is flown on while
-        it runs this many steps, so that the budget is spent every few steps rather than at every one.
     :param prediction, cone_degrees: :class:`SpacetimeModel`'s obstacle prediction.
     :param escape_trapped: when every plan is predicted to end in contact before the horizon,
         fly the :meth:`escape` move instead of the plan that survives longest (always done when no
@@ -136,7 +134,7 @@ class SpacetimeAStarAgent(Agent):
                  speed_fractions=(1.0, 0.5), cell: float = 0.03, h_weight: float = 3.0, max_expansions: int = 20_000,
                  max_work: float | None = WORK_BUDGET, time_budget_ms: float | None = None, partial: str = "progress",
                  partial_min_steps: int = 5, coarse_cell: float | None = 0.1, coarse_headings: int = 16, fine_share: float = 0.5,
-                 keep_plan_steps: int = 10, keep_partial_steps: int = 3, prediction: str = "physics",
+                 keep_plan_steps: int = 10, prediction: str = "physics",
                  cone_degrees: float = 20.0, escape_trapped: bool = False, escape_steps: int = 4):  # fmt: skip
         super().__init__(env, seed)
         self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees)
@@ -164,7 +162,7 @@ class SpacetimeAStarAgent(Agent):
         self.max_work = float("inf") if max_work is None else float(max_work)
         self.time_budget_ms = None if time_budget_ms is None else float(time_budget_ms)
         self.partial, self.partial_min_steps = partial, int(partial_min_steps)
-        self.keep_plan_steps, self.keep_partial_steps = int(keep_plan_steps), int(keep_partial_steps)
+        self.keep_plan_steps = int(keep_plan_steps)
         self.escape_trapped, self.escape_steps = bool(escape_trapped), int(escape_steps)
         self.last_search: dict = {}
         self._work_per_ms: float | None = None  # time_budget_ms only: the rate of the searches so far
@@ -185,7 +183,7 @@ class SpacetimeAStarAgent(Agent):
         targets = memory.get("plan")
         if targets is not None and len(targets) > 0:  # keep the previous plan while it still holds
             free, reached = replay(problem, targets)
-            keep = reached or (free == len(targets) and len(targets) >= (self.keep_partial_steps if memory.get("partial") else self.keep_plan_steps))
+            keep = reached or (free == len(targets) and len(targets) >= self.keep_plan_steps)
         else:
             keep = False
         if not keep:
@@ -202,7 +200,6 @@ class SpacetimeAStarAgent(Agent):
                 trees.append(coarse.tree)
             if outcome == BUDGET:  # anytime: act on the best plan found so far
                 targets = partial_plan(trees, self.partial, self.partial_min_steps)
-            memory["partial"] = outcome == BUDGET
             if self.time_budget_ms is not None:
                 rate = work / max(1e3 * (time.perf_counter() - begin), 1e-3)
                 self._work_per_ms = rate if self._work_per_ms is None else 0.5 * (self._work_per_ms + rate)

@@ -85,8 +85,9 @@ class SpacetimeModel:
         return trajectory, n, contact_radii, robot, goal
 
 
-#: ``astar-spacetime``'s default work budget per replan (obstacle and wall tests; calibrated by
-#: ``scripts/bench_planners.py --dense``: p95 replan near 50 ms at 30 obstacles, Δd 4).
+#: ``astar-spacetime``'s default work budget per replan (obstacle and wall tests). Replans at 30
+#: obstacles, 40 validation episodes: median / p95 5.5 / 44 ms at Δd 2, 21 / 34 ms at Δd 4 on a
+#: shared 2-core machine (``scripts/evaluate.py``); 500,000 won as many episodes at Δd 2 as no budget.
 WORK_BUDGET = 400_000
 
 
@@ -109,8 +110,8 @@ class SpacetimeAStarAgent(Agent):
     :param max_expansions: the search's node budget per replan.
     :param max_work: the search's work budget per replan (obstacle and wall tests,
         :attr:`~agents.planners.spacetime_search.SearchSettings.max_work`); ``None``: none. The default
-        keeps the replan's p95 near 50 ms at 30 obstacles and Δd 4 on a laptop core
-        (``scripts/bench_planners.py --dense``); among 8 obstacles it rarely binds.
+        (:data:`WORK_BUDGET`) keeps the replan's p95 near 50 ms at 30 obstacles (``scripts/bench_planners.py
+        --dense``); among 8 obstacles it rarely binds.
     :param time_budget_ms: optional wall-clock budget per replan, off by default. It turns into a
         work budget from the rate of this agent's earlier searches, so it **breaks bit-for-bit
         determinism**: the same seed may fly another path on a busier machine.

@@ -60,3 +60,22 @@ def test_the_dense_suite_runs_every_spacetime_planner_at_30_and_50_obstacles():
     assert set(suite["agents"].split(",")) >= {"astar-spacetime", "pso-spacetime", "abc-spacetime"}
     assert [s.n_obstacles for s in resolve_scenarios(suite["scenarios"].split(","))] == [30, 50]
     assert suite["delta_d"] == "1,2,4" and suite["episodes"] == 200
+
+
+def test_the_dense_plot_reads_each_cells_count_from_the_runs_config(tmp_path, capsys):
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
+    import plot_dense
+
+    rows = [{"agent": a, "scenario": s, "delta_d": 2.0, "success_over_limit": v}
+            for a, s, v in (("astar-spacetime", "random:n_obstacles=30", 0.9), ("astar-spacetime", "random", 1.0),
+                            ("oracle-clairvoyant", "random", 1.0))]  # fmt: skip
+    config = {"n_obstacles": None, "scenario_n_obstacles": {"random:n_obstacles=30": 30, "random": None}}
+    (tmp_path / "run").mkdir()
+    (tmp_path / "run" / "summary.json").write_text(json.dumps({"results": rows, "config": config}))
+    plot_dense.main([str(tmp_path / "run"), "--out", str(tmp_path / "png")])
+    assert plot_dense.cells([tmp_path / "run"]) == {("astar-spacetime", 30, 2.0): 0.9, ("astar-spacetime", 8, 2.0): 1.0}
+    assert "| astar-spacetime | 1.00 | 0.90 |" in capsys.readouterr().out  # 8 obstacles, then 30
+    assert (tmp_path / "png" / "success_over_limit.png").stat().st_size > 0

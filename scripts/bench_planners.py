@@ -9,8 +9,12 @@
    k = 1, 2, 3 waypoints.
 3. Space-time planners: every replan's time over whole test episodes (random scenes, 8
    obstacles) at each Δd, median and p95, after a warm-up episode (compilation excluded).
+4. ``--dense`` (this part alone): the same at 30 and 50 obstacles x Δd 1, 2, 4 (issue 22's cells),
+   on validation episodes (the seeds ``astar-spacetime``'s work budget was calibrated on), with each
+   planner's success over them.
 
     python scripts/bench_planners.py [--replans 200] [--scenes 20] [--spacetime-episodes 20]
+    python scripts/bench_planners.py --dense [--dense-episodes 5] [--dense-obstacles 30,50] [--dense-delta-d 1,2,4]
 """
 
 from __future__ import annotations
@@ -127,6 +131,29 @@ SPACETIME_PLANNERS = ("astar-spacetime", "pso-spacetime", "abc-spacetime", "asta
 SPACETIME_TARGET_MS = (5.0, 50.0)  # median, p95
 
 
+def replan_cell(name: str, delta_d: float, seeds, n_obstacles: int | None = None) -> tuple[list[float], int]:
+    """Every replan's time (ms) of ``name`` over the episodes of ``seeds`` (random scenes), after a
+    warm-up episode, and how many of them it won."""
+    from pathplan_env.splits import heldout_seeds
+
+    robot = "unicycle" if name in agents.UNICYCLE_AGENTS else "holonomic"
+    env = gym.make("DynamicObstacle-v0", scenario="random", delta_d=delta_d, robot=robot, n_obstacles=n_obstacles)
+    agent = agents.make(name, env, seed=0)
+    agents.rollout(agent, env, seed=heldout_seeds(9, 1)[0])  # warm-up: numba's cache loads here
+    times, wins = [], 0
+    for seed in seeds:
+        agent.reset()
+        obs, _ = env.reset(seed=seed)
+        while True:
+            action, _ = agent.predict(obs, deterministic=True)
+            times.append(1e3 * agent.last_plan_seconds)
+            obs, _, terminated, truncated, info = env.step(action)
+            if terminated or truncated:
+                break
+        wins += bool(info["is_success"])
+    return times, wins
+
+
 def spacetime_replan_times(episodes: int, deltas=(0.25, 0.5, 1.0, 2.0)) -> list[tuple[str, float, float, float, int]]:
     """``(planner, Δd, median ms, p95 ms, replans)`` over every replan of ``episodes`` test episodes."""
     from pathplan_env.splits import heldout_seeds
@@ -134,21 +161,23 @@ def spacetime_replan_times(episodes: int, deltas=(0.25, 0.5, 1.0, 2.0)) -> list[
     rows = []
     for name in tqdm(SPACETIME_PLANNERS, desc="space-time replans", leave=False):
         for delta_d in deltas:
-            robot = "unicycle" if name in agents.UNICYCLE_AGENTS else "holonomic"
-            env = gym.make("DynamicObstacle-v0", scenario="random", delta_d=delta_d, robot=robot)
-            agent = agents.make(name, env, seed=0)
-            agents.rollout(agent, env, seed=heldout_seeds(9, 1)[0])  # warm-up: numba's cache loads here
-            times = []
-            for seed in heldout_seeds(0, episodes):
-                agent.reset()
-                obs, _ = env.reset(seed=seed)
-                while True:
-                    action, _ = agent.predict(obs, deterministic=True)
-                    times.append(1e3 * agent.last_plan_seconds)
-                    obs, _, terminated, truncated, _ = env.step(action)
-                    if terminated or truncated:
-                        break
+            times, _ = replan_cell(name, delta_d, heldout_seeds(0, episodes))
             rows.append((name, delta_d, float(np.median(times)), float(np.percentile(times, 95)), len(times)))
+    return rows
+
+
+DENSE_PLANNERS = ("astar-spacetime", "pso-spacetime", "abc-spacetime")
+
+
+def dense_replan_times(episodes: int, counts=(30, 50), deltas=(1.0, 2.0, 4.0), planners=DENSE_PLANNERS) -> list[tuple]:
+    """``(planner, obstacles, Δd, median ms, p95 ms, replans, wins)`` over ``episodes`` validation episodes a cell."""
+    from pathplan_env.splits import episode_seeds
+
+    rows = []
+    cells = [(name, n, d) for n in counts for d in deltas for name in planners]
+    for name, n, delta_d in tqdm(cells, desc="dense replans", leave=False):
+        times, wins = replan_cell(name, delta_d, episode_seeds("validation", 0, episodes), n)
+        rows.append((name, n, delta_d, float(np.median(times)), float(np.percentile(times, 95)), len(times), wins))
     return rows
 
 
@@ -157,11 +186,39 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--replans", type=int, default=200)
     parser.add_argument("--scenes", type=int, default=20)
     parser.add_argument("--spacetime-episodes", type=int, default=20)
-    return parser.parse_args(argv)
+    parser.add_argument("--dense", action="store_true", help="only the dense cells (30 and 50 obstacles x Δd 1, 2, 4)")
+    parser.add_argument("--dense-episodes", type=int, default=5, help="validation episodes a dense cell")
+    parser.add_argument("--dense-obstacles", default="30,50", help="comma-separated obstacle counts of the dense cells")
+    parser.add_argument("--dense-delta-d", default="1,2,4", help="comma-separated Δd of the dense cells")
+    parser.add_argument("--dense-planners", default=",".join(DENSE_PLANNERS), help="comma-separated space-time planners")
+    args = parser.parse_args(argv)
+    try:
+        args.dense_obstacles = [int(v) for v in args.dense_obstacles.split(",")]
+        args.dense_delta_d = [float(v) for v in args.dense_delta_d.split(",")]
+    except ValueError as error:
+        parser.error(f"--dense-obstacles / --dense-delta-d: comma-separated numbers ({error})")
+    args.dense_planners = [p.strip() for p in args.dense_planners.split(",") if p.strip()]
+    unknown = sorted(set(args.dense_planners) - set(agents.available()))
+    if unknown or args.dense_episodes < 1:
+        parser.error(f"--dense-planners: unknown {unknown}" if unknown else "--dense-episodes must be >= 1")
+    return args
+
+
+def print_dense(args: argparse.Namespace) -> None:
+    median_target, p95_target = SPACETIME_TARGET_MS
+    print(f"\nSpace-time planners, dense: every replan of {args.dense_episodes} validation episodes a cell (random), ms")
+    print(f"| planner | obstacles | Δd | replans | median (target <= {median_target:g}) | p95 (target <= {p95_target:g}) | success |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
+    rows = dense_replan_times(args.dense_episodes, args.dense_obstacles, args.dense_delta_d, args.dense_planners)
+    for name, n, delta_d, median, p95, count, wins in rows:
+        print(f"| {name} | {n} | {delta_d:g} | {count} | {median:.2f} | {p95:.2f} | {wins}/{args.dense_episodes} |")
 
 
 def main(argv=None) -> None:
     args = parse_args(argv)
+    if args.dense:
+        print_dense(args)
+        return
 
     times = replan_times(args.replans)
     ours = times["ours: pso"]

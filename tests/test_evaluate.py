@@ -238,9 +238,12 @@ def test_compare_runs_compares_a_run_kept_without_episodes_cell_by_cell_and_says
 def test_every_suite_names_registered_agents_and_presets(name):
     import agents
     import pathplan_env
+    from agents.evaluation import resolve_scenarios
     from agents.evaluation.suites import SUITES
 
     suite = SUITES[name]
     assert set(suite["agents"].split(",")) <= set(agents.available()), name
-    assert set(suite["scenarios"].split(",")) <= set(pathplan_env.PRESETS), name
+    specs = resolve_scenarios(suite["scenarios"].split(","))  # presets, some with their own obstacle count
+    assert all(isinstance(s.scenario, str) and s.scenario in pathplan_env.PRESETS for s in specs), name
+    assert all(s.n_obstacles is None or 1 <= s.n_obstacles <= 100 for s in specs), name
     assert all(float(d) >= 0 for d in suite["delta_d"].split(",")) and suite["episodes"] >= 1

@@ -108,13 +108,13 @@ def check_run(agent_names, scenarios, deltas, episodes, *, seed=0, split="test",
     for spec in scenario_specs:
         for delta_d in deltas:
             try:
-                env = make_episode_env(spec, delta_d, n_obstacles, None, split)
+                env = make_episode_env(spec, delta_d, spec.obstacles(n_obstacles), None, split)
                 env.reset(seed=first_seed)
             except ValueError as error:
                 raise ValueError(f"scenario {spec.label!r} at delta_d {delta_text(delta_d)}: {error}") from None
             if options:  # the scene is fine without them: an error now is the options'
                 try:
-                    env = make_episode_env(spec, delta_d, n_obstacles, options, split)
+                    env = make_episode_env(spec, delta_d, spec.obstacles(n_obstacles), options, split)
                     env.reset(seed=first_seed)
                 except (ValueError, TypeError) as error:  # TypeError: a keyword the env does not take
                     raise ValueError(f"env_options {options}: {error}") from None

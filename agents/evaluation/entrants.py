@@ -11,6 +11,8 @@ An agent may be given as
   * any object with SB3's ``predict(observation, state=None, episode_start=None, deterministic=False)``,
     e.g. a loaded SB3 model: every episode gets a fresh copy of it as given.
 A scenario may be a preset's name, a :class:`pathplan_env.Scenario`, its dict, or a JSON/YAML file of one.
+A preset may carry its own obstacle count as ``"random:n_obstacles=30"`` (the run's ``n_obstacles``
+is for the others): a suite then runs one preset at several densities, each a scenario of its own.
 
 Results name each entrant by its label: the registered name or the entry's text, a class's or
 function's ``__name__``, an object's ``name`` or type, a scenario's ``name`` (a file's stem by default).
@@ -37,6 +39,7 @@ from typing import Any
 
 from pathplan_env import PRESETS, Scenario
 from pathplan_env.scenario_files import SUFFIXES, is_scenario_file, load_scenario
+from pathplan_env.scenarios import check_n_obstacles
 from pathplan_env.wrappers import EnvFacts
 
 _LABELLED = re.compile(r"([\w.+-]+)=(.+)")  # "label=entry": a label has no '/', ':', '@' or '='
@@ -89,10 +92,31 @@ class AgentSpec:
 
 @dataclass(frozen=True, eq=False)
 class ScenarioSpec:
-    """One scenario of a run: a preset's name, or the :class:`Scenario` itself (a file is read once, here)."""
+    """One scenario of a run: a preset's name, or the :class:`Scenario` itself (a file is read once, here).
+
+    ``n_obstacles``: a preset's own obstacle count (``"random:n_obstacles=30"``), which overrides the
+    run's; ``None``: the run's (or the preset's default)."""
 
     label: str
     scenario: str | Scenario
+    n_obstacles: int | None = None
+
+    def __post_init__(self):
+        if self.n_obstacles is not None:
+            if not isinstance(self.scenario, str):
+                raise ValueError(f"n_obstacles: only a preset takes its own obstacle count, not the scene {self.label!r}")
+            check_n_obstacles(self.n_obstacles)
+
+    def obstacles(self, run_n_obstacles: int | None) -> int | None:
+        """The obstacle count its episodes run with: its own, else the run's."""
+        return run_n_obstacles if self.n_obstacles is None else self.n_obstacles
+
+    @property
+    def text(self) -> str:
+        """A preset as written on the command line: ``"random"`` or ``"random:n_obstacles=30"``."""
+        if not isinstance(self.scenario, str):
+            return self.label
+        return self.scenario if self.n_obstacles is None else f"{self.scenario}:n_obstacles={self.n_obstacles}"
 
     @property
     def definition(self) -> dict | None:
@@ -105,8 +129,8 @@ class ScenarioSpec:
     def key(self) -> str:
         """The run's record of it (``--resume``): a preset's name, or the label and a digest of the
         scene, so an edited scene file is not resumed from the episodes of the old one."""
-        if isinstance(self.scenario, str):
-            return self.scenario if self.label == self.scenario else f"{self.label}#{self.scenario}"
+        if isinstance(self.scenario, str):  # a preset's count is in the key (and in each episode's, as before)
+            return self.text if self.label == self.text else f"{self.label}#{self.text}"
         text = json.dumps(self.definition, sort_keys=True)
         return f"{self.label}#{hashlib.sha1(text.encode()).hexdigest()[:12]}"
 
@@ -279,6 +303,8 @@ def _scenario_spec(entry, argument: str) -> ScenarioSpec:
     try:
         if isinstance(entry, str) and entry.strip() in PRESETS:
             spec = ScenarioSpec(entry.strip(), entry.strip())
+        elif isinstance(entry, str) and entry.strip().partition(":")[0] in PRESETS and not Path(entry.strip()).exists():
+            spec = preset_with_fields(entry.strip())
         elif isinstance(entry, (str, Path)) and (is_scenario_file(entry) or Path(entry).is_file()):
             scenario = load_scenario(entry)
             spec = ScenarioSpec(scenario.name, scenario)
@@ -290,6 +316,29 @@ def _scenario_spec(entry, argument: str) -> ScenarioSpec:
     except (ValueError, TypeError) as error:
         raise ValueError(f"{argument}: {error}") from None
     return dataclasses.replace(spec, label=label) if label else spec
+
+
+#: The fields a preset's text takes after a colon (``"random:n_obstacles=30"``).
+PRESET_FIELDS = ("n_obstacles",)
+
+
+def preset_with_fields(text: str) -> ScenarioSpec:
+    """``"preset:field=value"`` -> its spec, labelled by the text in canonical form.
+
+    :raises ValueError: naming the field that is unknown, repeated or malformed."""
+    preset, _, rest = text.partition(":")
+    fields: dict[str, int] = {}
+    for item in rest.split(":"):
+        name, equals, value = (part.strip() for part in item.partition("="))
+        if name not in PRESET_FIELDS:
+            raise ValueError(f"{text!r}: unknown field {name!r}; a preset takes {', '.join(PRESET_FIELDS)} (e.g. {preset}:n_obstacles=30)")
+        if name in fields:
+            raise ValueError(f"{text!r}: field {name!r} given twice")
+        if not equals or not re.fullmatch(r"\d+", value):
+            raise ValueError(f"{text!r}: {name} must be a whole number >= 0, got {value!r}")
+        fields[name] = int(value)
+    spec = ScenarioSpec(preset, preset, **fields)
+    return dataclasses.replace(spec, label=spec.text)
 
 
 # -- shared -------------------------------------------------------------------------------------

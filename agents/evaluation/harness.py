@@ -105,9 +105,10 @@ def evaluate(
         entrants.append(limit_spec)
         own[LIMIT_AGENT] = {}  # the kwargs are meant for the agents asked for
     seeds = episode_seeds(split, seed, episodes)
-    jobs = [(a, s, d, i, e, n_obstacles, own[a.label], options, split)
+    jobs = [(a, s, d, i, e, s.obstacles(n_obstacles), own[a.label], options, split)
             for a in entrants for s in run.scenarios for d in run.deltas for i, e in enumerate(seeds)]  # fmt: skip
     scenario_key = {s.label: s.key for s in run.scenarios}
+    obstacles = {s.label: s.obstacles(n_obstacles) for s in run.scenarios}  # a preset's own count, else the run's
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     log = out / "episodes.jsonl"
@@ -130,7 +131,8 @@ def evaluate(
 
         def record(res: EpisodeResult) -> None:
             results.append(res)
-            key = _key(res.agent, scenario_key[res.scenario], res.delta_d, res.episode, res.seed, n_obstacles, own[res.agent], options, split)
+            key = _key(res.agent, scenario_key[res.scenario], res.delta_d, res.episode, res.seed, obstacles[res.scenario], own[res.agent], options,
+                       split)  # fmt: skip
             sink.write(json.dumps({"job": list(key), "result": asdict(res)}) + "\n")
             sink.flush()
 
@@ -147,7 +149,7 @@ def evaluate(
                                "agent_sources": {a.label: a.source for a in entrants},
                                "custom_scenarios": {s.label: s.definition for s in run.scenarios if s.definition},
                                "delta_d": run.deltas, "episodes": episodes,
-                               "seed": seed, "split": split, "n_obstacles": n_obstacles, "workers": workers,
+                               "seed": seed, "split": split, "n_obstacles": n_obstacles, "scenario_n_obstacles": obstacles, "workers": workers,
                                "agent_kwargs": agent_kwargs or {}, "env_options": options, "episode_seeds": [seeds[0], seeds[-1]],
                                **({"crowdnav_case_seeds": [CROWDNAV_SEED_BASE, CROWDNAV_SEED_BASE + episodes - 1]} if split == "crowdnav" else {}),
                                "wall_seconds": round(elapsed, 1)}  # fmt: skip

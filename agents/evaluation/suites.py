@@ -28,6 +28,15 @@ SUITES = {
         delta_d="0.25,0.5,1",
         episodes=200,
     ),
+    # crowded and fast (issue 22): random scenes at 30 and 50 obstacles (a preset's own count, see
+    # agents.evaluation.entrants), every space-time planner against the limit; astar-crowd is left
+    # out: its cone of futures is for obstacles that steer, and these bounce as the physics predicts
+    "dense": dict(
+        agents="astar-spacetime,pso-spacetime,abc-spacetime",
+        scenarios="random:n_obstacles=30,random:n_obstacles=50",
+        delta_d="1,2,4",
+        episodes=200,
+    ),
     "large": dict(
         agents="straight,velocity-obstacle,oracle-static,pso,abc,pso-vanilla,abc-vanilla,pso-predictive,abc-predictive,"
         "astar-spacetime,pso-spacetime,abc-spacetime,ppo",

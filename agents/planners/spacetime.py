@@ -19,6 +19,8 @@ absorbs the prediction's drift at bounces.
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from pathplan_env.geometry import segment_segment_distance
@@ -29,6 +31,7 @@ from .costtogo import CostToGo, observed_cost_to_go, route, waypoints_on
 from .metaheuristic import MetaheuristicAgent
 from .objective import TimedScene, walk_along
 from .prediction import predict_among, substeps_for
+from .spacetime_anytime import PARTIAL_RULES, partial_plan
 from .spacetime_search import BUDGET, EXHAUSTED, SearchSettings, SpacetimeProblem, heading_moves, replay, search
 
 #: How the planners predict the obstacles: the env's bounce physics, or a cone of three such
@@ -82,16 +85,43 @@ class SpacetimeModel:
         return trajectory, n, contact_radii, robot, goal
 
 
+#: ``astar-spacetime``'s default work budget per replan (obstacle and wall tests). Replans at 30
+#: obstacles, 40 validation episodes: median / p95 5.5 / 44 ms at Δd 2, 21 / 34 ms at Δd 4 on a
+#: shared 2-core machine (``scripts/evaluate.py``); 500,000 won as many episodes at Δd 2 as no budget.
+WORK_BUDGET = 400_000
+
+
 class SpacetimeAStarAgent(Agent):
-    """A* over (step, position) on the predicted obstacles, replanned every step.
+    """A* over (step, position) on the predicted obstacles, replanned every step, with a bounded
+    worst case: an anytime search.
+
+    Each replan's search stops at a budget of ``max_work`` obstacle and wall tests (or
+    ``max_expansions`` nodes, whichever comes first); both count work, not time, so an episode
+    replays bit for bit on any machine. When the budget runs out before a plan reaches the goal or
+    the horizon, the robot acts on the best partial plan found so far
+    (:func:`agents.planners.spacetime_anytime.partial_plan`: every node's path is free of contact on
+    the prediction), and on the :meth:`escape` move when no move at all is free.
 
     :param horizon_steps: steps predicted and searched; a node this deep is a leaf scored by its
         steps to go at top speed.
     :param margin: relative margin on the contact distance.
     :param n_headings, speed_fractions, cell, h_weight: the search's moves, merge grid and
         heuristic weight (:func:`agents.planners.spacetime_search.search`).
-    :param max_expansions: the search's node budget per replan; a search that runs out of it is
-        retried once with ``retry_factor`` times the budget.
+    :param max_expansions: the search's node budget per replan.
+    :param max_work: the search's work budget per replan (obstacle and wall tests,
+        :attr:`~agents.planners.spacetime_search.SearchSettings.max_work`); ``None``: none. The default
+        (:data:`WORK_BUDGET`) keeps the replan's p95 near 50 ms at 30 obstacles (``scripts/bench_planners.py
+        --dense``); among 8 obstacles it rarely binds.
+    :param time_budget_ms: optional wall-clock budget per replan, off by default. It turns into a
+        work budget from the rate of this agent's earlier searches, so it **breaks bit-for-bit
+        determinism**: the same seed may fly another path on a busier machine.
+    :param partial, partial_min_steps: the rule that picks the partial plan when the budget runs out
+        (:data:`agents.planners.spacetime_anytime.PARTIAL_RULES`) and the survival it asks for.
+    :param coarse_cell, coarse_headings, fine_share: when the search (``cell``, ``n_headings``) runs
+        out of ``fine_share`` of the work budget, a coarse one (``coarse_cell``, ``coarse_headings``
+        at top and half speed) spends the rest: among many fast obstacles a fine grid floods the first
+        steps with nodes and reaches little depth. The partial plan is then chosen from both trees.
+        ``coarse_cell=None``: one search, the whole budget.
     :param keep_plan_steps: the previous plan is flown on, without a search, while the new
         prediction finds all of it free of contact and it still runs this many steps (or to the goal).
     :param prediction, cone_degrees: :class:`SpacetimeModel`'s obstacle prediction.
@@ -102,18 +132,48 @@ class SpacetimeAStarAgent(Agent):
     """
 
     def __init__(self, env, seed: int | None = None, *, horizon_steps: int = 20, margin: float = 0.005, n_headings: int = 32,
-                 speed_fractions=(1.0, 0.5), cell: float = 0.03, h_weight: float = 3.0, max_expansions: int = 2000,
-                 retry_factor: int = 10, keep_plan_steps: int = 10, prediction: str = "physics",
+                 speed_fractions=(1.0, 0.5), cell: float = 0.03, h_weight: float = 3.0, max_expansions: int = 20_000,
+                 max_work: float | None = WORK_BUDGET, time_budget_ms: float | None = None, partial: str = "progress",
+                 partial_min_steps: int = 5, coarse_cell: float | None = 0.1, coarse_headings: int = 16, fine_share: float = 0.5,
+                 keep_plan_steps: int = 10, prediction: str = "physics",
                  cone_degrees: float = 20.0, escape_trapped: bool = False, escape_steps: int = 4):  # fmt: skip
         super().__init__(env, seed)
         self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees)
         if int(escape_steps) != escape_steps or escape_steps < 1:
             raise ValueError(f"escape_steps must be a positive integer, got {escape_steps!r}")
+        if int(max_expansions) != max_expansions or max_expansions < 1:
+            raise ValueError(f"max_expansions must be a positive integer, got {max_expansions!r}")
+        if max_work is not None and not max_work > 0:
+            raise ValueError(f"max_work must be > 0 or None, got {max_work!r}")
+        if time_budget_ms is not None and not (np.isfinite(time_budget_ms) and time_budget_ms > 0):
+            raise ValueError(f"time_budget_ms must be a finite number > 0 or None, got {time_budget_ms!r}")
+        if partial not in PARTIAL_RULES:
+            raise ValueError(f"partial must be one of {PARTIAL_RULES}, got {partial!r}")
+        if int(partial_min_steps) != partial_min_steps or partial_min_steps < 1:
+            raise ValueError(f"partial_min_steps must be a positive integer, got {partial_min_steps!r}")
+        if coarse_cell is not None and not coarse_cell > 0:
+            raise ValueError(f"coarse_cell must be > 0 or None, got {coarse_cell!r}")
+        if not 0.0 < fine_share <= 1.0:
+            raise ValueError(f"fine_share must be in (0, 1], got {fine_share!r}")
         self.horizon_steps = self.model.horizon_steps
         self.moves = heading_moves(int(n_headings), speed_fractions)
+        self.coarse_moves = None if coarse_cell is None else heading_moves(int(coarse_headings), speed_fractions)
+        self.coarse_cell, self.fine_share = (None if coarse_cell is None else float(coarse_cell)), float(fine_share)
         self.cell, self.h_weight, self.max_expansions = float(cell), float(h_weight), int(max_expansions)
-        self.retry_factor, self.keep_plan_steps = int(retry_factor), int(keep_plan_steps)
+        self.max_work = float("inf") if max_work is None else float(max_work)
+        self.time_budget_ms = None if time_budget_ms is None else float(time_budget_ms)
+        self.partial, self.partial_min_steps = partial, int(partial_min_steps)
+        self.keep_plan_steps = int(keep_plan_steps)
         self.escape_trapped, self.escape_steps = bool(escape_trapped), int(escape_steps)
+        self.last_search: dict = {}
+        self._work_per_ms: float | None = None  # time_budget_ms only: the rate of the searches so far
+
+    def work_budget(self) -> float:
+        """This replan's work budget: ``max_work``, or less when a wall-clock budget and the rate of
+        earlier searches say so (never before a first search has been timed)."""
+        if self.time_budget_ms is None or self._work_per_ms is None:
+            return self.max_work
+        return min(self.max_work, max(1.0, self._work_per_ms * self.time_budget_ms))
 
     def plan(self, obs, memory):
         trajectory, n, radii, robot, goal = self.model.predict_scene(obs)
@@ -128,11 +188,23 @@ class SpacetimeAStarAgent(Agent):
         else:
             keep = False
         if not keep:
-            for budget in (self.max_expansions, self.max_expansions * self.retry_factor):
-                result = search(problem, SearchSettings(self.moves, self.horizon_steps, self.cell, budget, self.h_weight))
-                outcome, targets = result.outcome, result.targets
-                if outcome != BUDGET:
-                    break
+            begin, budget = time.perf_counter(), self.work_budget()
+            share = budget if self.coarse_moves is None else budget * self.fine_share
+            result = search(problem, SearchSettings(self.moves, self.horizon_steps, self.cell, self.max_expansions, self.h_weight, share))
+            outcome, targets, trees, work = result.outcome, result.targets, [result.tree], result.work
+            if outcome == BUDGET and self.coarse_moves is not None and budget > work:
+                coarse = search(problem, SearchSettings(self.coarse_moves, self.horizon_steps, self.coarse_cell, self.max_expansions,
+                                                        self.h_weight, budget - work))  # fmt: skip
+                work += coarse.work
+                if coarse.outcome not in (BUDGET, EXHAUSTED):  # a plan to the goal or the horizon (its merging proves no trap)
+                    outcome, targets = coarse.outcome, coarse.targets
+                trees.append(coarse.tree)
+            if outcome == BUDGET:  # anytime: act on the best plan found so far
+                targets = partial_plan(trees, self.partial, self.partial_min_steps)
+            if self.time_budget_ms is not None:
+                rate = work / max(1e3 * (time.perf_counter() - begin), 1e-3)
+                self._work_per_ms = rate if self._work_per_ms is None else 0.5 * (self._work_per_ms + rate)
+            self.last_search = {"outcome": int(outcome), "work": int(work), "steps": len(targets)}
         if len(targets) == 0 or (not keep and outcome == EXHAUSTED and self.escape_trapped):
             # every move is predicted to touch (within the margin), or every plan ends in contact
             # before the horizon: get as far clear as it can

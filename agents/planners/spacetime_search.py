@@ -36,6 +36,10 @@ from pathplan_env.kinematics import reach_fraction, robot_move, substep_point
 from pathplan_env.statics import swept_capsule
 
 from .costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal
+from .reachable_set import provably_lost
+
+__all__ = ["BUDGET", "EXHAUSTED", "FOUND", "HORIZON", "SearchResult", "SearchSettings", "SearchTree", "SpacetimeProblem",
+           "heading_moves", "provably_lost", "replay", "search", "step_paths"]  # provably_lost lives in reachable_set
 
 FOUND, HORIZON, EXHAUSTED, BUDGET = 0, 1, 2, 3  # search outcomes
 
@@ -58,13 +62,30 @@ class SpacetimeProblem(NamedTuple):
 
 
 class SearchSettings(NamedTuple):
-    """The A*'s moves, depth, merge grid, budget and heuristic weight."""
+    """The A*'s moves, depth, merge grid, budgets and heuristic weight."""
 
     moves: np.ndarray  # (M, 3): ``(ux, uy, fraction of the robot's step)`` (:func:`heading_moves`)
     max_steps: int  # a node this deep is a leaf (where the trajectory or the episode ends)
     cell: float  # m: nodes are merged per (step, grid cell)
     max_expansions: int  # node budget
     h_weight: float  # heuristic weight (1: plain A*, earliest arrival)
+    # work budget: obstacle and wall tests (broad phase, and narrow phase per substep), which track the
+    # search's time far better than expansions do (an expansion near 30 fast obstacles costs ~20x one
+    # among 8 slow ones) while staying deterministic; inf: expansions alone bound the search
+    max_work: float = math.inf
+
+
+class SearchTree(NamedTuple):
+    """Every node :func:`search` generated (each one's path from the start is free of contact):
+    what :mod:`agents.planners.spacetime_anytime` chooses a partial plan from."""
+
+    x: np.ndarray  # (count,) m: the robot after the node's step
+    y: np.ndarray
+    k: np.ndarray  # (count,) int: the node's step
+    parent: np.ndarray  # (count,) int: its parent's index (-1 at the root)
+    tx: np.ndarray  # (count,) m: the waypoint aimed at to reach it
+    ty: np.ndarray
+    h: np.ndarray  # (count,) steps still needed at top speed (the heuristic, unweighted)
 
 
 class SearchResult(NamedTuple):
@@ -73,6 +94,8 @@ class SearchResult(NamedTuple):
     outcome: int  # FOUND, HORIZON, EXHAUSTED or BUDGET
     targets: np.ndarray  # (steps, 2) m: the waypoint to aim at in each step
     expansions: int  # nodes expanded
+    work: int  # obstacle and wall tests done (:attr:`SearchSettings.max_work`)
+    tree: SearchTree  # every node generated
 
 
 def heading_moves(n_headings: int, speed_fractions) -> np.ndarray:
@@ -146,7 +169,8 @@ def step_paths(traj, n):
 @numba.njit(cache=True)
 def _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, gx, gy, goal_radius, ends, deviation, close,
          statics, near_s, n_near_s):  # fmt: skip
-    """One step from ``(x, y)`` by ``(dx, dy)`` starting at substep ``first``: 1 goal, 0 free, -1 contact.
+    """One step from ``(x, y)`` by ``(dx, dy)`` starting at substep ``first``: ``(result, pairs)``,
+    result 1 goal, 0 free, -1 contact, and the pairs tested substep by substep.
 
     Only the obstacles ``near[:n_near]`` are tested (the others cannot reach the robot this step),
     and of those only the ones whose path this step (``ends``: its first and last centre; every
@@ -184,8 +208,8 @@ def _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, gx, gy
         contact = min(contact, t)
     goal = reach_fraction(x, y, dx, dy, gx, gy, goal_radius)
     if contact <= 1.0 and contact <= goal:
-        return -1
-    return 1 if goal <= 1.0 else 0
+        return -1, pairs
+    return (1 if goal <= 1.0 else 0), pairs
 
 
 @numba.njit(cache=True, inline="always")
@@ -214,7 +238,7 @@ def search(problem, settings):
     start, goal, goal_radius, box, reach = problem.start, problem.goal, problem.goal_radius, problem.box, problem.reach
     statics, ctg = problem.statics, problem.cost_to_go
     moves, max_steps, cell = settings.moves, settings.max_steps, settings.cell
-    max_expansions, h_weight = settings.max_expansions, settings.h_weight
+    max_expansions, h_weight, max_work = settings.max_expansions, settings.h_weight, settings.max_work
     bx0, by0 = box.fit_xmin, box.fit_ymin
     gx_cells = int((box.fit_xmax - bx0) / cell) + 2
     gy_cells = int((box.fit_ymax - by0) / cell) + 2
@@ -226,6 +250,7 @@ def search(problem, settings):
     node_parent = np.empty(cap, np.int64)
     node_tx = np.empty(cap)
     node_ty = np.empty(cap)
+    node_h = np.empty(cap)
     seen = numba.typed.Dict.empty(numba.types.int64, numba.types.int64)
     near = np.empty(radii.shape[0], np.int64)
     close = np.empty(radii.shape[0], np.int64)
@@ -237,10 +262,12 @@ def search(problem, settings):
         return 0.0 if d <= 0.0 else math.ceil(d / reach - 1e-9)
 
     node_x[0], node_y[0], node_k[0], node_parent[0] = start[0], start[1], 0, -1
+    node_tx[0], node_ty[0], node_h[0] = start[0], start[1], h(start[0], start[1])
     count = 1
     heap = [(h_weight * h(start[0], start[1]), 0, 0)]
     deepest, deepest_k, deepest_h = 0, 0, h(start[0], start[1])
     expansions = 0
+    work = 0
     found = -1
     outcome = EXHAUSTED
     while len(heap) > 0:
@@ -249,10 +276,11 @@ def search(problem, settings):
         if k == max_steps:
             found, outcome = i, HORIZON
             break
-        if expansions >= max_expansions:
+        if expansions >= max_expansions or work >= max_work:
             outcome = BUDGET
             break
         expansions += 1
+        work += radii.shape[0] + statics.shape[0]  # the broad phases below
         x, y = node_x[i], node_y[i]
         first = k * n
         # broad phase: every move stays within ``reach`` of (x, y), every obstacle within its
@@ -277,8 +305,9 @@ def search(problem, settings):
                 tx, ty = goal[0], goal[1]
             action = _to_action(tx, ty, box)
             _, _, _, dx, dy = robot_move(action, box, x, y, reach)
-            result = _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, goal[0], goal[1], goal_radius,
-                          ends, deviation, close, statics, near_s, n_near_s)  # fmt: skip
+            result, pairs = _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, goal[0], goal[1], goal_radius,
+                                 ends, deviation, close, statics, near_s, n_near_s)  # fmt: skip
+            work += n_near + pairs * n + n_near_s
             if result < 0:
                 continue
             nx, ny = x + dx, y + dy
@@ -291,9 +320,11 @@ def search(problem, settings):
             node_tx[count], node_ty[count] = tx, ty
             if result == 1:
                 found, outcome = count, FOUND
+                node_h[count] = 0.0
                 count += 1
                 break
             hn = h(nx, ny)
+            node_h[count] = hn
             heapq.heappush(heap, (k + 1 + h_weight * hn, -(k + 1), count))
             if k + 1 > deepest_k or (k + 1 == deepest_k and hn < deepest_h):
                 deepest, deepest_k, deepest_h = count, k + 1, hn
@@ -307,7 +338,8 @@ def search(problem, settings):
     for s in range(steps - 1, -1, -1):
         targets[s, 0], targets[s, 1] = node_tx[j], node_ty[j]
         j = node_parent[j]
-    return SearchResult(outcome, targets, expansions)
+    tree = SearchTree(node_x[:count], node_y[:count], node_k[:count], node_parent[:count], node_tx[:count], node_ty[:count], node_h[:count])
+    return SearchResult(outcome, targets, expansions, work, tree)
 
 
 @numba.njit(cache=True)
@@ -330,87 +362,11 @@ def replay(problem, targets):
     for k in range(steps):
         action = _to_action(targets[k, 0], targets[k, 1], box)
         _, _, _, dx, dy = robot_move(action, box, x, y, reach)
-        result = _fly(traj, k * n, n, x, y, dx, dy, robot_radius, radii, near, radii.shape[0], goal[0], goal[1], goal_radius,
-                      paths.ends[k], paths.deviation[k], close, statics, every_static, statics.shape[0])  # fmt: skip
+        result, _ = _fly(traj, k * n, n, x, y, dx, dy, robot_radius, radii, near, radii.shape[0], goal[0], goal[1], goal_radius,
+                         paths.ends[k], paths.deviation[k], close, statics, every_static, statics.shape[0])  # fmt: skip
         if result < 0:
             return k, False
         if result == 1:
             return k + 1, True
         x, y = x + dx, y + dy
     return steps, False
-
-
-def _window_segment_distance(wx: np.ndarray, wy: np.ndarray, x0: float, y0: float, x1: float, y1: float) -> np.ndarray:
-    """Distance from the grid points ``(wx (gx, 1), wy (1, gy))`` to the segment ``(x0, y0)-(x1, y1)``."""
-    sx, sy = x1 - x0, y1 - y0
-    ss = sx * sx + sy * sy
-    t = np.clip(((wx - x0) * sx + (wy - y0) * sy) / ss, 0.0, 1.0) if ss > 0 else 0.0
-    return np.hypot(wx - x0 - t * sx, wy - y0 - t * sy)
-
-
-def provably_lost(problem: SpacetimeProblem, cell: float = 0.005, max_steps: int = 6,
-                  history: list | None = None) -> tuple[bool | None, int]:
-    """Whether no path can reach the goal, by an outer approximation of the reachable set.
-
-    ``problem.trajectory[s]`` are the obstacle centres after ``s`` substeps. The set of
-    positions the robot can occupy after each substep is over-approximated on a grid of ``cell``
-    metres: a cell is kept if its centre lies within one substep's reach plus one cell diagonal of a
-    kept cell's centre, and inside the box where the robot's disc fits; it is dropped only if the
-    whole cell lies inside an obstacle or a static capsule (``problem.statics``) inflated by the
-    robot radius. When nothing moves and the kept set stops changing, it never will: lost too (a
-    robot walled in). The true set is inside the kept
-    one, so when the kept set empties the episode is lost whatever the robot does.
-
-    :param history: if given, receives ``(cell_centres_x, cell_centres_y, kept)`` after every
-        substep (for pictures of the set shrinking).
-    :return: ``(lost, step)``: ``(True, step)`` when the set empties during ``step``; ``(False, step)``
-        when the goal's disc comes within reach; ``(None, max_steps)`` when neither happens within
-        ``max_steps`` steps (undecided: the approximation's slack grows with every substep).
-    """
-    from scipy.ndimage import distance_transform_edt
-
-    trajectory, substeps, radii, robot_radius = problem.trajectory, problem.substeps, problem.radii, problem.robot_radius
-    start, goal, goal_radius, reach = problem.start, problem.goal, problem.goal_radius, problem.reach
-    box = problem.box
-    xmin, ymin, xmax, ymax = box.fit_xmin, box.fit_ymin, box.fit_xmax, box.fit_ymax
-    gx = max(1, int(math.ceil((xmax - xmin) / cell)))
-    gy = max(1, int(math.ceil((ymax - ymin) / cell)))
-    cx = xmin + (np.arange(gx) + 0.5) * cell
-    cy = ymin + (np.arange(gy) + 0.5) * cell
-    diag = cell * math.sqrt(2.0)
-    inflated = radii + robot_radius
-    move = reach / substeps + diag  # centre-to-centre bound: the move plus half a diagonal at each end
-    lo = np.array([min(max(int((start[0] - xmin) / cell), 0), gx - 1), min(max(int((start[1] - ymin) / cell), 0), gy - 1)])
-    hi = lo + 1
-    kept = np.ones((1, 1), bool)
-    grow = int(math.ceil(move / cell)) + 1
-    last = min(len(trajectory) - 1, max_steps * substeps)
-    # nothing moves: a set that stops changing has reached its fixed point (walled in, for good)
-    frozen = bool(np.all(trajectory[:, :, :2] == trajectory[:1, :, :2])) if len(radii) else True
-    for s in range(1, last + 1):
-        new_lo = np.maximum(lo - grow, 0)
-        new_hi = np.minimum(hi + grow, [gx, gy])
-        window = np.zeros(tuple(new_hi - new_lo), bool)
-        window[lo[0] - new_lo[0] : hi[0] - new_lo[0], lo[1] - new_lo[1] : hi[1] - new_lo[1]] = kept
-        candidate = distance_transform_edt(~window, sampling=cell) <= move
-        wx = cx[new_lo[0] : new_hi[0]][:, None]
-        wy = cy[new_lo[1] : new_hi[1]][None, :]
-        if (candidate & (np.hypot(wx - goal[0], wy - goal[1]) <= goal_radius + diag / 2)).any():
-            return False, (s - 1) // substeps + 1  # the goal may be reached during this step
-        for o in range(len(radii)):
-            ox, oy = trajectory[s][o, 0], trajectory[s][o, 1]
-            candidate &= np.hypot(wx - ox, wy - oy) + diag / 2 >= inflated[o]
-        for x0, y0, x1, y1, half in problem.statics:  # walls: dropped only where the whole cell is inside
-            candidate &= _window_segment_distance(wx, wy, x0, y0, x1, y1) + diag / 2 >= half + robot_radius
-        if history is not None:
-            history.append((wx[:, 0], wy[0], candidate.copy()))
-        if not candidate.any():
-            return True, (s - 1) // substeps + 1
-        rows, cols = np.nonzero(candidate)
-        new_kept = candidate[rows.min() : rows.max() + 1, cols.min() : cols.max() + 1]
-        if frozen and np.array_equal(lo, new_lo + [rows.min(), cols.min()]) and np.array_equal(new_kept, kept):
-            return True, (s - 1) // substeps + 1
-        lo = new_lo + [rows.min(), cols.min()]
-        hi = new_lo + [rows.max() + 1, cols.max() + 1]
-        kept = new_kept
-    return (True, last // substeps) if last == len(trajectory) - 1 else (None, max_steps)

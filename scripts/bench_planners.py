@@ -127,7 +127,7 @@ def optimality(n_scenes: int) -> list[tuple[str, int, float, float, float]]:
     return rows
 
 
-SPACETIME_PLANNERS = ("astar-spacetime", "pso-spacetime", "abc-spacetime", "astar-unicycle", "pso-unicycle", "abc-unicycle")  # the last three drive the unicycle
+SPACETIME_PLANNERS = ("astar-spacetime", "pso-spacetime", "abc-spacetime", "astar-unicycle", "pso-unicycle", "abc-unicycle")  # last three: unicycle
 SPACETIME_TARGET_MS = (5.0, 50.0)  # median, p95
 
 

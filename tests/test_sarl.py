@@ -144,18 +144,19 @@ def test_tiny_training_run(tmp_path):
     meta = train(args, command="test")
     assert meta["rl_episodes"] == 2 and len(meta["validation_curve"]) == 3
     agent = agents.make("sarl", gym.make("DynamicObstacle-v0", **CROWDNAV), path=tmp_path / "run" / "best.npz")
-    assert agent.network.layers["mlp1"][0][0].shape == (SELF_DIM + HUMAN_DIM, 100)
+    assert agent.network.layers["mlp1"][0][0].shape == (100, SELF_DIM + HUMAN_DIM)
     assert json.loads((tmp_path / "run" / "best.json").read_text())["imitation"]["episodes"] == 2
 
 
 SHIPPED = MODELS_DIR / "sarl_crowdnav.npz"
+#: The shipped model's figure: scripts/evaluate.py on 1,000 test episodes of split 0 (docs/results/sarl.md).
+CLAIM = MODELS_DIR.parents[1] / "docs" / "results" / "sarl" / "test_circle" / "summary.json"
 
 
-@pytest.mark.skipif(not SHIPPED.exists(), reason="no shipped SARL model")
+@pytest.mark.skipif(not (SHIPPED.exists() and CLAIM.exists()), reason="no shipped SARL model or no figure for it")
 def test_shipped_model_holds_its_claim_on_other_held_out_seeds():
-    # the claim: the docs' test rate (split 0) in the sidecar's "test" entry; here 50 episodes of test split 7
-    meta = json.loads(SHIPPED.with_suffix(".json").read_text())
-    claim = meta["test"]["success"]
+    # 50 episodes of test split 7, never used for a figure; 0.1 below the claim is about 2.5 binomial sd at 0.9
+    claim = next(r["success_rate"] for r in json.loads(CLAIM.read_text())["results"] if r["agent"] == "sarl")
     env = gym.make("DynamicObstacle-v0", **CROWDNAV)
     agent = agents.make("sarl", env)
     rate = np.mean([agents.rollout(agent, env, seed)["is_success"] for seed in heldout_seeds(7, 50)])

@@ -1,11 +1,13 @@
-"""SARL's value network (:mod:`agents.rl.sarl_net`) evaluated with numpy: the agent acts without torch.
+"""SARL's value network (:mod:`agents.rl.sarl_net`) evaluated without torch: the agent acts on a core install.
 
-The forward pass is a few small matrix products over (actions × humans) rows, so numpy in float32
-is as fast as torch here and keeps torch a training-only dependency (as ``ppo.npz``).
+The forward pass is a few small matrix products over (actions × humans) rows. Each dense layer is a
+compiled single-threaded loop (:func:`dense`), not numpy's ``@``: OpenBLAS splits even these small
+products over threads, which on a busy 2-core machine took 20-70 ms a forward instead of about 1.
 """
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 #: The robot's own features (:func:`agents.rl.sarl_lookahead.joint_state`) and each human's.
@@ -30,6 +32,21 @@ def check_sizes(hidden: dict) -> dict[str, tuple[int, ...]]:
     return out
 
 
+@numba.njit(cache=True, fastmath=True)
+def dense(x, w_t, b, relu):
+    """``x @ w_t.T + b`` (float32: x rows × in, ``w_t`` out × in), then ``max(·, 0)`` if ``relu``."""
+    rows, n_in = x.shape
+    n_out = w_t.shape[0]
+    out = np.empty((rows, n_out), np.float32)
+    for r in range(rows):
+        for o in range(n_out):
+            total = b[o]
+            for i in range(n_in):
+                total += x[r, i] * w_t[o, i]
+            out[r, o] = max(total, np.float32(0.0)) if relu else total
+    return out
+
+
 class SARLNumpy:
     """``values(self_state (B, 5), humans (B, N, 7), mask (B, N)) -> (B,)`` from exported weights."""
 
@@ -39,21 +56,25 @@ class SARLNumpy:
             n = sum(1 for k in arrays if k.startswith(f"{name}.w"))
             if n == 0:
                 raise ValueError(f"arrays: no weights for {name!r}")
-            self.layers[name] = [(np.asarray(arrays[f"{name}.w{i}"], np.float32), np.asarray(arrays[f"{name}.b{i}"], np.float32)) for i in range(n)]
-        if self.layers["mlp1"][0][0].shape[0] != SELF_DIM + HUMAN_DIM:
-            raise ValueError(f"arrays: mlp1 takes {self.layers['mlp1'][0][0].shape[0]} inputs, not {SELF_DIM + HUMAN_DIM}")
+            self.layers[name] = [  # weights transposed, (out, in): ``dense`` reads each output's row contiguously
+                (np.ascontiguousarray(np.asarray(arrays[f"{name}.w{i}"], np.float32).T), np.ascontiguousarray(arrays[f"{name}.b{i}"], np.float32))
+                for i in range(n)
+            ]
+        (w, bias), h = self.layers["attention"][0], self.layers["mlp1"][-1][1].shape[0]
+        self.attention_split = (np.ascontiguousarray(w[:, :h]), np.ascontiguousarray(w[:, h:]), bias)
+        if self.layers["mlp1"][0][0].shape[1] != SELF_DIM + HUMAN_DIM:
+            raise ValueError(f"arrays: mlp1 takes {self.layers['mlp1'][0][0].shape[1]} inputs, not {SELF_DIM + HUMAN_DIM}")
 
     @classmethod
     def load(cls, path) -> SARLNumpy:
         with np.load(path) as data:
             return cls({k: data[k] for k in data.files})
 
-    def _mlp(self, name: str, x: np.ndarray, last_relu: bool) -> np.ndarray:
+    def _mlp(self, name: str, x: np.ndarray, last_relu: bool, first: int = 0) -> np.ndarray:
         layers = self.layers[name]
-        for i, (w, b) in enumerate(layers):
-            x = x @ w + b
-            if i < len(layers) - 1 or last_relu:
-                np.maximum(x, 0.0, out=x)
+        x = np.ascontiguousarray(x, np.float32)
+        for i, (w, b) in enumerate(layers[first:], start=first):
+            x = dense(x, w, b, i < len(layers) - 1 or last_relu)
         return x
 
     def values(self, self_state: np.ndarray, humans: np.ndarray, mask: np.ndarray) -> np.ndarray:
@@ -65,8 +86,13 @@ class SARLNumpy:
         embedding = self._mlp("mlp1", joint.reshape(b * n, -1), last_relu=True).reshape(b, n, -1)
         m = mask[..., None]
         context = (embedding * m).sum(1) / np.maximum(m.sum(1), 1.0)
-        pair = np.concatenate([embedding, np.broadcast_to(context[:, None, :], embedding.shape)], axis=-1)
-        scores = self._mlp("attention", pair.reshape(b * n, -1), last_relu=False).reshape(b, n)
+        # the attention's first layer on [embedding, context], split: the context's half once per state, not per human
+        w_embedding, w_context, bias = self.attention_split
+        hidden = dense(embedding.reshape(b * n, -1), w_embedding, bias, False).reshape(b, n, -1)
+        hidden += dense(np.ascontiguousarray(context), w_context, np.zeros_like(bias), False)[:, None, :]
+        last = len(self.layers["attention"]) == 1
+        hidden = hidden if last else np.maximum(hidden, np.float32(0.0))
+        scores = (hidden.reshape(b * n, -1) if last else self._mlp("attention", hidden.reshape(b * n, -1), last_relu=False, first=1)).reshape(b, n)
         scores = np.where(mask > 0, scores, np.float32(MASK_FILL))
         scores = np.exp(scores - scores.max(axis=1, keepdims=True))
         weights = scores / scores.sum(axis=1, keepdims=True) * mask

@@ -186,6 +186,7 @@ def train(args: SARLArgs, command: str = "") -> dict:
     from ..sarl_net import SARLValue
 
     start = time.perf_counter()
+    provenance = versions()  # the commit the run starts from
     budget = args.budget_minutes * 60.0
     torch.set_num_threads(1)
     torch.manual_seed(args.seed)
@@ -275,14 +276,14 @@ def train(args: SARLArgs, command: str = "") -> dict:
     np.savez(out / "final.npz", **model.export())
     seconds = time.perf_counter() - start
     log(f"done: {episode} RL episodes, best {best}, wall time {seconds / 60:.1f} min")
-    return finish(args, command, out, curve, best, seconds, episode, il_played, il_success)
+    return finish(args, command, out, curve, best, seconds, episode, il_played, il_success, provenance)
 
 
-def finish(args, command, out: Path, curve: list, best: dict, seconds: float, rl_episodes: int, il_played: int, il_success: int) -> dict:
+def finish(args, command, out: Path, curve: list, best: dict, seconds: float, rl_episodes: int, il_played: int, il_success: int,
+           provenance: dict) -> dict:  # fmt: skip
     """The sidecar, the learning curve and (``ship``) the copies into agents/models/ and docs/results/sarl/."""
     import torch
 
-    provenance = versions()
     meta = {
         "algo": "sarl", "command": command, "args": dataclasses.asdict(args), "wall_seconds": round(seconds, 1),
         "imitation": {"episodes": il_played, "teacher_success": round(il_success / max(il_played, 1), 4)},

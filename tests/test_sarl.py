@@ -13,7 +13,7 @@ import agents
 import pathplan_env  # noqa: F401
 from agents.planners.prediction import predict_among, substeps_for
 from agents.rl import MODELS_DIR
-from agents.rl.sarl_lookahead import N_ACTIONS, action_velocities, best_action, joint_state, lookahead
+from agents.rl.sarl_lookahead import N_ACTIONS, action_velocities, best_action, joint_state, lookahead, lookahead_numpy
 from agents.rl.sarl_numpy import HUMAN_DIM, SELF_DIM, SARLNumpy, check_sizes
 from pathplan_env.splits import heldout_seeds
 from pathplan_env.wrappers import EnvFacts
@@ -75,6 +75,18 @@ def test_lookahead_scores_the_predicted_humans_not_the_true_ones():
     _, true_humans = joint_state(robot[None] + velocities[:1] * facts.dt, velocities[:1], obs["goal"],
                                  truth["obstacle_positions"][mask], truth["obstacle_velocities"][mask], radii, facts)  # fmt: skip
     assert np.abs(true_humans[0] - expected[0]).max() > 1e-3  # the env's future is not what the lookahead used
+
+
+def test_compiled_lookahead_equals_numpy():
+    env = gym.make("DynamicObstacle-v0", **CROWDNAV)
+    facts = EnvFacts.of(env)
+    velocities = action_velocities(facts.robot_speed)
+    for seed in range(3):
+        obs, _ = env.reset(seed=seed)
+        for _ in range(12):  # into the crossing: contacts and discomfort among the moves
+            for got, expected in zip(lookahead(obs, facts, velocities), lookahead_numpy(obs, facts, velocities)):
+                np.testing.assert_allclose(got, expected, atol=1e-5)
+            obs, *_ = env.step(env.unwrapped.arena.waypoint_to_action(obs["robot_position"] + [0.0, 0.2]))
 
 
 def test_lookahead_reward_is_crowdnavs_on_the_predicted_step():

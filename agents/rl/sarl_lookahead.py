@@ -22,6 +22,7 @@ from pathplan_env.wrappers import EnvFacts
 
 from ..base import real_obstacles, real_static_segments
 from ..planners.prediction import predict_among, substeps_for
+from .sarl_kernel import StepModel, lookahead_kernel
 
 N_HEADINGS, N_SPEEDS = 16, 5
 N_ACTIONS = N_HEADINGS * N_SPEEDS + 1
@@ -99,7 +100,16 @@ def predict_humans(obs: dict, facts: EnvFacts):
 
 
 def lookahead(obs: dict, facts: EnvFacts, velocities: np.ndarray, reward: CrowdNavReward = CROWDNAV_REWARD):
-    """Every move's predicted next joint state and CrowdNav reward: ``(self_state, humans, rewards)``."""
+    """Every move's predicted next joint state and CrowdNav reward: ``(self_state, humans, rewards)`` (compiled)."""
+    pos, _, next_pos, next_vel, radii = predict_humans(obs, facts)
+    xmin, ymin, xmax, ymax = facts.arena.robot_box
+    model = StepModel(facts.dt, facts.robot_radius, facts.robot_speed, facts.goal_radius, (xmin, ymin), (xmax, ymax), *reward)
+    robot, goal = (np.asarray(obs[k], np.float64) for k in ("robot_position", "goal"))
+    return lookahead_kernel(robot, goal, np.asarray(velocities, np.float64), pos, next_pos, next_vel, radii, model)
+
+
+def lookahead_numpy(obs: dict, facts: EnvFacts, velocities: np.ndarray, reward: CrowdNavReward = CROWDNAV_REWARD):
+    """:func:`lookahead` in numpy (the reference the compiled kernel is tested against)."""
     robot = np.asarray(obs["robot_position"], np.float64)
     goal = np.asarray(obs["goal"], np.float64)
     pos, _, next_pos, next_vel, radii = predict_humans(obs, facts)

@@ -10,7 +10,7 @@ FULL   := $(VENV)/.installed-full
 #   make test TORCH_INDEX=https://download.pytorch.org/whl/cpu
 TORCH_INDEX ?=
 
-.PHONY: demo test bench reproduce train clean venv
+.PHONY: demo test bench reproduce train train-sarl clean venv
 
 $(CORE): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -46,6 +46,9 @@ bench: $(CORE)
 
 train: $(FULL)  ## retrain the shipped PPO policy (~35 min on 2 cores) and copy it to agents/models/
 	$(PY) scripts/train_rl.py --total-timesteps 4000000 --seed 0 --out runs/ppo --ship best
+
+train-sarl: $(FULL)  ## retrain SARL on CrowdNav's circle crossing (<= 58 min wall clock) and copy it to agents/models/sarl_crowdnav.npz
+	nice -n 5 $(PY) scripts/train_sarl.py --seed 0 --budget-minutes 58 --out runs/sarl_crowdnav
 
 reproduce: $(CORE)
 	$(PY) scripts/reproduce_paper.py --out results/paper

@@ -1,0 +1,147 @@
+"""SARL's one-step lookahead, from the observation alone: actions, joint states, CrowdNav's reward.
+
+For each of the 81 moves (16 headings × 5 speeds exponentially spaced as CrowdNav's, and stop) the
+robot's next state is the move itself; the humans' next state is *predicted* from the observation
+with the planners' model (``agents.planners.prediction.predict_among``: constant velocity, elastic
+bounces). CrowdNav's SARL asks its simulator for the humans' true next state (``query_env=True``);
+this one never does. Each move scores CrowdNav's reward on the predicted step plus
+``gamma ** (dt · v_pref)`` times the value of the predicted next joint state, all 81 in one forward.
+
+Joint-state features (CrowdNav's ``rotate``) are in the robot's goal frame, lengths in units of one
+second of the robot's travel and velocities in robot speeds (metres and m/s on CrowdNav's 1 m/s robot).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from pathplan_env.wrappers import EnvFacts
+
+from ..base import real_obstacles, real_static_segments
+from ..planners.prediction import predict_among, substeps_for
+from .sarl_kernel import StepModel, lookahead_kernel
+
+N_HEADINGS, N_SPEEDS = 16, 5
+N_ACTIONS = N_HEADINGS * N_SPEEDS + 1
+
+
+class CrowdNavReward(NamedTuple):
+    """CrowdNav's reward (``crowd_sim.py``): ``success`` at the goal, ``collision`` on contact, and
+    ``(gap - discomfort_dist) * discomfort_factor * dt`` for a gap below ``discomfort_dist`` metres."""
+
+    success: float = 1.0
+    collision: float = -0.25
+    discomfort_dist: float = 0.2
+    discomfort_factor: float = 0.5
+
+
+#: CrowdNav's own values.
+CROWDNAV_REWARD = CrowdNavReward()
+
+
+def action_velocities(speed: float) -> np.ndarray:
+    """(81, 2) velocities: stop, then 16 headings × speeds ``(e^((i+1)/5) - 1) / (e - 1) · speed``."""
+    if not speed > 0 or not math.isfinite(speed):
+        raise ValueError(f"speed must be positive and finite, got {speed!r}")
+    speeds = (np.exp((np.arange(N_SPEEDS) + 1) / N_SPEEDS) - 1) / (math.e - 1) * speed
+    angles = np.linspace(0.0, 2 * np.pi, N_HEADINGS, endpoint=False)
+    unit = np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    return np.vstack([np.zeros((1, 2)), (speeds[:, None, None] * unit[None]).reshape(-1, 2)])
+
+
+def joint_state(robot_pos, robot_vel, goal, human_pos, human_vel, human_radii, facts: EnvFacts):
+    """The value network's input for B robot states among N humans.
+
+    ``robot_pos``, ``robot_vel`` (B, 2), ``goal`` (2,); ``human_pos``, ``human_vel`` (B, N, 2) or
+    (N, 2); ``human_radii`` (N,). Returns ``self_state`` (B, 5: distance to goal, preferred speed,
+    radius, velocity) and ``humans`` (B, N, 7: relative position, velocity, radius, centre distance,
+    radius sum), float32, in each robot state's goal frame."""
+    length, speed = facts.robot_speed * 1.0, facts.robot_speed
+    to_goal = np.asarray(goal, np.float64) - robot_pos
+    dist = np.hypot(to_goal[:, 0], to_goal[:, 1])
+    ex = np.where(dist[:, None] > 1e-9, to_goal / np.maximum(dist, 1e-9)[:, None], np.array([1.0, 0.0]))
+    cos, sin = ex[:, 0], ex[:, 1]
+
+    def rotate(v):  # world vectors (B, ..., 2) into each goal frame
+        c, s = (cos, sin) if v.ndim == 2 else (cos[:, None], sin[:, None])
+        return np.stack([v[..., 0] * c + v[..., 1] * s, v[..., 1] * c - v[..., 0] * s], axis=-1)
+
+    b = len(robot_pos)
+    rv = rotate(robot_vel) / speed
+    self_state = np.column_stack([dist / length, np.ones(b), np.full(b, facts.robot_radius / length), rv])
+    n = len(human_radii)
+    rel = np.broadcast_to(human_pos, (b, n, 2)) - robot_pos[:, None, :]
+    radii = np.broadcast_to(np.asarray(human_radii, np.float64), (b, n))
+    humans = np.concatenate([
+        rotate(rel) / length, rotate(np.broadcast_to(human_vel, (b, n, 2))) / speed, (radii / length)[..., None],
+        (np.hypot(rel[..., 0], rel[..., 1]) / length)[..., None], ((radii + facts.robot_radius) / length)[..., None],
+    ], axis=-1)  # fmt: skip
+    return self_state.astype(np.float32), humans.astype(np.float32)
+
+
+def observed_joint_state(obs: dict, facts: EnvFacts):
+    """The joint state of one observation: ``self_state`` (1, 5), ``humans`` (1, N, 7) for its N present humans."""
+    pos, vel, radii = real_obstacles(obs)
+    robot = np.asarray(obs["robot_position"], np.float64)[None]
+    return joint_state(robot, np.asarray(obs["robot_velocity"], np.float64)[None], np.asarray(obs["goal"], np.float64), pos, vel, radii, facts)
+
+
+def predict_humans(obs: dict, facts: EnvFacts):
+    """The present humans now and one step ahead: positions, velocities (N, 2) each, next positions and velocities, radii."""
+    pos, vel, radii = real_obstacles(obs)
+    if len(radii) == 0:
+        return pos, vel, pos, vel, radii
+    segments = real_static_segments(obs)
+    future = predict_among(pos, vel, radii, np.asarray(facts.bounds, np.float64), segments, facts.dt, 1, substeps_for(vel, radii, facts.dt))[-1]
+    return pos, vel, future[:, :2].copy(), future[:, 2:].copy(), radii
+
+
+def lookahead(obs: dict, facts: EnvFacts, velocities: np.ndarray, reward: CrowdNavReward = CROWDNAV_REWARD):
+    """Every move's predicted next joint state and CrowdNav reward: ``(self_state, humans, rewards)`` (compiled)."""
+    pos, _, next_pos, next_vel, radii = predict_humans(obs, facts)
+    xmin, ymin, xmax, ymax = facts.arena.robot_box
+    model = StepModel(facts.dt, facts.robot_radius, facts.robot_speed, facts.goal_radius, (xmin, ymin), (xmax, ymax), *reward)
+    robot, goal = (np.asarray(obs[k], np.float64) for k in ("robot_position", "goal"))
+    return lookahead_kernel(robot, goal, np.asarray(velocities, np.float64), pos, next_pos, next_vel, radii, model)
+
+
+def lookahead_numpy(obs: dict, facts: EnvFacts, velocities: np.ndarray, reward: CrowdNavReward = CROWDNAV_REWARD):
+    """:func:`lookahead` in numpy (the reference the compiled kernel is tested against)."""
+    robot = np.asarray(obs["robot_position"], np.float64)
+    goal = np.asarray(obs["goal"], np.float64)
+    pos, _, next_pos, next_vel, radii = predict_humans(obs, facts)
+    xmin, ymin, xmax, ymax = facts.arena.robot_box
+    nxt = np.clip(robot + velocities * facts.dt, [xmin, ymin], [xmax, ymax])
+    self_state, humans = joint_state(nxt, velocities, goal, next_pos, next_vel, radii, facts)
+    # the smallest gap over the step: both move straight from now to the predicted next state
+    d0 = (pos - robot)[None]
+    d1 = next_pos[None] - nxt[:, None, :]
+    dd = d1 - d0
+    s = np.clip(-(d0 * dd).sum(-1) / np.maximum((dd * dd).sum(-1), 1e-12), 0.0, 1.0)
+    closest = d0 + s[..., None] * dd
+    gap = (np.hypot(closest[..., 0], closest[..., 1]) - radii - facts.robot_radius).min(axis=1, initial=np.inf)
+    move = nxt - robot
+    t = np.clip(((goal - robot) * move).sum(-1) / np.maximum((move * move).sum(-1), 1e-12), 0.0, 1.0)
+    reached = np.hypot(*(robot + t[:, None] * move - goal).T) < facts.goal_radius
+    rewards = np.where(
+        gap < 0, reward.collision,
+        np.where(reached, reward.success,
+                 np.where(gap < reward.discomfort_dist, (gap - reward.discomfort_dist) * reward.discomfort_factor * facts.dt, 0.0)),
+    )  # fmt: skip
+    return self_state, humans, rewards
+
+
+def discount(gamma: float, facts: EnvFacts) -> float:
+    """CrowdNav's per-step discount ``gamma ** (dt · v_pref)``."""
+    return float(gamma ** (facts.dt * facts.robot_speed))
+
+
+def best_action(obs: dict, facts: EnvFacts, velocities: np.ndarray, values, gamma_bar: float,
+                reward: CrowdNavReward = CROWDNAV_REWARD) -> int:  # fmt: skip
+    """The index of the move maximising reward + ``gamma_bar`` · value (``values(self_state, humans, mask)``), one batched call."""
+    self_state, humans, rewards = lookahead(obs, facts, velocities, reward)
+    mask = np.ones(humans.shape[:2], np.float32)
+    return int(np.argmax(rewards + gamma_bar * np.asarray(values(self_state, humans, mask), np.float64)))

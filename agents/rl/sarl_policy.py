@@ -1,0 +1,61 @@
+"""SARL (Chen et al. 2019) as an agent: a value network with attention over the humans and a
+one-step lookahead over 81 moves, run with numpy (no torch).
+
+``scripts/train_sarl.py`` trains it (:mod:`agents.rl.training.sarl_train`); the lookahead is
+:mod:`agents.rl.sarl_lookahead` (the humans' next state predicted from the observation, never read
+from the simulator), the network :mod:`agents.rl.sarl_numpy`:
+
+    env = gym.make("DynamicObstacle-v0", scenario="crowdnav-circle-crossing")
+    agent = agents.make("sarl", env)                       # agents/models/sarl_crowdnav.npz
+    agent = agents.make("sarl", env, path="runs/sarl/best.npz")
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from ..base import Agent
+from .policy import MODELS_DIR
+from .sarl_lookahead import CrowdNavReward, action_velocities, best_action, discount
+from .sarl_numpy import SARLNumpy
+
+#: The shipped model per setting (``agents/models/sarl_<setting>.npz``).
+DEFAULT_SETTING = "crowdnav"
+
+
+class SARLAgent(Agent):
+    """A trained SARL value network acting by one-step lookahead (greedy: ``deterministic`` changes nothing).
+
+    :param path: the model's ``.npz`` (default ``agents/models/sarl_crowdnav.npz``); its ``.json``
+        sidecar, when present, gives ``gamma`` and the reward.
+    :param gamma: the discount per second of travel at the robot's speed (default: the sidecar's, else 0.9).
+    :raises ValueError: naming ``path`` if no model is there, ``gamma`` if it is not in (0, 1].
+    """
+
+    name = "sarl"
+
+    def __init__(self, env, seed: int | None = None, path: str | Path | None = None, gamma: float | None = None):
+        super().__init__(env, seed=seed)
+        path = Path(path) if path is not None else MODELS_DIR / f"sarl_{DEFAULT_SETTING}.npz"
+        if not path.exists():
+            raise ValueError(f"path: no model at {path}; train one with scripts/train_sarl.py")
+        sidecar = path.with_suffix(".json")
+        self.metadata = json.loads(sidecar.read_text()) if sidecar.exists() else {}
+        trained = self.metadata.get("args", {})
+        gamma = float(trained.get("gamma", 0.9)) if gamma is None else gamma
+        if isinstance(gamma, bool) or not isinstance(gamma, (int, float)) or not 0 < gamma <= 1:
+            raise ValueError(f"gamma must be in (0, 1], got {gamma!r}")
+        self.network = SARLNumpy.load(path)
+        self.gamma_bar = discount(float(gamma), self.facts)
+        self.velocities = action_velocities(self.facts.robot_speed)
+        self.reward = CrowdNavReward()
+
+    def plan(self, obs, memory):
+        robot = np.asarray(obs["robot_position"], np.float64)
+        k = best_action(obs, self.facts, self.velocities, self.network.values, self.gamma_bar, self.reward)
+        waypoint = robot + self.velocities[k] * self.facts.dt
+        self.last_plan = np.stack([robot, waypoint])
+        return waypoint

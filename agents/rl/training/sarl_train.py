@@ -1,0 +1,321 @@
+"""Train SARL (:mod:`agents.rl.sarl_policy`): imitation warm start, then value-based RL, CrowdNav's recipe.
+
+1. Imitation: a planner (``orca`` with CrowdNav's 0.15 m safety space by default) plays training
+   episodes; every state's value target is its discounted CrowdNav return; ``il_epochs`` of SGD.
+2. RL, as CrowdNav's trainer: the agent acts epsilon-greedily on its 81 moves by the one-step
+   lookahead (the humans predicted from the observation), each finished episode's states go to a
+   replay memory with targets ``r + gamma_bar · V_target(s')`` (a target network synced every
+   ``target_update`` episodes), then ``train_batches`` minibatches of SGD.
+SB3 does not fit: its algorithms learn a policy or Q(s, a) from the env's transitions, while SARL
+learns V(s) and picks actions by a model-based lookahead over predicted next states.
+
+Model selection: greedy validation episodes (``pathplan_env.splits.validation_seeds``) every
+``val_every`` RL episodes; the best (success, then navigation time) is kept. A wall-clock budget
+stops the run; torch uses one thread.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import shutil
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+
+import agents as registry
+import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
+from pathplan_env.splits import training_seed_base, validation_seeds
+from pathplan_env.wrappers import EnvFacts
+
+from ...provenance import versions
+from ..policy import MODELS_DIR
+from ..sarl_lookahead import CROWDNAV_REWARD, N_ACTIONS, CrowdNavReward, action_velocities, best_action, discount, observed_joint_state
+from ..sarl_numpy import HUMAN_DIM, SELF_DIM, SARLNumpy
+
+RESULTS_DIR = MODELS_DIR.parents[1] / "docs" / "results" / "sarl"
+
+
+@dataclass
+class SARLArgs:
+    setting: str = "crowdnav"
+    """name of the shipped model: agents/models/sarl_<setting>.npz"""
+    scenario: str = "crowdnav-circle-crossing"
+    delta_d: float = 0.8333333333333334
+    """CrowdNav's 1 m/s humans (the crowdnav suite's value)"""
+    seed: int = 0
+    """the run's training seeds (pathplan_env.splits.training_seed_base) and torch's seed"""
+    teacher: str = "orca"
+    teacher_kwargs: dict = field(default_factory=lambda: {"safety_space": 0.15})
+    il_episodes: int = 1000
+    il_epochs: int = 20
+    """CrowdNav: 50; the loss levels off by 10 here"""
+    il_lr: float = 0.01
+    rl_episodes: int = 10000
+    rl_lr: float = 0.001
+    gamma: float = 0.9
+    """discount per second at the robot's speed (CrowdNav's; per step gamma ** (dt · v_pref))"""
+    batch_size: int = 100
+    train_batches: int = 50
+    """SGD minibatches after every RL episode (CrowdNav: 100)"""
+    capacity: int = 100_000
+    target_update: int = 50
+    epsilon_start: float = 0.5
+    epsilon_end: float = 0.1
+    epsilon_decay: int = 2000
+    """RL episodes over which epsilon falls linearly"""
+    val_every: int = 250
+    val_episodes: int = 100
+    budget_minutes: float = 58.0
+    """wall clock for the whole run (demonstrations, imitation, RL, validations)"""
+    out: str = "runs/sarl_crowdnav"
+    ship: bool = True
+    """copy the best model to agents/models/ and its curve to docs/results/sarl/"""
+
+    def __post_init__(self):
+        for name in ("il_episodes", "il_epochs", "rl_episodes", "train_batches"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+                raise ValueError(f"{name} must be an int >= 0, got {value!r}")
+        for name in ("batch_size", "capacity", "target_update", "epsilon_decay", "val_every", "val_episodes"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+                raise ValueError(f"{name} must be an int >= 1, got {value!r}")
+        for name in ("il_lr", "rl_lr", "budget_minutes"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"{name} must be positive, got {getattr(self, name)!r}")
+        if not 0 < self.gamma <= 1:
+            raise ValueError(f"gamma must be in (0, 1], got {self.gamma!r}")
+        for name in ("epsilon_start", "epsilon_end"):
+            if not 0 <= getattr(self, name) <= 1:
+                raise ValueError(f"{name} must be in [0, 1], got {getattr(self, name)!r}")
+        training_seed_base(self.seed)  # a ValueError naming seed
+
+
+class Memory:
+    """A ring buffer of (self_state, humans padded to ``width``, mask, value target)."""
+
+    def __init__(self, capacity: int, width: int):
+        self.self_state = np.zeros((capacity, SELF_DIM), np.float32)
+        self.humans = np.zeros((capacity, width, HUMAN_DIM), np.float32)
+        self.mask = np.zeros((capacity, width), np.float32)
+        self.target = np.zeros(capacity, np.float32)
+        self.size = self.next = 0
+
+    def add(self, self_state: np.ndarray, humans: np.ndarray, target: float) -> None:
+        i, n = self.next, humans.shape[1]
+        self.self_state[i], self.target[i] = self_state[0], target
+        self.humans[i] = 0.0
+        self.mask[i] = 0.0
+        self.humans[i, :n], self.mask[i, :n] = humans[0], 1.0
+        self.next = (i + 1) % len(self.target)
+        self.size = min(self.size + 1, len(self.target))
+
+    def sample(self, rng: np.random.Generator, batch: int):
+        idx = rng.integers(0, self.size, min(batch, self.size))
+        width = max(1, int(self.mask[idx].sum(1).max()))  # present humans come first: drop all-padding columns
+        return self.self_state[idx], self.humans[idx, :width], self.mask[idx, :width], self.target[idx]
+
+
+def crowdnav_reward(info: dict, dt: float, reward: CrowdNavReward = CROWDNAV_REWARD) -> float:
+    """CrowdNav's reward of a finished env step, from its info."""
+    if info["collision"]:
+        return reward.collision
+    if info["is_success"]:
+        return reward.success
+    gap = float(info["min_clearance"])
+    return (gap - reward.discomfort_dist) * reward.discomfort_factor * dt if gap < reward.discomfort_dist else 0.0
+
+
+def play(env, seed: int, act) -> tuple[list, list[float], dict]:
+    """One episode from ``reset(seed=seed)``; ``act(obs) -> env action``. Returns each step's joint
+    state (before its move), CrowdNav rewards, the last info."""
+    obs, info = env.reset(seed=seed)
+    facts = EnvFacts.of(env)
+    states, rewards = [], []
+    while True:
+        states.append(observed_joint_state(obs, facts))
+        obs, _, terminated, truncated, info = env.step(act(obs))
+        rewards.append(crowdnav_reward(info, facts.dt))
+        if terminated or truncated:
+            return states, rewards, info
+
+
+def move(obs: dict, facts: EnvFacts, velocities: np.ndarray, k: int) -> np.ndarray:
+    """The env action that flies move ``k`` (its waypoint is one step away at most: the robot stops on it)."""
+    return facts.arena.waypoint_to_action(obs["robot_position"] + velocities[k] * facts.dt)
+
+
+def _values(model):
+    """The model's current weights as a numpy value function (twice as fast as torch on 81 rows; the shipped agent's own forward)."""
+    return SARLNumpy(model.export()).values
+
+
+def _fit(model, optimizer, batch) -> float:
+    import torch
+
+    s, h, m, y = (torch.from_numpy(a) for a in batch)
+    loss = torch.nn.functional.mse_loss(model(s, h, m), y)
+    optimizer.zero_grad()
+    loss.backward()
+    optimizer.step()
+    return loss.item()
+
+
+def validate(env, model, args: SARLArgs) -> dict:
+    """Greedy episodes on the validation split: success, collision and timeout rates, mean navigation time of successes."""
+    facts = EnvFacts.of(env)
+    velocities, gamma_bar, values = action_velocities(facts.robot_speed), discount(args.gamma, facts), _values(model)
+    ends, times = [], []
+    for seed in validation_seeds(0, args.val_episodes):
+        _, _, info = play(env, seed, lambda o: move(o, facts, velocities, best_action(o, facts, velocities, values, gamma_bar)))
+        ends.append("success" if info["is_success"] else "collision" if info["collision"] else "timeout")
+        if info["is_success"]:
+            times.append(float(info["time"]))
+    n = len(ends)
+    return {"success": ends.count("success") / n, "collision": ends.count("collision") / n, "timeout": ends.count("timeout") / n,
+            "navigation_time": float(np.mean(times)) if times else None}  # fmt: skip
+
+
+def train(args: SARLArgs, command: str = "") -> dict:
+    import torch
+
+    from ..sarl_net import SARLValue
+
+    start = time.perf_counter()
+    provenance = versions()  # the commit the run starts from
+    budget = args.budget_minutes * 60.0
+    torch.set_num_threads(1)
+    torch.manual_seed(args.seed)
+    rng = np.random.default_rng(args.seed)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    env = gym.make("DynamicObstacle-v0", scenario=args.scenario, delta_d=args.delta_d)
+    facts = EnvFacts.of(env)
+    velocities, gamma_bar = action_velocities(facts.robot_speed), discount(args.gamma, facts)
+    width = env.observation_space["obstacle_mask"].shape[0]
+    memory = Memory(args.capacity, width)
+    model = SARLValue()
+    seed = training_seed_base(args.seed)
+    log = lambda msg: print(f"[{time.perf_counter() - start:7.1f} s] {msg}", flush=True)
+
+    # 1. imitation: discounted CrowdNav returns of the teacher's episodes (at most a quarter of the budget)
+    teacher = registry.make(args.teacher, env, seed=seed, **args.teacher_kwargs)
+    il_played, il_success = 0, 0
+    for _ in range(args.il_episodes):
+        if time.perf_counter() - start > 0.25 * budget:
+            break
+        teacher.reset()
+        states, rewards, info = play(env, seed, lambda o: teacher.predict(o, deterministic=True)[0])
+        seed += 1
+        il_played, il_success = il_played + 1, il_success + bool(info["is_success"])
+        ret = 0.0
+        for (s, h), r in zip(reversed(states), reversed(rewards)):
+            ret = r + gamma_bar * ret
+            memory.add(s, h, ret)
+    log(f"imitation: {il_played} {args.teacher} episodes, success {il_success / max(il_played, 1):.3f}, {memory.size} states")
+    optimizer = torch.optim.SGD(model.parameters(), lr=args.il_lr, momentum=0.9)
+    for epoch in range(args.il_epochs if memory.size else 0):
+        order = rng.permutation(memory.size)
+        losses = []
+        for i in range(0, memory.size, args.batch_size):
+            idx = order[i : i + args.batch_size]
+            w = max(1, int(memory.mask[idx].sum(1).max()))
+            losses.append(_fit(model, optimizer, (memory.self_state[idx], memory.humans[idx, :w], memory.mask[idx, :w], memory.target[idx])))
+        if epoch % 10 == 9 or epoch == args.il_epochs - 1:
+            log(f"imitation epoch {epoch + 1}: loss {np.mean(losses):.5f}")
+    begin = time.perf_counter()
+    curve = [{"rl_episode": 0, "seconds": round(begin - start, 1), **validate(env, model, args)}]
+    val_cost = time.perf_counter() - begin  # how long one validation takes: the budget keeps room for the last
+    log(f"validation after imitation: {curve[-1]}")
+    best = dict(curve[-1])
+    np.savez(out / "best.npz", **model.export())
+    np.savez(out / "imitation.npz", **model.export())
+
+    # 2. RL: epsilon-greedy lookahead, replay memory, target network
+    target = SARLValue()
+    target.load_state_dict(model.state_dict())
+    optimizer = torch.optim.SGD(model.parameters(), lr=args.rl_lr, momentum=0.9)
+    values, target_values = _values(model), _values(target)
+    episode = 0
+    for episode in range(1, args.rl_episodes + 1):
+        if time.perf_counter() - start + val_cost + 5 > budget:
+            episode -= 1
+            break
+        epsilon = args.epsilon_end + (args.epsilon_start - args.epsilon_end) * max(0.0, 1 - (episode - 1) / args.epsilon_decay)
+
+        def act(o, epsilon=epsilon, values=values):
+            k = int(rng.integers(N_ACTIONS)) if rng.random() < epsilon else best_action(o, facts, velocities, values, gamma_bar)
+            return move(o, facts, velocities, k)
+
+        states, rewards, info = play(env, seed, act)
+        seed += 1
+        following = np.zeros(len(states), np.float32)  # V_target(s_{t+1}); the last step is terminal (or a timeout, as CrowdNav)
+        for t in range(len(states) - 1):
+            following[t] = target_values(*states[t + 1], np.ones(states[t + 1][1].shape[:2], np.float32))[0]
+        for t, (st, r) in enumerate(zip(states, rewards)):
+            memory.add(st[0], st[1], r + gamma_bar * following[t] if t < len(states) - 1 else r)
+        for _ in range(args.train_batches):
+            _fit(model, optimizer, memory.sample(rng, args.batch_size))
+        values = _values(model)
+        if episode % args.target_update == 0:
+            target.load_state_dict(model.state_dict())
+            target_values = _values(target)
+        if episode % args.val_every == 0:
+            begin = time.perf_counter()
+            row = {"rl_episode": episode, "seconds": round(time.perf_counter() - start, 1), "epsilon": round(epsilon, 3), **validate(env, model, args)}
+            val_cost = time.perf_counter() - begin
+            curve.append(row)
+            log(f"validation: {row}")
+            if (row["success"], -(row["navigation_time"] or 1e9)) > (best["success"], -(best["navigation_time"] or 1e9)):
+                best = dict(row)
+                np.savez(out / "best.npz", **model.export())
+    np.savez(out / "final.npz", **model.export())
+    seconds = time.perf_counter() - start
+    log(f"done: {episode} RL episodes, best {best}, wall time {seconds / 60:.1f} min")
+    return finish(args, command, out, curve, best, seconds, episode, il_played, il_success, provenance)
+
+
+def finish(args, command, out: Path, curve: list, best: dict, seconds: float, rl_episodes: int, il_played: int, il_success: int,
+           provenance: dict) -> dict:  # fmt: skip
+    """The sidecar, the learning curve and (``ship``) the copies into agents/models/ and docs/results/sarl/."""
+    import torch
+
+    meta = {
+        "algo": "sarl", "command": command, "args": dataclasses.asdict(args), "wall_seconds": round(seconds, 1),
+        "imitation": {"episodes": il_played, "teacher_success": round(il_success / max(il_played, 1), 4)},
+        "rl_episodes": rl_episodes, "validation_curve": curve, "best": best,
+        "git_commit": provenance.pop("git_commit", "") or "unknown", "versions": {**provenance, "torch": torch.__version__},
+    }  # fmt: skip
+    figure = _plot(curve, out / "learning_curve.png", args)
+    meta["figures"] = [f"docs/results/sarl/learning_curve_{args.setting}.png"]
+    (out / "best.json").write_text(json.dumps(meta, indent=1))
+    if args.ship:
+        MODELS_DIR.mkdir(exist_ok=True)
+        RESULTS_DIR.mkdir(parents=True, exist_ok=True)
+        shutil.copy(out / "best.npz", MODELS_DIR / f"sarl_{args.setting}.npz")
+        (MODELS_DIR / f"sarl_{args.setting}.json").write_text(json.dumps(meta, indent=1))
+        shutil.copy(figure, RESULTS_DIR / f"learning_curve_{args.setting}.png")
+    return meta
+
+
+def _plot(curve: list, path: Path, args: SARLArgs) -> Path:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    x = [row["rl_episode"] for row in curve]
+    fig, ax = plt.subplots(figsize=(6, 3.5))
+    ax.plot(x, [row["success"] for row in curve], marker="o", ms=3, label="success")
+    ax.plot(x, [row["collision"] for row in curve], marker="x", ms=3, label="collision")
+    ax.set(xlabel="RL episodes (0: after imitation)", ylabel=f"rate on {args.val_episodes} validation episodes", ylim=(0, 1.02),
+           title=f"SARL on {args.scenario}")  # fmt: skip
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path

@@ -14,8 +14,9 @@ from agents.planners.objective import Scene, evaluate
 from agents.planners.pso import inertia_schedule
 from pathplan_env import Obstacle, Scenario
 
-# sb3 needs a model path; the unicycle's agents need a unicycle (tests/test_unicycle.py drives them)
-PLANNERS = [name for name in agents.available() if name not in ("straight", "ppo", "ppo-lidar", "sb3", *agents.UNICYCLE_AGENTS)]
+# sb3 needs a model path; the unicycle's agents need a unicycle (tests/test_unicycle.py drives them); the learned
+# agents are held to what they were trained for (sarl: CrowdNav's crowds, tests/test_sarl.py), not static paper cases
+PLANNERS = [name for name in agents.available() if name not in ("straight", "ppo", "ppo-lidar", "sarl", "sb3", *agents.UNICYCLE_AGENTS)]
 
 
 def run_episode(agent, env, seed=0):

@@ -13,6 +13,7 @@ import numpy as np
 
 from ..base import Agent, point_along, real_obstacles, real_static_segments
 from .bee_colony import ABCSettings, abc_run
+from .constraints import constraint_rule
 from .objective import Scene, TimedScene
 from .pso import PSOSettings, inertia_schedule, pso_run
 
@@ -32,6 +33,11 @@ class MetaheuristicAgent(Agent):
     :param warm_start: seed each replan with the previous best path and the straight line to the
         goal. Default: on for the modified ABC (the paper's modification) and for the predictive
         variants (ours); off for the paper's PSO and the vanilla ablations.
+    :param constraint: how the optimisers rank candidates (:mod:`agents.planners.constraints`):
+        ``"penalty"`` (the smaller cost, penalty included), ``"deb"`` (Deb's feasibility rules) or
+        ``"adaptive"`` (a penalty scaled up while the best is infeasible, down while it is feasible).
+    :param stall: stop a run once its best is feasible and unchanged for this many iterations
+        (cycles for ABC); 0 spends the whole budget.
     """
 
     def __init__(
@@ -56,8 +62,12 @@ class MetaheuristicAgent(Agent):
         v_max_fraction: float = 0.2,
         abc_limit: int = 20,
         warm_start: bool | None = None,
+        constraint: str = "penalty",
+        stall: int = 0,
     ):
         super().__init__(env, seed)
+        self.rule = constraint_rule(constraint, stall)
+        self.constraint = constraint
         if optimizer not in ("pso", "abc"):
             raise ValueError(f"optimizer must be 'pso' or 'abc', got {optimizer!r}")
         if variant not in ("paper", "vanilla"):
@@ -76,8 +86,8 @@ class MetaheuristicAgent(Agent):
             self.w_max = self.w_min = float(w_constant)
         self.c1, self.c2, self.v_max_fraction, self.abc_limit = float(c1), float(c2), float(v_max_fraction), int(abc_limit)
         self.inertia = inertia_schedule(self.iterations, self.w_max, self.w_min)
-        self.pso_settings = PSOSettings(self.inertia, self.c1, self.c2, self.v_max_fraction)
-        self.abc_settings = ABCSettings(self.population * self.iterations, self.abc_limit, variant == "paper")
+        self.pso_settings = PSOSettings(self.inertia, self.c1, self.c2, self.v_max_fraction, self.rule)
+        self.abc_settings = ABCSettings(self.population * self.iterations, self.abc_limit, variant == "paper", self.rule)
         if warm_start is None:
             warm_start = variant == "paper" and (optimizer == "abc" or self.predictive)
         self.warm_start = bool(warm_start)

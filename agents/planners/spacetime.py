@@ -27,14 +27,17 @@ from pathplan_env.wrappers import EnvFacts
 from ..base import Agent, real_obstacles, real_static_segments
 from .costtogo import CostToGo, observed_cost_to_go, route, waypoints_on
 from .metaheuristic import MetaheuristicAgent
-from .objective import TimedScene, walk_along
+from .objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, TimedScene, walk_along
 from .prediction import predict_among, substeps_for
 from .spacetime_search import BUDGET, EXHAUSTED, SearchSettings, SpacetimeProblem, heading_moves, replay, search
+from .spacetime_seed import SearchSeed, search_seeds
 
 #: How the planners predict the obstacles: the env's bounce physics, or a cone of three such
 #: futures per obstacle (its heading, and turned ``cone_degrees`` either way), for obstacles that
 #: steer (goal-directed crowds), whose swerves no observation foretells.
 PREDICTIONS = ("physics", "cone")
+#: What the space-time optimisers' penalty measures (:data:`agents.planners.objective.FIRST_CONTACT`).
+VIOLATIONS = {"contacts": CONTACTS, "first-contact": FIRST_CONTACT}
 
 
 class SpacetimeModel:
@@ -185,12 +188,25 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     :param horizon_steps: steps of predicted obstacle motion checked step by step.
     :param margin: relative margin on the contact distance.
     :param n_dodges, dodge_steps: warm-start candidates besides the straight line (:meth:`seed_paths`).
+    :param search_expansions: when positive, a bounded space-time search of this many expansions
+        seeds the population too (:mod:`agents.planners.spacetime_seed`); the population still optimises.
     :param prediction: :class:`SpacetimeModel`'s obstacle prediction.
+    :param violation: what the penalty measures (:data:`VIOLATIONS`): ``"contacts"`` (Eq. 4 and the
+        feasibility offset for every obstacle touched within the horizon) or ``"first-contact"`` (how
+        early the first predicted contact comes first, then Eq. 4: the plan that stays free longest wins
+        where every plan touches something).
     Every other parameter is :class:`~agents.planners.metaheuristic.MetaheuristicAgent`'s.
     """
 
     def __init__(self, env, seed: int | None = None, *, optimizer: str = "pso", horizon_steps: int = 10, margin: float = 0.005,
-                 n_dodges: int = 8, dodge_steps: float = 2.0, prediction: str = "physics", **kwargs):  # fmt: skip
+                 n_dodges: int = 8, dodge_steps: float = 2.0, prediction: str = "physics", violation: str = "contacts",
+                 search_expansions: int = 0, **kwargs):  # fmt: skip
+        if int(search_expansions) != search_expansions or search_expansions < 0:
+            raise ValueError(f"search_expansions must be a non-negative integer, got {search_expansions!r}")
+        self.search_seed = SearchSeed(max_expansions=int(search_expansions))
+        if violation not in VIOLATIONS:
+            raise ValueError(f"violation must be one of {sorted(VIOLATIONS)}, got {violation!r}")
+        self.violation = VIOLATIONS[violation]
         kwargs.setdefault("warm_start", True)
         kwargs.setdefault("iterations", 50)
         self.n_dodges, self.dodge_steps = int(n_dodges), float(dodge_steps)
@@ -210,7 +226,8 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         travel = np.ascontiguousarray(moves.reshape(self.model.horizon_steps, n, -1).sum(axis=1))
         f = self.facts
         return TimedScene(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.step_length,
-                          self.model.horizon_steps, self.penalty_weight, travel, segments, ctg)  # fmt: skip
+                          self.model.horizon_steps, self.penalty_weight, travel, segments, ctg, self.violation,
+                          0.0 if self.constraint == "adaptive" else INFEASIBLE)  # fmt: skip
 
     def seed_paths(self, robot: np.ndarray, goal: np.ndarray, problem: TimedScene | None = None) -> np.ndarray:
         """Warm-start candidates at top speed: the straight line, then a first waypoint
@@ -226,7 +243,10 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
             w1 = np.clip(robot + self.dodge_steps * self.step_length * np.array([np.cos(angle), np.sin(angle)]), self.search_lo[:2], self.search_hi[:2])
             rest = w1 + np.arange(1, k)[:, None] / k * (goal - w1)
             rows.append(np.concatenate([w1, rest.ravel(), np.ones(k + 1)]))
-        return np.clip(np.array(rows), self._timed_lo, self._timed_hi)
+        rows = np.array(rows)
+        if problem is not None and self.search_seed.max_expansions > 0:  # a bounded search's plan first
+            rows = np.vstack([search_seeds(problem, self.model.arena.box, k, self.search_seed), rows])
+        return np.clip(rows, self._timed_lo, self._timed_hi)
 
     def plan(self, obs, memory):
         problem = self.timed_problem(obs, memory)

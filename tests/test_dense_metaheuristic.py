@@ -43,7 +43,8 @@ def test_deb_run_returns_a_feasible_plan(optimizer):
 
 
 @pytest.mark.parametrize("field, kwargs", [("constraint", {"constraint": "static"}), ("stall", {"stall": -1}),
-                                           ("violation", {"violation": "depth"}), ("constraint", {"constraint": None})])  # fmt: skip
+                                           ("violation", {"violation": "depth"}), ("constraint", {"constraint": None}),
+                                           ("search_expansions", {"search_expansions": -1}), ("dense_budget", {"dense_budget": -2.0})])  # fmt: skip
 @pytest.mark.parametrize("name", ["pso-spacetime", "abc-spacetime"])
 def test_bad_options_raise_naming_the_field(name, field, kwargs):
     env = gym.make("DynamicObstacle-v0")

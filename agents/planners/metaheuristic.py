@@ -128,13 +128,18 @@ class MetaheuristicAgent(Agent):
         return self.run_optimizer(scene, self.search_lo, self.search_hi, memory, self.straight_line(scene.robot, scene.goal))
 
     def run_optimizer(self, problem: Scene | TimedScene, lo: np.ndarray, hi: np.ndarray, memory: dict[str, Any],
-                      seeds: np.ndarray) -> np.ndarray:  # fmt: skip
+                      seeds: np.ndarray, budget: float = 1.0) -> np.ndarray:  # fmt: skip
         """The optimiser on any objective (``agents.planners.objective.objective``) in the box ``[lo, hi]``.
 
         With ``warm_start``, the population holds the previous best (``memory["best"]``) and the
         rows of ``seeds`` (the straight line to the goal first; as many as fit); the rest is
-        uniform in the box.
+        uniform in the box. ``budget`` scales the iterations (1: the agent's own).
         """
+        pso_settings, abc_settings = self.pso_settings, self.abc_settings
+        if budget != 1.0:
+            iterations = max(1, round(self.iterations * budget))
+            pso_settings = pso_settings._replace(inertia=inertia_schedule(iterations, self.w_max, self.w_min))
+            abc_settings = abc_settings._replace(max_evaluations=self.population * iterations)
         seed = int(self.rng.integers(2**31 - 1))
         size = self.population if self.optimizer == "pso" else self.population // 2
         x0 = self.rng.uniform(lo, hi, size=(size, lo.size))
@@ -144,9 +149,9 @@ class MetaheuristicAgent(Agent):
             seeds = np.atleast_2d(seeds)[: size - 1]
             x0[1 : 1 + len(seeds)] = seeds
         if self.optimizer == "pso":
-            result = pso_run(x0, lo, hi, self.pso_settings, seed, problem)
+            result = pso_run(x0, lo, hi, pso_settings, seed, problem)
         else:
-            result = abc_run(x0, lo, hi, self.abc_settings, seed, problem)
+            result = abc_run(x0, lo, hi, abc_settings, seed, problem)
         memory["best"] = result.best
         self.last_cost, self.last_penalty = float(result.best_cost), float(result.best_penalty)
         self.last_history, self.last_history_evaluations = result.history, result.history_evaluations

@@ -36,8 +36,6 @@ from .spacetime_seed import SearchSeed, search_seeds
 #: futures per obstacle (its heading, and turned ``cone_degrees`` either way), for obstacles that
 #: steer (goal-directed crowds), whose swerves no observation foretells.
 PREDICTIONS = ("physics", "cone")
-#: What the space-time optimisers' penalty measures (:data:`agents.planners.objective.FIRST_CONTACT`).
-VIOLATIONS = {"contacts": CONTACTS, "first-contact": FIRST_CONTACT}
 
 
 class SpacetimeModel:
@@ -175,6 +173,10 @@ class SpacetimeAStarAgent(Agent):
         return (distance - segments[:, 4] - self.facts.robot_radius).min(axis=(1, 2))
 
 
+#: What the space-time optimisers' penalty measures (:data:`agents.planners.objective.FIRST_CONTACT`).
+VIOLATIONS = {"contacts": CONTACTS, "first-contact": FIRST_CONTACT}
+
+
 class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     """``pso-spacetime`` / ``abc-spacetime``: the paper's optimisers on a timed path.
 
@@ -190,6 +192,8 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     :param n_dodges, dodge_steps: warm-start candidates besides the straight line (:meth:`seed_paths`).
     :param search_expansions: when positive, a bounded space-time search of this many expansions
         seeds the population too (:mod:`agents.planners.spacetime_seed`); the population still optimises.
+    :param dense_budget: when positive, a replan whose best still touches an obstacle runs again,
+        from that best, with this many times the iterations: the budget grows where the scene is dense.
     :param prediction: :class:`SpacetimeModel`'s obstacle prediction.
     :param violation: what the penalty measures (:data:`VIOLATIONS`): ``"contacts"`` (Eq. 4 and the
         feasibility offset for every obstacle touched within the horizon) or ``"first-contact"`` (how
@@ -200,7 +204,10 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
 
     def __init__(self, env, seed: int | None = None, *, optimizer: str = "pso", horizon_steps: int = 10, margin: float = 0.005,
                  n_dodges: int = 8, dodge_steps: float = 2.0, prediction: str = "physics", violation: str = "contacts",
-                 search_expansions: int = 0, **kwargs):  # fmt: skip
+                 search_expansions: int = 0, dense_budget: float = 0.0, **kwargs):  # fmt: skip
+        if not (0.0 <= dense_budget <= 100.0):
+            raise ValueError(f"dense_budget must be in [0, 100], got {dense_budget!r}")
+        self.dense_budget = float(dense_budget)
         if int(search_expansions) != search_expansions or search_expansions < 0:
             raise ValueError(f"search_expansions must be a non-negative integer, got {search_expansions!r}")
         self.search_seed = SearchSeed(max_expansions=int(search_expansions))
@@ -251,7 +258,10 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     def plan(self, obs, memory):
         problem = self.timed_problem(obs, memory)
         robot, goal = problem.robot, problem.goal
-        best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, self.seed_paths(robot, goal, problem))
+        seeds = self.seed_paths(robot, goal, problem)
+        best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, seeds)
+        if self.dense_budget > 0.0 and self.last_penalty > 0.0:  # no contact-free plan found: a dense scene
+            best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, seeds, self.dense_budget)
         k = self.n_waypoints
         path = np.vstack([robot, best[: 2 * k].reshape(-1, 2), goal])
         self.last_plan = path

@@ -3,12 +3,13 @@
     python docs/results/dense_planners/ablation_table.py [RUN ...]
 
 Each run directory under ``runs/`` holds the ``episodes.jsonl`` of one ``scripts/evaluate.py`` run
-(its ``command.txt``); success ÷ limit is the agent's successes over the limit's (oracle-clairvoyant's)
+(its ``command.txt``), gzipped; success ÷ limit is the agent's successes over the limit's (oracle-clairvoyant's)
 on the same episodes, the plan times are every replan's, pooled over the cell's episodes.
 """
 
 from __future__ import annotations
 
+import gzip
 import json
 import sys
 from collections import defaultdict
@@ -21,7 +22,8 @@ RUNS = Path(__file__).resolve().parent / "runs"
 
 def cells(run: Path) -> dict:
     """``{(agent, Δd): (successes, limit successes, episodes, plan ms)}`` of one run."""
-    rows = [json.loads(line)["result"] for line in (run / "episodes.jsonl").read_text().splitlines()]
+    with gzip.open(run / "episodes.jsonl.gz", "rt") as records:
+        rows = [json.loads(line)["result"] for line in records]
     limit = defaultdict(int)
     for r in rows:
         if r["agent"] == "oracle-clairvoyant":
@@ -36,7 +38,7 @@ def cells(run: Path) -> dict:
 
 
 def main(names: list[str]) -> None:
-    runs = [RUNS / n for n in names] if names else sorted(p for p in RUNS.iterdir() if (p / "episodes.jsonl").exists())
+    runs = [RUNS / n for n in names] if names else sorted(p for p in RUNS.iterdir() if (p / "episodes.jsonl.gz").exists())
     print("| run | agent | Δd | success ÷ limit | successes / limit's | plan ms median / p95 |")
     print("|---|---|---:|---:|---:|---:|")
     for run in runs:

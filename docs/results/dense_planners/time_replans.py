@@ -21,14 +21,15 @@ import agents
 import pathplan_env  # noqa: F401  (registers the env)
 from pathplan_env.splits import episode_seeds
 
-FIRST, DEB, STALL = {"violation": "first-contact"}, {"constraint": "deb"}, {"stall": 5}
+# every row names its options in full (the defaults are the last row's)
+BASE = {"violation": "contacts", "constraint": "penalty", "stall": 0}
 CONFIGS = {
-    "baseline": {},
-    "fc": FIRST,
-    "deb": DEB,
-    "fc-deb": FIRST | DEB,
-    "fc-adaptive": FIRST | {"constraint": "adaptive"},
-    "fc-deb-s5": FIRST | DEB | STALL,
+    "baseline": BASE,
+    "fc": BASE | {"violation": "first-contact"},
+    "deb": BASE | {"constraint": "deb"},
+    "fc-deb": BASE | {"violation": "first-contact", "constraint": "deb"},
+    "fc-adaptive": BASE | {"violation": "first-contact", "constraint": "adaptive"},
+    "fc-deb-s5": {"violation": "first-contact", "constraint": "deb", "stall": 5},
 }
 
 

@@ -248,6 +248,11 @@ def timed_path_cost(x, scene):
     penalty form: in space-time a plan can always wait, and waiting must never look dearer than a
     touch). A cut past the horizon, where the prediction is a guess, adds to the cost only.
 
+    With ``violation=FIRST_CONTACT`` the penalty ranks by how early the first contact comes
+    (:func:`_contact_penalty`) and the walk stops at the end of that contact's step: past it, Eq. 4 and
+    the arrival only break ties between infeasible plans, and a dense scene's infeasible plans cost
+    a few steps' checks instead of the whole horizon's.
+
     Walls and polygon edges (``statics``) are tested as the env tests them (each step's chord swept
     against every capsule within reach): a touch within the horizon is the same constraint, and the
     rest of the path cutting into a capsule inflated by the robot radius pays Eq. 4 (its perimeter

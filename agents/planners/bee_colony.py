@@ -21,6 +21,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
+from .constraints import ConstraintRule, adapt, better, score, stalled
 from .fast_random import below, new_state, uniform
 from .objective import OptimizerResult, objective
 
@@ -31,10 +32,11 @@ class ABCSettings(NamedTuple):
     max_evaluations: int  # objective evaluations the run may spend
     limit: int  # original ABC: trials without improvement before a scout replaces the source
     scouts_replace_infeasible: bool  # modified ABC: scouts replace every infeasible source instead
+    rule: ConstraintRule = ConstraintRule()  # how candidates rank, and the early exit (:mod:`.constraints`)
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, problem):
+def _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, problem, kind, lam):
     SN, D = x.shape
     k = below(rng, SN - 1)
     if k >= i:
@@ -44,7 +46,7 @@ def _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, problem):
     old = x[i, j]  # the candidate differs from source i in one coordinate: try it in place
     x[i, j] = min(max(old + phi * (old - x[k, j]), lo[j]), hi[j])
     c, p = objective(x[i], problem)
-    if c < cost[i]:
+    if better(c, p, cost[i], pen[i], kind, lam):
         cost[i], pen[i] = c, p
         trials[i] = 0
     else:
@@ -61,7 +63,8 @@ def abc_run(x0, lo, hi, settings, seed, problem):
         after cycle ``c``, ``history_evaluations[c]`` the objective evaluations spent by then (scouts
         included); ``scouted`` counts the sources the scouts replaced.
     """
-    max_evaluations, limit = settings.max_evaluations, settings.limit
+    max_evaluations, limit, rule = settings.max_evaluations, settings.limit, settings.rule
+    kind, lam = rule.kind, rule.start
     rng = new_state(seed)
     SN, D = x0.shape
     x = x0.copy()
@@ -71,23 +74,30 @@ def abc_run(x0, lo, hi, settings, seed, problem):
     for i in range(SN):
         cost[i], pen[i] = objective(x[i], problem)
     evaluations = SN
-    b = np.argmin(cost)
+    b = 0
+    for i in range(SN):
+        if better(cost[i], pen[i], cost[b], pen[b], kind, lam):
+            b = i
     best_x, best_cost, best_pen = x[b].copy(), cost[b], pen[b]
     history = np.empty(max_evaluations // (2 * SN) + 1)  # the cycles run are returned
     history_evaluations = np.zeros(history.shape[0], dtype=np.int64)
     cycle = 0
     scouted = 0
+    infeasible_run, feasible_run, unchanged = 0, 0, 0
+    fitness = np.empty(SN)
     while evaluations + 2 * SN <= max_evaluations:
+        before = best_cost
         for i in range(SN):  # employed bees
-            _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, problem)
-        fitness = 1.0 / (1.0 + cost)
+            _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, problem, kind, lam)
+        for i in range(SN):
+            fitness[i] = 1.0 / (1.0 + score(cost[i], pen[i], kind, lam))
         cumulative = np.cumsum(fitness / fitness.sum())
         for _ in range(SN):  # onlooker bees: roulette-wheel choice of a source
             i = min(np.searchsorted(cumulative, uniform(rng)), SN - 1)
-            _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, problem)
+            _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, problem, kind, lam)
         evaluations += 2 * SN
         for i in range(SN):  # memorise the best before the scouts discard anything
-            if cost[i] < best_cost:
+            if better(cost[i], pen[i], best_cost, best_pen, kind, lam):
                 best_x[:], best_cost, best_pen = x[i], cost[i], pen[i]
         for i in range(SN):  # scouts
             if settings.scouts_replace_infeasible:
@@ -101,9 +111,13 @@ def abc_run(x0, lo, hi, settings, seed, problem):
                 trials[i] = 0
                 evaluations += 1
                 scouted += 1
-                if cost[i] < best_cost:
+                if better(cost[i], pen[i], best_cost, best_pen, kind, lam):
                     best_x[:], best_cost, best_pen = x[i], cost[i], pen[i]
         history[cycle] = best_cost
         history_evaluations[cycle] = evaluations
         cycle += 1
+        lam, infeasible_run, feasible_run = adapt(lam, infeasible_run, feasible_run, best_pen, rule)
+        unchanged, stop = stalled(rule, best_pen, before - best_cost, unchanged)
+        if stop:
+            break
     return OptimizerResult(best_x, best_cost, best_pen, history[:cycle], history_evaluations[:cycle], evaluations, scouted)

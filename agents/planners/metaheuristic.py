@@ -13,6 +13,7 @@ import numpy as np
 
 from ..base import Agent, point_along, real_obstacles, real_static_segments
 from .bee_colony import ABCSettings, abc_run
+from .constraints import constraint_rule
 from .objective import Scene, TimedScene
 from .pso import PSOSettings, inertia_schedule, pso_run
 
@@ -32,6 +33,11 @@ class MetaheuristicAgent(Agent):
     :param warm_start: seed each replan with the previous best path and the straight line to the
         goal. Default: on for the modified ABC (the paper's modification) and for the predictive
         variants (ours); off for the paper's PSO and the vanilla ablations.
+    :param constraint: how the optimisers rank candidates (:mod:`agents.planners.constraints`):
+        ``"penalty"`` (the smaller cost, penalty included), ``"deb"`` (Deb's feasibility rules) or
+        ``"adaptive"`` (a penalty scaled up while the best is infeasible, down while it is feasible).
+    :param stall: stop a run once its best is feasible and unchanged for this many iterations
+        (cycles for ABC); 0 spends the whole budget.
     """
 
     def __init__(
@@ -56,8 +62,12 @@ class MetaheuristicAgent(Agent):
         v_max_fraction: float = 0.2,
         abc_limit: int = 20,
         warm_start: bool | None = None,
+        constraint: str = "penalty",
+        stall: int = 0,
     ):
         super().__init__(env, seed)
+        self.rule = constraint_rule(constraint, stall)
+        self.constraint = constraint
         if optimizer not in ("pso", "abc"):
             raise ValueError(f"optimizer must be 'pso' or 'abc', got {optimizer!r}")
         if variant not in ("paper", "vanilla"):
@@ -76,8 +86,8 @@ class MetaheuristicAgent(Agent):
             self.w_max = self.w_min = float(w_constant)
         self.c1, self.c2, self.v_max_fraction, self.abc_limit = float(c1), float(c2), float(v_max_fraction), int(abc_limit)
         self.inertia = inertia_schedule(self.iterations, self.w_max, self.w_min)
-        self.pso_settings = PSOSettings(self.inertia, self.c1, self.c2, self.v_max_fraction)
-        self.abc_settings = ABCSettings(self.population * self.iterations, self.abc_limit, variant == "paper")
+        self.pso_settings = PSOSettings(self.inertia, self.c1, self.c2, self.v_max_fraction, self.rule)
+        self.abc_settings = ABCSettings(self.population * self.iterations, self.abc_limit, variant == "paper", self.rule)
         if warm_start is None:
             warm_start = variant == "paper" and (optimizer == "abc" or self.predictive)
         self.warm_start = bool(warm_start)
@@ -118,13 +128,18 @@ class MetaheuristicAgent(Agent):
         return self.run_optimizer(scene, self.search_lo, self.search_hi, memory, self.straight_line(scene.robot, scene.goal))
 
     def run_optimizer(self, problem: Scene | TimedScene, lo: np.ndarray, hi: np.ndarray, memory: dict[str, Any],
-                      seeds: np.ndarray) -> np.ndarray:  # fmt: skip
+                      seeds: np.ndarray, budget: float = 1.0) -> np.ndarray:  # fmt: skip
         """The optimiser on any objective (``agents.planners.objective.objective``) in the box ``[lo, hi]``.
 
         With ``warm_start``, the population holds the previous best (``memory["best"]``) and the
         rows of ``seeds`` (the straight line to the goal first; as many as fit); the rest is
-        uniform in the box.
+        uniform in the box. ``budget`` scales the iterations (1: the agent's own).
         """
+        pso_settings, abc_settings = self.pso_settings, self.abc_settings
+        if budget != 1.0:
+            iterations = max(1, round(self.iterations * budget))
+            pso_settings = pso_settings._replace(inertia=inertia_schedule(iterations, self.w_max, self.w_min))
+            abc_settings = abc_settings._replace(max_evaluations=self.population * iterations)
         seed = int(self.rng.integers(2**31 - 1))
         size = self.population if self.optimizer == "pso" else self.population // 2
         x0 = self.rng.uniform(lo, hi, size=(size, lo.size))
@@ -134,9 +149,9 @@ class MetaheuristicAgent(Agent):
             seeds = np.atleast_2d(seeds)[: size - 1]
             x0[1 : 1 + len(seeds)] = seeds
         if self.optimizer == "pso":
-            result = pso_run(x0, lo, hi, self.pso_settings, seed, problem)
+            result = pso_run(x0, lo, hi, pso_settings, seed, problem)
         else:
-            result = abc_run(x0, lo, hi, self.abc_settings, seed, problem)
+            result = abc_run(x0, lo, hi, abc_settings, seed, problem)
         memory["best"] = result.best
         self.last_cost, self.last_penalty = float(result.best_cost), float(result.best_penalty)
         self.last_history, self.last_history_evaluations = result.history, result.history_evaluations

@@ -37,6 +37,14 @@ TWO_PI = 2.0 * math.pi
 #: Added to a timed plan's cost per obstacle it is predicted to touch within the horizon (m): more
 #: than any contact-free plan can cost (its arrival and detours are bounded by a few arena crossings).
 INFEASIBLE = 1e4
+#: What a timed plan's penalty measures (``TimedScene.violation``). ``CONTACTS``: Eq. 4 on every
+#: obstacle touched within the horizon, each with the feasibility offset (the planners' first rule).
+#: ``FIRST_CONTACT``: how early the first predicted contact comes (the rest of the horizon after it,
+#: in metres at top speed, weighted by ``SURVIVAL_WEIGHT``), then Eq. 4 on every contact, with one
+#: feasibility offset: where every plan touches something (dense, fast scenes), the plan that stays
+#: free longest leaves replanning the most time, however many obstacles it touches later.
+CONTACTS, FIRST_CONTACT = 0, 1
+SURVIVAL_WEIGHT = 100.0
 
 
 class Scene(NamedTuple):
@@ -71,6 +79,8 @@ class TimedScene(NamedTuple):
     travel: np.ndarray  # (horizon_steps, N) m: each obstacle's path length in each step
     statics: np.ndarray = np.zeros((0, 5))  # (M, 5) walls and polygon edges (``World.static_segments`` rows)
     cost_to_go: CostToGo = STRAIGHT_LINE  # the rest of the path past the horizon (:mod:`agents.planners.costtogo`)
+    violation: int = CONTACTS  # what the penalty measures: ``CONTACTS`` or ``FIRST_CONTACT``
+    offset: float = INFEASIBLE  # added once per touched obstacle (``CONTACTS``) or once (``FIRST_CONTACT``)
 
 
 class OptimizerResult(NamedTuple):
@@ -194,6 +204,31 @@ def _wall_contact(px, py, qx, qy, robot_radius, statics, reach, goal_t, step, to
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
+def _contact_penalty(scene, near, first_touch, depth, wall_touch, wall_depth):
+    """The constraint: the penalty of the contacts within the horizon, as ``scene.violation`` measures it.
+
+    Each contact (a wall's or an obstacle's, ``near``) pays Eq. 4 and the rest of the horizon after
+    it (a later touch costs less); ``CONTACTS`` adds the feasibility offset to each, ``FIRST_CONTACT``
+    adds it once, with ``SURVIVAL_WEIGHT`` times the rest of the horizon after the earliest contact."""
+    horizon_steps, reach, robot_radius, penalty_weight = scene.horizon_steps, scene.reach, scene.robot_radius, scene.penalty_weight
+    first = scene.violation == FIRST_CONTACT
+    offset = 0.0 if first else scene.offset
+    survival = float(horizon_steps)
+    penalty = 0.0
+    if wall_touch >= 0.0:
+        penalty = TWO_PI * robot_radius + penalty_weight * wall_depth + (horizon_steps - wall_touch) * reach + offset
+        survival = wall_touch
+    for o in range(near.shape[0]):
+        if near[o]:
+            penalty += (TWO_PI * (scene.contact_radii[o] + robot_radius) + penalty_weight * depth[o]
+                        + (horizon_steps - first_touch[o]) * reach) + offset  # fmt: skip
+            survival = min(survival, first_touch[o])
+    if first and penalty > 0.0:
+        penalty += SURVIVAL_WEIGHT * (horizon_steps - survival) * reach + scene.offset
+    return penalty
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
 def timed_path_cost(x, scene):
     """Space-time objective of ``x`` = ``k`` waypoints (2k) then ``k + 1`` segment speeds (fractions of
     the robot's top speed) for a :class:`TimedScene`: ``(cost, penalty)`` in metres (arrival time x
@@ -212,6 +247,11 @@ def timed_path_cost(x, scene):
     plan free of predicted contact costs less than any plan with one (Deb's feasibility rule in
     penalty form: in space-time a plan can always wait, and waiting must never look dearer than a
     touch). A cut past the horizon, where the prediction is a guess, adds to the cost only.
+
+    With ``violation=FIRST_CONTACT`` the penalty ranks by how early the first contact comes
+    (:func:`_contact_penalty`) and the walk stops at the end of that contact's step: past it, Eq. 4 and
+    the arrival only break ties between infeasible plans, and a dense scene's infeasible plans cost
+    a few steps' checks instead of the whole horizon's.
 
     Walls and polygon edges (``statics``) are tested as the env tests them (each step's chord swept
     against every capsule within reach): a touch within the horizon is the same constraint, and the
@@ -240,6 +280,9 @@ def timed_path_cost(x, scene):
     wall_depth = 0.0
     seg, px, py = 0, robot[0], robot[1]
     arrival = -1.0
+    # ranked by the first contact, a plan needs no steps past it: its Eq. 4 and arrival only break ties
+    stop_at_contact = scene.violation == FIRST_CONTACT
+    contact = False
     for step in range(horizon_steps):
         nseg, qx, qy = walk_along(pts, seg, px, py, x[2 * k + seg] * reach)
         dx, dy = qx - px, qy - py
@@ -265,7 +308,7 @@ def timed_path_cost(x, scene):
                 if t_hit <= 1.0 and (j - 1 + t_hit) / n <= goal_t:  # a contact before the goal counts
                     if not near[o]:
                         first_touch[o] = step + (j - 1 + t_hit) / n
-                    touched[o] = near[o] = True
+                    touched[o] = near[o] = contact = True
                     depth[o] = max(depth[o], -gap)
                 ax, ay = bx, by
         wall_touch, wall_depth = _wall_contact(px, py, qx, qy, robot_radius, statics, reach, goal_t, step, wall_touch, wall_depth)
@@ -273,6 +316,8 @@ def timed_path_cost(x, scene):
             arrival = step + goal_t
             break
         seg, px, py = nseg, qx, qy
+        if stop_at_contact and (contact or wall_touch >= 0.0):
+            break
     detour = 0.0  # past the horizon, a soft cost: where the obstacles will be is a guess
     if arrival < 0.0:  # past the horizon: the rest of the path at top speed, against the horizon's obstacles
         last = traj[horizon_steps * n]
@@ -296,15 +341,10 @@ def timed_path_cost(x, scene):
         # straight line without walls: then the path's own rest, always as long, decides as before)
         to_go = distance_to_goal(scene.cost_to_go, px, py, goal[0], goal[1], goal_radius)
         arrival = horizon_steps + max(rest - goal_radius, to_go, 0.0) / reach
-    penalty = 0.0  # the constraint: contacts within the horizon
-    if wall_touch >= 0.0:  # Eq. 4 for the wall, the rest of the horizon, and the feasibility offset
-        penalty = TWO_PI * robot_radius + penalty_weight * wall_depth + (horizon_steps - wall_touch) * reach + INFEASIBLE
     for o in range(n_obs):
-        if near[o]:  # Eq. 4, plus the rest of the horizon (a later touch costs less), plus the feasibility offset
-            penalty += (TWO_PI * (contact_radii[o] + robot_radius) + penalty_weight * depth[o]
-                        + (horizon_steps - first_touch[o]) * reach + INFEASIBLE)  # fmt: skip
-        elif touched[o]:
+        if touched[o] and not near[o]:
             detour += TWO_PI * (contact_radii[o] + robot_radius) + penalty_weight * depth[o]
+    penalty = _contact_penalty(scene, near, first_touch, depth, wall_touch, wall_depth)
     return arrival * reach + detour + penalty, penalty
 
 

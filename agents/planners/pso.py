@@ -18,6 +18,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
+from .constraints import ConstraintRule, adapt, better, stalled
 from .fast_random import new_state, uniform
 from .objective import OptimizerResult, objective
 
@@ -29,6 +30,7 @@ class PSOSettings(NamedTuple):
     c1: float  # cognitive coefficient (pull toward the particle's best)
     c2: float  # social coefficient (pull toward the swarm's best)
     v_max_fraction: float  # velocity clip, as a fraction of the search box's size per dimension
+    rule: ConstraintRule = ConstraintRule()  # how candidates rank, and the early exit (:mod:`.constraints`)
 
 
 def inertia_schedule(iterations: int, w_max: float, w_min: float) -> np.ndarray:
@@ -45,7 +47,8 @@ def pso_run(x0, lo, hi, settings, seed, problem):
     :return: an :class:`~agents.planners.objective.OptimizerResult`; ``history[it]`` is the best
         cost after iteration ``it``.
     """
-    inertia, c1, c2, v_max_fraction = settings.inertia, settings.c1, settings.c2, settings.v_max_fraction
+    inertia, c1, c2, v_max_fraction, rule = settings.inertia, settings.c1, settings.c2, settings.v_max_fraction, settings.rule
+    kind, lam = rule.kind, rule.start
     rng = new_state(seed)
     P, D = x0.shape
     x = x0.copy()
@@ -60,14 +63,17 @@ def pso_run(x0, lo, hi, settings, seed, problem):
     g = 0
     for i in range(P):
         pbest_cost[i], pbest_pen[i] = objective(x[i], problem)
-        if pbest_cost[i] < pbest_cost[g]:
+        if better(pbest_cost[i], pbest_pen[i], pbest_cost[g], pbest_pen[g], kind, lam):
             g = i
     gbest = pbest[g].copy()
     gbest_cost, gbest_pen = pbest_cost[g], pbest_pen[g]
     history = np.empty(inertia.shape[0])
     history_evaluations = np.empty(inertia.shape[0], np.int64)
+    infeasible_run, feasible_run, unchanged = 0, 0, 0
+    ran = inertia.shape[0]
     for it in range(inertia.shape[0]):
         w = inertia[it]
+        before = gbest_cost
         for i in range(P):
             for j in range(D):
                 vij = w * v[i, j] + c1 * uniform(rng) * (pbest[i, j] - x[i, j]) + c2 * uniform(rng) * (gbest[j] - x[i, j])
@@ -75,12 +81,23 @@ def pso_run(x0, lo, hi, settings, seed, problem):
                 v[i, j] = vij
                 x[i, j] = min(max(x[i, j] + vij, lo[j]), hi[j])
             cost, pen = objective(x[i], problem)
-            if cost < pbest_cost[i]:
+            if better(cost, pen, pbest_cost[i], pbest_pen[i], kind, lam):
                 pbest_cost[i], pbest_pen[i] = cost, pen
                 pbest[i] = x[i]
-                if cost < gbest_cost:
+                if better(cost, pen, gbest_cost, gbest_pen, kind, lam):
                     gbest_cost, gbest_pen = cost, pen
                     gbest[:] = x[i]
         history[it] = gbest_cost
         history_evaluations[it] = P * (it + 2)  # the initial swarm, then one evaluation per particle an iteration
-    return OptimizerResult(gbest, gbest_cost, gbest_pen, history, history_evaluations, P * (inertia.shape[0] + 1), 0)
+        new_lam, infeasible_run, feasible_run = adapt(lam, infeasible_run, feasible_run, gbest_pen, rule)
+        if new_lam != lam:  # the ranking changed: the swarm's best under the new scale
+            lam = new_lam
+            for i in range(P):
+                if better(pbest_cost[i], pbest_pen[i], gbest_cost, gbest_pen, kind, lam):
+                    gbest_cost, gbest_pen = pbest_cost[i], pbest_pen[i]
+                    gbest[:] = pbest[i]
+        unchanged, stop = stalled(rule, gbest_pen, before - gbest_cost, unchanged)
+        if stop:
+            ran = it + 1
+            break
+    return OptimizerResult(gbest, gbest_cost, gbest_pen, history[:ran], history_evaluations[:ran], P * (ran + 1), 0)

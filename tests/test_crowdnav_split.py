@@ -50,14 +50,17 @@ def test_crowdnav_cases_never_touch_the_global_generator():
 
 
 def test_a_crowdnav_case_at_a_delta_d_is_the_scene_with_delta_d_applied():
-    """Δd is applied while building (CrowdNav's square starts may sit on the robot's goal, which with_delta_d refuses)."""
+    """Δd is applied while building, and equals with_delta_d on the built case, also where CrowdNav's
+    square starts sit on the robot's goal (with_delta_d changes speeds only and does not re-check a crowd's geometry)."""
     scene = crowdnav_test_case("circle-crossing", 0, delta_d=CROWDNAV_DELTA_D)
     assert scene == crowdnav_test_case("circle-crossing", 0).with_delta_d(CROWDNAV_DELTA_D, np.random.default_rng(0))
     blocked = crowdnav_test_case("square-crossing", 3)  # its human 1 starts 0.6 m or less from the robot's goal
     gap = np.hypot(*(np.array(blocked.obstacles[1].center) - blocked.goal))
     assert gap <= 0.6
-    with pytest.raises(ValueError, match="overlaps the robot at the goal"):
-        blocked.with_delta_d(CROWDNAV_DELTA_D, np.random.default_rng(0))
+    moved = blocked.with_delta_d(CROWDNAV_DELTA_D, np.random.default_rng(0))
+    assert moved == crowdnav_test_case("square-crossing", 3, delta_d=CROWDNAV_DELTA_D)
+    assert [ob.center for ob in moved.obstacles] == [ob.center for ob in blocked.obstacles]
+    assert all(ob.preferred_speed == CROWDNAV_DELTA_D * ob.radius / blocked.dt for ob in moved.obstacles)
 
 
 @pytest.mark.parametrize("kwargs, named", [

@@ -17,13 +17,17 @@ import agents
 import pathplan_env  # noqa: F401
 
 
-def main(argv=None) -> None:
+def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--delta", type=float, required=True, help="Δd of the random scenes")
     parser.add_argument("--seeds", type=int, nargs="+", required=True, help="episode seeds (the test split's start at 1000000000)")
     parser.add_argument("--obstacles", type=int, default=8)
     parser.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE", help="the oracle's keyword arguments")
-    args = parser.parse_args(argv)
+    return parser.parse_args(argv)
+
+
+def main(argv=None) -> None:
+    args = parse_args(argv)
     overrides = {key: ast.literal_eval(value) for key, value in (item.split("=", 1) for item in args.set)}
     env = gym.make("DynamicObstacle-v0", scenario="random", delta_d=args.delta, n_obstacles=args.obstacles, robot="unicycle")
     print("| seed | verdict | found by | nodes expanded | seconds | flown: success |")

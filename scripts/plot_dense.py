@@ -67,11 +67,15 @@ def plot(data: dict, out: Path) -> Path:
     return path
 
 
-def main(argv=None) -> None:
+def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("runs", nargs="+", type=Path, help="output directories of scripts/evaluate.py")
     parser.add_argument("--out", type=Path, default=Path("docs/results/dense"))
-    args = parser.parse_args(argv)
+    return parser.parse_args(argv)
+
+
+def main(argv=None) -> None:
+    args = parse_args(argv)
     missing = [str(run) for run in args.runs if not (run / "summary.json").is_file()]
     if missing:
         raise SystemExit(f"no summary.json in {', '.join(missing)}")

@@ -10,7 +10,7 @@ FULL   := $(VENV)/.installed-full
 #   make test TORCH_INDEX=https://download.pytorch.org/whl/cpu
 TORCH_INDEX ?=
 
-.PHONY: demo test bench reproduce train train-sarl clean venv
+.PHONY: demo test bench reproduce train train-sarl train-sarl-random clean venv
 
 $(CORE): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -49,6 +49,11 @@ train: $(FULL)  ## retrain the shipped PPO policy (~35 min on 2 cores) and copy 
 
 train-sarl: $(FULL)  ## retrain SARL on CrowdNav's circle crossing (<= 58 min wall clock) and copy it to agents/models/sarl_crowdnav.npz
 	nice -n 5 $(PY) scripts/train_sarl.py --seed 0 --budget-minutes 58 --out runs/sarl_crowdnav
+
+train-sarl-random: $(FULL)  ## retrain SARL on random scenes, 8 bouncing obstacles, a Δd curriculum to 1.25 (<= 58 min) -> agents/models/sarl_random.npz
+	nice -n 5 $(PY) scripts/train_sarl.py --setting random --scenario random --delta-d 0.25 --curriculum-max 1.25 \
+		--curriculum-episodes 1500 --val-delta-d 0.25,0.5,1 --val-episodes 50 --teacher astar-spacetime --teacher-kwargs '{}' \
+		--seed 0 --budget-minutes 58 --out runs/sarl_random
 
 reproduce: $(CORE)
 	$(PY) scripts/reproduce_paper.py --out results/paper

@@ -26,6 +26,7 @@ register("oracle-clairvoyant", ClairvoyantOracle)  # privileged: reads the simul
 register("ppo", partial(trained_agent, algo="ppo"))  # the shipped PPO; with path=: a train_rl.py model, or any PPO .zip
 register("ppo-lidar", LidarRLAgent)  # the shipped lidar PPO (1-D conv encoder): observation="lidar"; with path=: a train_rl.py --observation lidar model
 register("sarl", SARLAgent)  # value network with attention + one-step lookahead on predicted humans (agents/models/sarl_crowdnav.npz)
+register("sarl-random", partial(SARLAgent, setting="random"))  # the same trained on random scenes, bouncing obstacles (sarl_random.npz)
 register("sb3", SB3Agent)  # any SB3 model file as it comes, path= required (agents.rl.sb3_model)
 register("astar-spacetime", SpacetimeAStarAgent)
 # for crowds that steer: a cone of predicted futures, a wider margin, and an escape when every plan ends in contact

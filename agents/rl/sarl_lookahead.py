@@ -9,6 +9,10 @@ this one never does. Each move scores CrowdNav's reward on the predicted step pl
 
 Joint-state features (CrowdNav's ``rotate``) are in the robot's goal frame, lengths in units of one
 second of the robot's travel and velocities in robot speeds (metres and m/s on CrowdNav's 1 m/s robot).
+:class:`SARLFeatures` adds, for scenes whose obstacles bounce off the arena's edges (``random``), each
+human's predicted position a few steps further ahead (bounces included: the value sees where a
+bouncing obstacle turns) and the robot's free distance to the arena's edges; CrowdNav's setting adds
+nothing (its model's features are exactly CrowdNav's).
 """
 
 from __future__ import annotations
@@ -22,7 +26,7 @@ from pathplan_env.wrappers import EnvFacts
 
 from ..base import real_obstacles, real_static_segments
 from ..planners.prediction import predict_among, substeps_for
-from .sarl_kernel import StepModel, lookahead_kernel
+from .sarl_kernel import StepModel, lookahead_kernel, wall_ray
 
 N_HEADINGS, N_SPEEDS = 16, 5
 N_ACTIONS = N_HEADINGS * N_SPEEDS + 1
@@ -42,6 +46,31 @@ class CrowdNavReward(NamedTuple):
 CROWDNAV_REWARD = CrowdNavReward()
 
 
+class SARLFeatures(NamedTuple):
+    """Joint-state features beyond CrowdNav's (``SARLFeatures()``: none)."""
+
+    horizons: tuple[int, ...] = ()
+    """steps after the next one at which each human's predicted relative position (2 features each) is added"""
+    walls: bool = False
+    """add the robot's free distance to the arena's edges along its goal frame's +x, -x, +y, -y (capped at one length)"""
+
+    @property
+    def dims(self) -> tuple[int, int]:
+        """``(self_dim, human_dim)`` of the joint state."""
+        return 5 + 4 * bool(self.walls), 7 + 2 * len(self.horizons)
+
+
+def check_features(features: SARLFeatures) -> SARLFeatures:
+    """``features`` validated (``ValueError`` naming ``features``)."""
+    horizons = tuple(features.horizons)
+    if any(isinstance(h, bool) or not isinstance(h, (int, np.integer)) or h < 1 for h in horizons) or list(horizons) != sorted(set(horizons)):
+        raise ValueError(f"features.horizons must be increasing ints >= 1, got {features.horizons!r}")
+    return SARLFeatures(tuple(int(h) for h in horizons), bool(features.walls))
+
+
+CROWDNAV_FEATURES = SARLFeatures()
+
+
 def action_velocities(speed: float) -> np.ndarray:
     """(81, 2) velocities: stop, then 16 headings × speeds ``(e^((i+1)/5) - 1) / (e - 1) · speed``."""
     if not speed > 0 or not math.isfinite(speed):
@@ -52,13 +81,14 @@ def action_velocities(speed: float) -> np.ndarray:
     return np.vstack([np.zeros((1, 2)), (speeds[:, None, None] * unit[None]).reshape(-1, 2)])
 
 
-def joint_state(robot_pos, robot_vel, goal, human_pos, human_vel, human_radii, facts: EnvFacts):
+def joint_state(robot_pos, robot_vel, goal, human_pos, human_vel, human_radii, facts: EnvFacts, future=None, walls: bool = False):
     """The value network's input for B robot states among N humans.
 
     ``robot_pos``, ``robot_vel`` (B, 2), ``goal`` (2,); ``human_pos``, ``human_vel`` (B, N, 2) or
     (N, 2); ``human_radii`` (N,). Returns ``self_state`` (B, 5: distance to goal, preferred speed,
-    radius, velocity) and ``humans`` (B, N, 7: relative position, velocity, radius, centre distance,
-    radius sum), float32, in each robot state's goal frame."""
+    radius, velocity; + 4 free distances to the arena's edges with ``walls``) and ``humans`` (B, N, 7:
+    relative position, velocity, radius, centre distance, radius sum; + 2 per step of ``future``
+    (N, K, 2), the predicted positions further ahead, relative), float32, in each robot state's goal frame."""
     length, speed = facts.robot_speed * 1.0, facts.robot_speed
     to_goal = np.asarray(goal, np.float64) - robot_pos
     dist = np.hypot(to_goal[:, 0], to_goal[:, 1])
@@ -75,47 +105,63 @@ def joint_state(robot_pos, robot_vel, goal, human_pos, human_vel, human_radii, f
     n = len(human_radii)
     rel = np.broadcast_to(human_pos, (b, n, 2)) - robot_pos[:, None, :]
     radii = np.broadcast_to(np.asarray(human_radii, np.float64), (b, n))
-    humans = np.concatenate([
+    columns = [
         rotate(rel) / length, rotate(np.broadcast_to(human_vel, (b, n, 2))) / speed, (radii / length)[..., None],
         (np.hypot(rel[..., 0], rel[..., 1]) / length)[..., None], ((radii + facts.robot_radius) / length)[..., None],
-    ], axis=-1)  # fmt: skip
-    return self_state.astype(np.float32), humans.astype(np.float32)
+    ]  # fmt: skip
+    for k in range(0 if future is None else future.shape[1]):
+        columns.append(rotate(np.broadcast_to(future[:, k], (b, n, 2)) - robot_pos[:, None, :]) / length)
+    if walls:
+        xmin, ymin, xmax, ymax = facts.arena.robot_box
+        rays = [np.array([wall_ray(p[0], p[1], d[0], d[1], (xmin, ymin), (xmax, ymax), length) for p, d in zip(robot_pos, dirs)])
+                for dirs in (ex, -ex, np.column_stack([-ex[:, 1], ex[:, 0]]), np.column_stack([ex[:, 1], -ex[:, 0]]))]  # fmt: skip
+        self_state = np.column_stack([self_state, *(r / length for r in rays)])
+    return self_state.astype(np.float32), np.concatenate(columns, axis=-1).astype(np.float32)
 
 
-def observed_joint_state(obs: dict, facts: EnvFacts):
-    """The joint state of one observation: ``self_state`` (1, 5), ``humans`` (1, N, 7) for its N present humans."""
-    pos, vel, radii = real_obstacles(obs)
+def observed_joint_state(obs: dict, facts: EnvFacts, features: SARLFeatures = CROWDNAV_FEATURES):
+    """The joint state of one observation: ``self_state`` (1, 5 [+ 4]), ``humans`` (1, N, 7 + 2K) for its N present humans."""
+    pos, vel, _, _, radii, ahead = predict_humans(obs, facts, tuple(h - 1 for h in features.horizons))
     robot = np.asarray(obs["robot_position"], np.float64)[None]
-    return joint_state(robot, np.asarray(obs["robot_velocity"], np.float64)[None], np.asarray(obs["goal"], np.float64), pos, vel, radii, facts)
+    return joint_state(robot, np.asarray(obs["robot_velocity"], np.float64)[None], np.asarray(obs["goal"], np.float64), pos, vel, radii, facts,
+                       ahead[:, 1:], features.walls)  # fmt: skip
 
 
-def predict_humans(obs: dict, facts: EnvFacts):
-    """The present humans now and one step ahead: positions, velocities (N, 2) each, next positions and velocities, radii."""
+def predict_humans(obs: dict, facts: EnvFacts, horizons: tuple[int, ...] = ()):
+    """The present humans now and one step ahead: positions, velocities (N, 2) each, next positions and velocities, radii,
+    and ``ahead`` (N, 1 + K, 2): the next positions, then the predicted positions ``horizons`` steps after the next one."""
     pos, vel, radii = real_obstacles(obs)
+    n_steps = 1 + max(horizons, default=0)
     if len(radii) == 0:
-        return pos, vel, pos, vel, radii
+        return pos, vel, pos, vel, radii, np.zeros((0, 1 + len(horizons), 2))
     segments = real_static_segments(obs)
-    future = predict_among(pos, vel, radii, np.asarray(facts.bounds, np.float64), segments, facts.dt, 1, substeps_for(vel, radii, facts.dt))[-1]
-    return pos, vel, future[:, :2].copy(), future[:, 2:].copy(), radii
+    substeps = substeps_for(vel, radii, facts.dt)
+    states = predict_among(pos, vel, radii, np.asarray(facts.bounds, np.float64), segments, facts.dt, n_steps, substeps)
+    nxt = states[substeps]
+    ahead = np.stack([states[(1 + h) * substeps, :, :2] for h in (0, *horizons)], axis=1)
+    return pos, vel, nxt[:, :2].copy(), nxt[:, 2:].copy(), radii, ahead
 
 
-def lookahead(obs: dict, facts: EnvFacts, velocities: np.ndarray, reward: CrowdNavReward = CROWDNAV_REWARD):
+def lookahead(obs: dict, facts: EnvFacts, velocities: np.ndarray, reward: CrowdNavReward = CROWDNAV_REWARD,
+              features: SARLFeatures = CROWDNAV_FEATURES):  # fmt: skip
     """Every move's predicted next joint state and CrowdNav reward: ``(self_state, humans, rewards)`` (compiled)."""
-    pos, _, next_pos, next_vel, radii = predict_humans(obs, facts)
+    pos, _, next_pos, next_vel, radii, ahead = predict_humans(obs, facts, features.horizons)
     xmin, ymin, xmax, ymax = facts.arena.robot_box
-    model = StepModel(facts.dt, facts.robot_radius, facts.robot_speed, facts.goal_radius, (xmin, ymin), (xmax, ymax), *reward)
+    model = StepModel(facts.dt, facts.robot_radius, facts.robot_speed, facts.goal_radius, (xmin, ymin), (xmax, ymax), *reward, features.walls)
     robot, goal = (np.asarray(obs[k], np.float64) for k in ("robot_position", "goal"))
-    return lookahead_kernel(robot, goal, np.asarray(velocities, np.float64), pos, next_pos, next_vel, radii, model)
+    future = np.ascontiguousarray(ahead[:, 1:])
+    return lookahead_kernel(robot, goal, np.asarray(velocities, np.float64), pos, next_pos, next_vel, radii, future, model)
 
 
-def lookahead_numpy(obs: dict, facts: EnvFacts, velocities: np.ndarray, reward: CrowdNavReward = CROWDNAV_REWARD):
+def lookahead_numpy(obs: dict, facts: EnvFacts, velocities: np.ndarray, reward: CrowdNavReward = CROWDNAV_REWARD,
+                    features: SARLFeatures = CROWDNAV_FEATURES):  # fmt: skip
     """:func:`lookahead` in numpy (the reference the compiled kernel is tested against)."""
     robot = np.asarray(obs["robot_position"], np.float64)
     goal = np.asarray(obs["goal"], np.float64)
-    pos, _, next_pos, next_vel, radii = predict_humans(obs, facts)
+    pos, _, next_pos, next_vel, radii, ahead = predict_humans(obs, facts, features.horizons)
     xmin, ymin, xmax, ymax = facts.arena.robot_box
     nxt = np.clip(robot + velocities * facts.dt, [xmin, ymin], [xmax, ymax])
-    self_state, humans = joint_state(nxt, velocities, goal, next_pos, next_vel, radii, facts)
+    self_state, humans = joint_state(nxt, velocities, goal, next_pos, next_vel, radii, facts, ahead[:, 1:], features.walls)
     # the smallest gap over the step: both move straight from now to the predicted next state
     d0 = (pos - robot)[None]
     d1 = next_pos[None] - nxt[:, None, :]
@@ -140,8 +186,8 @@ def discount(gamma: float, facts: EnvFacts) -> float:
 
 
 def best_action(obs: dict, facts: EnvFacts, velocities: np.ndarray, values, gamma_bar: float,
-                reward: CrowdNavReward = CROWDNAV_REWARD) -> int:  # fmt: skip
+                reward: CrowdNavReward = CROWDNAV_REWARD, features: SARLFeatures = CROWDNAV_FEATURES) -> int:  # fmt: skip
     """The index of the move maximising reward + ``gamma_bar`` · value (``values(self_state, humans, mask)``), one batched call."""
-    self_state, humans, rewards = lookahead(obs, facts, velocities, reward)
+    self_state, humans, rewards = lookahead(obs, facts, velocities, reward, features)
     mask = np.ones(humans.shape[:2], np.float32)
     return int(np.argmax(rewards + gamma_bar * np.asarray(values(self_state, humans, mask), np.float64)))

@@ -30,20 +30,22 @@ class SARLValue(nn.Module):
 
     :param hidden: the hidden sizes of ``mlp1``, ``mlp2``, ``attention`` and ``mlp3`` (default
         ``agents.rl.sarl_numpy.HIDDEN``, smaller than CrowdNav's).
+    :param dims: ``(self_dim, human_dim)``, the joint state's widths (``SARLFeatures.dims``; CrowdNav's by default).
     """
 
-    def __init__(self, hidden: dict[str, tuple[int, ...]] | None = None):
+    def __init__(self, hidden: dict[str, tuple[int, ...]] | None = None, dims: tuple[int, int] = (SELF_DIM, HUMAN_DIM)):
         super().__init__()
         self.hidden = check_sizes(hidden if hidden is not None else HIDDEN)
         h = self.hidden
-        self.mlp1 = _mlp([SELF_DIM + HUMAN_DIM, *h["mlp1"]], last_relu=True)
+        self.self_dim, human_dim = dims
+        self.mlp1 = _mlp([self.self_dim + human_dim, *h["mlp1"]], last_relu=True)
         self.mlp2 = _mlp([h["mlp1"][-1], *h["mlp2"]], last_relu=False)
         self.attention = _mlp([2 * h["mlp1"][-1], *h["attention"], 1], last_relu=False)
-        self.mlp3 = _mlp([SELF_DIM + h["mlp2"][-1], *h["mlp3"], 1], last_relu=False)
+        self.mlp3 = _mlp([self.self_dim + h["mlp2"][-1], *h["mlp3"], 1], last_relu=False)
 
     def forward(self, self_state: torch.Tensor, humans: torch.Tensor, mask: torch.Tensor) -> torch.Tensor:
         b, n, _ = humans.shape
-        joint = torch.cat([self_state[:, None, :].expand(b, n, SELF_DIM), humans], dim=-1)
+        joint = torch.cat([self_state[:, None, :].expand(b, n, self.self_dim), humans], dim=-1)
         embedding = self.mlp1(joint)
         m = mask[..., None]
         context = (embedding * m).sum(1) / m.sum(1).clamp(min=1.0)

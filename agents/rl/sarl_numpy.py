@@ -10,7 +10,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-#: The robot's own features (:func:`agents.rl.sarl_lookahead.joint_state`) and each human's.
+#: The robot's own features (:func:`agents.rl.sarl_lookahead.joint_state`) and each human's, CrowdNav's
+#: (a setting with more features, ``SARLFeatures``, has wider inputs: the weights say which).
 SELF_DIM, HUMAN_DIM = 5, 7
 #: Hidden sizes: CrowdNav's sarl has mlp1 150-100, mlp2 100-50, attention 100-100, mlp3 150-100-100;
 #: these are about a quarter of its multiply-adds, so that 81 moves score within a millisecond.
@@ -62,8 +63,11 @@ class SARLNumpy:
             ]
         (w, bias), h = self.layers["attention"][0], self.layers["mlp1"][-1][1].shape[0]
         self.attention_split = (np.ascontiguousarray(w[:, :h]), np.ascontiguousarray(w[:, h:]), bias)
-        if self.layers["mlp1"][0][0].shape[1] != SELF_DIM + HUMAN_DIM:
-            raise ValueError(f"arrays: mlp1 takes {self.layers['mlp1'][0][0].shape[1]} inputs, not {SELF_DIM + HUMAN_DIM}")
+        joint_in, mlp3_in = self.layers["mlp1"][0][0].shape[1], self.layers["mlp3"][0][0].shape[1]
+        self.self_dim = mlp3_in - self.layers["mlp2"][-1][1].shape[0]
+        self.human_dim = joint_in - self.self_dim
+        if self.self_dim < SELF_DIM or self.human_dim < HUMAN_DIM:
+            raise ValueError(f"arrays: mlp1 takes {joint_in} inputs and mlp3 {mlp3_in}: not a robot state of >= {SELF_DIM} and a human's of >= {HUMAN_DIM}")
 
     @classmethod
     def load(cls, path) -> SARLNumpy:
@@ -82,7 +86,7 @@ class SARLNumpy:
         humans = np.asarray(humans, np.float32)
         mask = np.asarray(mask, np.float32)
         b, n, _ = humans.shape
-        joint = np.concatenate([np.broadcast_to(self_state[:, None, :], (b, n, SELF_DIM)), humans], axis=-1)
+        joint = np.concatenate([np.broadcast_to(self_state[:, None, :], (b, n, self_state.shape[1])), humans], axis=-1)
         embedding = self._mlp("mlp1", joint.reshape(b * n, -1), last_relu=True).reshape(b, n, -1)
         m = mask[..., None]
         context = (embedding * m).sum(1) / np.maximum(m.sum(1), 1.0)

@@ -8,6 +8,7 @@ from the simulator), the network :mod:`agents.rl.sarl_numpy`:
     env = gym.make("DynamicObstacle-v0", scenario="crowdnav-circle-crossing")
     agent = agents.make("sarl", env)                       # agents/models/sarl_crowdnav.npz
     agent = agents.make("sarl", env, path="runs/sarl/best.npz")
+    agent = agents.make("sarl-random", gym.make("DynamicObstacle-v0", scenario="random", delta_d=1))  # sarl_random.npz
 """
 
 from __future__ import annotations
@@ -19,8 +20,9 @@ import numpy as np
 
 from ..base import Agent
 from .policy import MODELS_DIR
-from .sarl_lookahead import CrowdNavReward, action_velocities, best_action, discount
+from .sarl_lookahead import action_velocities, best_action, discount
 from .sarl_numpy import SARLNumpy
+from .sarl_settings import get_setting
 
 #: The shipped model per setting (``agents/models/sarl_<setting>.npz``).
 DEFAULT_SETTING = "crowdnav"
@@ -29,33 +31,43 @@ DEFAULT_SETTING = "crowdnav"
 class SARLAgent(Agent):
     """A trained SARL value network acting by one-step lookahead (greedy: ``deterministic`` changes nothing).
 
-    :param path: the model's ``.npz`` (default ``agents/models/sarl_crowdnav.npz``); its ``.json``
-        sidecar, when present, gives ``gamma`` and the reward.
+    :param path: the model's ``.npz`` (default ``agents/models/sarl_<setting>.npz``); its ``.json``
+        sidecar, when present, gives ``gamma`` and the setting it was trained in.
     :param gamma: the discount per second of travel at the robot's speed (default: the sidecar's, else 0.9).
-    :raises ValueError: naming ``path`` if no model is there, ``gamma`` if it is not in (0, 1].
+    :param setting: ``agents.rl.sarl_settings`` name: the joint state's features and the reward (default:
+        the sidecar's, else ``crowdnav``).
+    :raises ValueError: naming ``path`` if no model is there or its inputs do not fit the setting's
+        features, ``gamma`` if it is not in (0, 1], ``setting`` if unknown.
     """
 
     name = "sarl"
 
-    def __init__(self, env, seed: int | None = None, path: str | Path | None = None, gamma: float | None = None):
+    def __init__(self, env, seed: int | None = None, path: str | Path | None = None, gamma: float | None = None,
+                 setting: str | None = None):  # fmt: skip
         super().__init__(env, seed=seed)
-        path = Path(path) if path is not None else MODELS_DIR / f"sarl_{DEFAULT_SETTING}.npz"
+        if setting is not None:
+            get_setting(setting)  # a ValueError naming setting, before the path's
+        path = Path(path) if path is not None else MODELS_DIR / f"sarl_{setting or DEFAULT_SETTING}.npz"
         if not path.exists():
             raise ValueError(f"path: no model at {path}; train one with scripts/train_sarl.py")
         sidecar = path.with_suffix(".json")
         self.metadata = json.loads(sidecar.read_text()) if sidecar.exists() else {}
         trained = self.metadata.get("args", {})
+        self.setting = get_setting(setting or trained.get("setting", DEFAULT_SETTING))
         gamma = float(trained.get("gamma", 0.9)) if gamma is None else gamma
         if isinstance(gamma, bool) or not isinstance(gamma, (int, float)) or not 0 < gamma <= 1:
             raise ValueError(f"gamma must be in (0, 1], got {gamma!r}")
         self.network = SARLNumpy.load(path)
+        if (self.network.self_dim, self.network.human_dim) != self.setting.features.dims:
+            raise ValueError(f"path: {path} takes joint states of {(self.network.self_dim, self.network.human_dim)} features, "
+                             f"its setting {self.setting.features.dims}")  # fmt: skip
         self.gamma_bar = discount(float(gamma), self.facts)
         self.velocities = action_velocities(self.facts.robot_speed)
-        self.reward = CrowdNavReward()
+        self.reward = self.setting.reward
 
     def plan(self, obs, memory):
         robot = np.asarray(obs["robot_position"], np.float64)
-        k = best_action(obs, self.facts, self.velocities, self.network.values, self.gamma_bar, self.reward)
+        k = best_action(obs, self.facts, self.velocities, self.network.values, self.gamma_bar, self.reward, self.setting.features)
         waypoint = robot + self.velocities[k] * self.facts.dt
         self.last_plan = np.stack([robot, waypoint])
         return waypoint

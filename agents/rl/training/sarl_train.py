@@ -9,9 +9,13 @@
 SB3 does not fit: its algorithms learn a policy or Q(s, a) from the env's transitions, while SARL
 learns V(s) and picks actions by a model-based lookahead over predicted next states.
 
-Model selection: greedy validation episodes (``pathplan_env.splits.validation_seeds``) every
-``val_every`` RL episodes; the best (success, then navigation time) is kept. A wall-clock budget
-stops the run; torch uses one thread.
+A Δd curriculum (``curriculum_max`` > 0, for bouncing obstacles): every episode draws its Δd
+uniformly from [0, d_max], d_max rising linearly from ``delta_d`` to ``curriculum_max`` over the first
+``curriculum_episodes`` RL episodes (the imitation episodes draw from [0, ``curriculum_max``]).
+
+Model selection: greedy validation episodes (``pathplan_env.splits.validation_seeds``) at every Δd
+of ``val_delta_d`` every ``val_every`` RL episodes; the best (mean success, then navigation time) is
+kept. A wall-clock budget stops the run; torch uses one thread.
 """
 
 from __future__ import annotations
@@ -35,6 +39,7 @@ from ...provenance import versions
 from ..policy import MODELS_DIR
 from ..sarl_lookahead import CROWDNAV_REWARD, N_ACTIONS, CrowdNavReward, action_velocities, best_action, discount, observed_joint_state
 from ..sarl_numpy import HUMAN_DIM, SELF_DIM, SARLNumpy
+from ..sarl_settings import SETTINGS, SARLSetting, get_setting
 
 RESULTS_DIR = MODELS_DIR.parents[1] / "docs" / "results" / "sarl"
 
@@ -42,10 +47,16 @@ RESULTS_DIR = MODELS_DIR.parents[1] / "docs" / "results" / "sarl"
 @dataclass
 class SARLArgs:
     setting: str = "crowdnav"
-    """name of the shipped model: agents/models/sarl_<setting>.npz"""
+    """agents.rl.sarl_settings name (joint-state features, reward) and the shipped model's: agents/models/sarl_<setting>.npz"""
     scenario: str = "crowdnav-circle-crossing"
     delta_d: float = 0.8333333333333334
     """CrowdNav's 1 m/s humans (the crowdnav suite's value)"""
+    curriculum_max: float = 0.0
+    """0: every episode at delta_d; else each draws Δd from [0, d_max], d_max rising from delta_d to this"""
+    curriculum_episodes: int = 1500
+    """RL episodes over which d_max rises"""
+    val_delta_d: str = ""
+    """comma-separated Δd of the validation episodes (val_episodes at each); empty: delta_d"""
     seed: int = 0
     """the run's training seeds (pathplan_env.splits.training_seed_base) and torch's seed"""
     teacher: str = "orca"
@@ -80,7 +91,7 @@ class SARLArgs:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 0:
                 raise ValueError(f"{name} must be an int >= 0, got {value!r}")
-        for name in ("batch_size", "capacity", "target_update", "epsilon_decay", "val_every", "val_episodes"):
+        for name in ("batch_size", "capacity", "target_update", "epsilon_decay", "val_every", "val_episodes", "curriculum_episodes"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
                 raise ValueError(f"{name} must be an int >= 1, got {value!r}")
@@ -93,14 +104,31 @@ class SARLArgs:
             if not 0 <= getattr(self, name) <= 1:
                 raise ValueError(f"{name} must be in [0, 1], got {getattr(self, name)!r}")
         training_seed_base(self.seed)  # a ValueError naming seed
+        get_setting(self.setting)  # a ValueError naming setting
+        for name in ("delta_d", "curriculum_max"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 <= value < float("inf"):
+                raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
+        if self.curriculum_max and self.curriculum_max < self.delta_d:
+            raise ValueError(f"curriculum_max must be 0 or >= delta_d ({self.delta_d}), got {self.curriculum_max!r}")
+        try:
+            values = self.validation_delta_d
+        except ValueError:
+            values = None
+        if not values or any(not 0 <= v < float("inf") for v in values):
+            raise ValueError(f"val_delta_d must be comma-separated Δd >= 0 (or empty), got {self.val_delta_d!r}")
+
+    @property
+    def validation_delta_d(self) -> list[float]:
+        return [float(v) for v in self.val_delta_d.split(",")] if self.val_delta_d.strip() else [float(self.delta_d)]
 
 
 class Memory:
-    """A ring buffer of (self_state, humans padded to ``width``, mask, value target)."""
+    """A ring buffer of (self_state, humans padded to ``width``, mask, value target); ``dims`` = (self_dim, human_dim)."""
 
-    def __init__(self, capacity: int, width: int):
-        self.self_state = np.zeros((capacity, SELF_DIM), np.float32)
-        self.humans = np.zeros((capacity, width, HUMAN_DIM), np.float32)
+    def __init__(self, capacity: int, width: int, dims: tuple[int, int] = (SELF_DIM, HUMAN_DIM)):
+        self.self_state = np.zeros((capacity, dims[0]), np.float32)
+        self.humans = np.zeros((capacity, width, dims[1]), np.float32)
         self.mask = np.zeros((capacity, width), np.float32)
         self.target = np.zeros(capacity, np.float32)
         self.size = self.next = 0
@@ -130,16 +158,16 @@ def crowdnav_reward(info: dict, dt: float, reward: CrowdNavReward = CROWDNAV_REW
     return (gap - reward.discomfort_dist) * reward.discomfort_factor * dt if gap < reward.discomfort_dist else 0.0
 
 
-def play(env, seed: int, act) -> tuple[list, list[float], dict]:
-    """One episode from ``reset(seed=seed)``; ``act(obs) -> env action``. Returns each step's joint
-    state (before its move), CrowdNav rewards, the last info."""
-    obs, info = env.reset(seed=seed)
+def play(env, seed: int, act, setting: SARLSetting = SETTINGS["crowdnav"], delta_d: float | None = None) -> tuple[list, list[float], dict]:
+    """One episode from ``reset(seed=seed)`` (at ``delta_d`` if given); ``act(obs) -> env action``. Returns
+    each step's joint state (before its move), CrowdNav rewards, the last info."""
+    obs, info = env.reset(seed=seed, options=None if delta_d is None else {"delta_d": float(delta_d)})
     facts = EnvFacts.of(env)
     states, rewards = [], []
     while True:
-        states.append(observed_joint_state(obs, facts))
+        states.append(observed_joint_state(obs, facts, setting.features))
         obs, _, terminated, truncated, info = env.step(act(obs))
-        rewards.append(crowdnav_reward(info, facts.dt))
+        rewards.append(crowdnav_reward(info, facts.dt, setting.reward))
         if terminated or truncated:
             return states, rewards, info
 
@@ -166,18 +194,32 @@ def _fit(model, optimizer, batch) -> float:
 
 
 def validate(env, model, args: SARLArgs) -> dict:
-    """Greedy episodes on the validation split: success, collision and timeout rates, mean navigation time of successes."""
+    """Greedy episodes on the validation split at every ``val_delta_d``: success, collision and timeout rates
+    (means over the Δd), mean navigation time of successes, and with several Δd each one's success."""
     facts = EnvFacts.of(env)
+    setting = get_setting(args.setting)
     velocities, gamma_bar, values = action_velocities(facts.robot_speed), discount(args.gamma, facts), _values(model)
-    ends, times = [], []
-    for seed in validation_seeds(0, args.val_episodes):
-        _, _, info = play(env, seed, lambda o: move(o, facts, velocities, best_action(o, facts, velocities, values, gamma_bar)))
-        ends.append("success" if info["is_success"] else "collision" if info["collision"] else "timeout")
-        if info["is_success"]:
-            times.append(float(info["time"]))
+    several = len(args.validation_delta_d) > 1
+    ends, times, per_delta_d = [], [], {}
+    for delta_d in args.validation_delta_d:
+        for seed in validation_seeds(0, args.val_episodes):
+            act = lambda o: move(o, facts, velocities, best_action(o, facts, velocities, values, gamma_bar, setting.reward, setting.features))
+            _, _, info = play(env, seed, act, setting, delta_d if several or args.curriculum_max else None)
+            ends.append("success" if info["is_success"] else "collision" if info["collision"] else "timeout")
+            if info["is_success"]:
+                times.append(float(info["time"]))
+        per_delta_d[f"success_{delta_d:g}"] = ends[-args.val_episodes :].count("success") / args.val_episodes
     n = len(ends)
     return {"success": ends.count("success") / n, "collision": ends.count("collision") / n, "timeout": ends.count("timeout") / n,
-            "navigation_time": float(np.mean(times)) if times else None}  # fmt: skip
+            "navigation_time": float(np.mean(times)) if times else None, **(per_delta_d if several else {})}  # fmt: skip
+
+
+def curriculum_delta_d(args: SARLArgs, rng: np.random.Generator, rl_episode: int) -> float | None:
+    """The Δd of RL episode ``rl_episode`` (0: an imitation episode); ``None``: the env's own (no curriculum)."""
+    if not args.curriculum_max:
+        return None
+    top = args.curriculum_max if rl_episode == 0 else args.delta_d + (args.curriculum_max - args.delta_d) * min(1.0, rl_episode / args.curriculum_episodes)
+    return float(rng.uniform(0.0, top))
 
 
 def train(args: SARLArgs, command: str = "") -> dict:
@@ -195,10 +237,11 @@ def train(args: SARLArgs, command: str = "") -> dict:
     out.mkdir(parents=True, exist_ok=True)
     env = gym.make("DynamicObstacle-v0", scenario=args.scenario, delta_d=args.delta_d)
     facts = EnvFacts.of(env)
+    setting = get_setting(args.setting)
     velocities, gamma_bar = action_velocities(facts.robot_speed), discount(args.gamma, facts)
     width = env.observation_space["obstacle_mask"].shape[0]
-    memory = Memory(args.capacity, width)
-    model = SARLValue()
+    memory = Memory(args.capacity, width, setting.features.dims)
+    model = SARLValue(dims=setting.features.dims)
     seed = training_seed_base(args.seed)
     log = lambda msg: print(f"[{time.perf_counter() - start:7.1f} s] {msg}", flush=True)
 
@@ -209,7 +252,7 @@ def train(args: SARLArgs, command: str = "") -> dict:
         if time.perf_counter() - start > 0.25 * budget:
             break
         teacher.reset()
-        states, rewards, info = play(env, seed, lambda o: teacher.predict(o, deterministic=True)[0])
+        states, rewards, info = play(env, seed, lambda o: teacher.predict(o, deterministic=True)[0], setting, curriculum_delta_d(args, rng, 0))
         seed += 1
         il_played, il_success = il_played + 1, il_success + bool(info["is_success"])
         ret = 0.0
@@ -236,7 +279,7 @@ def train(args: SARLArgs, command: str = "") -> dict:
     np.savez(out / "imitation.npz", **model.export())
 
     # 2. RL: epsilon-greedy lookahead, replay memory, target network
-    target = SARLValue()
+    target = SARLValue(dims=setting.features.dims)
     target.load_state_dict(model.state_dict())
     optimizer = torch.optim.SGD(model.parameters(), lr=args.rl_lr, momentum=0.9)
     values, target_values = _values(model), _values(target)
@@ -248,10 +291,11 @@ def train(args: SARLArgs, command: str = "") -> dict:
         epsilon = args.epsilon_end + (args.epsilon_start - args.epsilon_end) * max(0.0, 1 - (episode - 1) / args.epsilon_decay)
 
         def act(o, epsilon=epsilon, values=values):
-            k = int(rng.integers(N_ACTIONS)) if rng.random() < epsilon else best_action(o, facts, velocities, values, gamma_bar)
+            k = int(rng.integers(N_ACTIONS)) if rng.random() < epsilon else best_action(o, facts, velocities, values, gamma_bar, setting.reward,
+                                                                                          setting.features)  # fmt: skip
             return move(o, facts, velocities, k)
 
-        states, rewards, info = play(env, seed, act)
+        states, rewards, info = play(env, seed, act, setting, curriculum_delta_d(args, rng, episode))
         seed += 1
         following = np.zeros(len(states), np.float32)  # V_target(s_{t+1}); the last step is terminal (or a timeout, as CrowdNav)
         for t in range(len(states) - 1):
@@ -312,8 +356,10 @@ def _plot(curve: list, path: Path, args: SARLArgs) -> Path:
     fig, ax = plt.subplots(figsize=(6, 3.5))
     ax.plot(x, [row["success"] for row in curve], marker="o", ms=3, label="success")
     ax.plot(x, [row["collision"] for row in curve], marker="x", ms=3, label="collision")
+    for key in [k for k in curve[0] if k.startswith("success_")]:  # one line per validation Δd
+        ax.plot(x, [row[key] for row in curve], lw=1, ls="--", label=f"success, Δd {key.split('_', 1)[1]}")
     ax.set(xlabel="RL episodes (0: after imitation)", ylabel=f"rate on {args.val_episodes} validation episodes", ylim=(0, 1.02),
-           title=f"SARL on {args.scenario}")  # fmt: skip
+           title=f"SARL on {args.scenario}" + (f" (Δd curriculum to {args.curriculum_max:g})" if args.curriculum_max else ""))  # fmt: skip
     ax.legend()
     fig.tight_layout()
     fig.savefig(path, dpi=100)

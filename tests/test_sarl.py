@@ -13,8 +13,17 @@ import agents
 import pathplan_env  # noqa: F401
 from agents.planners.prediction import predict_among, substeps_for
 from agents.rl import MODELS_DIR
-from agents.rl.sarl_lookahead import (N_ACTIONS, SARLFeatures, action_velocities, best_action, check_features, joint_state, lookahead,
-                                      lookahead_numpy, observed_joint_state)  # fmt: skip
+from agents.rl.sarl_lookahead import (
+    N_ACTIONS,
+    SARLFeatures,
+    action_velocities,
+    best_action,
+    check_features,
+    joint_state,
+    lookahead,
+    lookahead_numpy,  # fmt: skip
+    observed_joint_state,
+)
 from agents.rl.sarl_numpy import HUMAN_DIM, SELF_DIM, SARLNumpy, check_sizes
 from agents.rl.sarl_settings import get_setting
 from pathplan_env.splits import heldout_seeds

@@ -314,11 +314,14 @@ def test_random_model_acts_without_torch():
 @pytest.mark.slow
 @pytest.mark.skipif(not (SHIPPED_RANDOM.exists() and CLAIM_RANDOM.exists()), reason="no shipped random-scene model or no figure for it")
 def test_random_model_holds_its_claim_on_other_held_out_seeds():
-    # 40 episodes of test split 7 at each Δd, never used for a figure; 0.15 below the claim is about 2.5 binomial sd at 0.85
+    # 100 episodes of test split 7 at each Δd, never used for a figure, within 3 sd of the difference of two binomial rates
+    # (the claim's 200 episodes and these 100; about 0.15 at 0.8). Measured: 0.99 / 0.73 / 0.24 against 0.97 / 0.825 / 0.28.
     results = json.loads(CLAIM_RANDOM.read_text())["results"]
     for delta_d in (0.25, 0.5, 1.0):
-        claim = next(r["success_rate"] for r in results if r["agent"] == "sarl-random" and np.isclose(r["delta_d"], delta_d))
+        row = next(r for r in results if r["agent"] == "sarl-random" and np.isclose(r["delta_d"], delta_d))
+        claim, n = row["success_rate"], 100
+        margin = max(0.05, 3 * np.sqrt(claim * (1 - claim) * (1 / n + 1 / row["episodes"])))
         env = gym.make("DynamicObstacle-v0", scenario="random", delta_d=delta_d)
         agent = agents.make("sarl-random", env)
-        rate = np.mean([agents.rollout(agent, env, seed)["is_success"] for seed in heldout_seeds(7, 40)])
-        assert rate >= claim - 0.15, (delta_d, rate, claim)
+        rate = np.mean([agents.rollout(agent, env, seed)["is_success"] for seed in heldout_seeds(7, n)])
+        assert rate >= claim - margin, (delta_d, rate, claim, margin)

@@ -15,7 +15,7 @@ from agents.planners.pso import inertia_schedule
 from pathplan_env import Obstacle, Scenario
 
 # sb3 needs a model path; the unicycle's agents need a unicycle (tests/test_unicycle.py drives them); the learned
-# learned agents are held to what they were trained for (tests/test_rl.py, test_sarl.py, ...), not static paper cases
+# agents are held to what they were trained for (tests/test_rl.py, test_sarl.py, ...), not static paper cases
 LEARNED = ("ppo", "ppo-lidar", "ppo-set", "sarl", "sarl-random", "sb3")
 PLANNERS = [name for name in agents.available() if name not in ("straight", *LEARNED, *agents.UNICYCLE_AGENTS)]
 

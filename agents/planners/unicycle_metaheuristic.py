@@ -27,7 +27,7 @@ from ..base import point_along
 from .costtogo import route
 from .metaheuristic import MetaheuristicAgent
 from .spacetime import SpacetimeModel
-from .unicycle_rollout import UnicycleScene, rollout, unicycle_params
+from .unicycle_rollout import UnicycleScene, reach_discs, rollout, unicycle_params, within_reach
 
 #: Constant controls ``(a_v, a_ω)`` among the warm-start rows: turns at full and at the lowest target speed.
 TURNS = tuple((a_v, a_w) for a_v in (1.0, -1.0) for a_w in (-1.0, -0.5, 0.5, 1.0))
@@ -73,12 +73,14 @@ class UnicycleMetaheuristicAgent(MetaheuristicAgent):
         horizon = self.model.horizon_steps
         moves = np.hypot(*np.diff(trajectory[:, :, :2], axis=0).transpose(2, 0, 1))
         travel = np.ascontiguousarray(moves.reshape(horizon, n, -1).sum(axis=1))
+        futures = 3 if self.model.prediction == "cone" else 1  # predict_scene's cone: its futures side by side
+        f = self.facts
+        discs = reach_discs(trajectory, n, f.robot_radius + radii, travel, futures)
         speed = float(np.hypot(*np.asarray(obs["robot_velocity"], np.float64)))
         start = np.array([robot[0], robot[1], float(obs["robot_heading"][0]), speed, float(obs["robot_angular_velocity"][0])])
-        f = self.facts
+        segments, groups = within_reach(start, self.params, f.dt, f.robot_radius, np.vstack([segments.reshape(-1, 5), self._edges]), discs)
         return UnicycleScene(trajectory, n, f.robot_radius, radii, start, goal, f.goal_radius, self.params, f.dt, self.hold, horizon,
-                             self.penalty_weight, travel, np.ascontiguousarray(np.vstack([segments.reshape(-1, 5), self._edges])), ctg,
-                             self.turn_weight)  # fmt: skip
+                             self.penalty_weight, travel, segments, ctg, self.turn_weight, futures, discs, groups)  # fmt: skip
 
     def shifted(self, controls: np.ndarray) -> np.ndarray:
         """The plan one control on: the rest of it, its last control held once more."""

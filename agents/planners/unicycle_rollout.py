@@ -31,10 +31,14 @@ from numba.extending import overload
 from pathplan_env.arc_contact import Arc, arc_capsule, arc_disc_between, arc_goal, arc_point
 from pathplan_env.geometry import NO_CONTACT
 from pathplan_env.statics import point_segment
-from pathplan_env.unicycle_step import DV, MAX_SPEED, MAX_TURN_RATE, PARAMS_SIZE, pose, step_velocity
+from pathplan_env.unicycle_step import DV, MAX_SPEED, MAX_TURN_RATE, MIN_SPEED, PARAMS_SIZE, pose, step_velocity
 
 from .costtogo import CostToGo, distance_to_goal
 from .objective import INFEASIBLE, TWO_PI, objective
+
+#: Metres added to a reach disc's radius (far above rounding, far below any clearance): an obstacle it
+#: skips is one its own distance test would skip too, so skipping by disc changes no cost (bit for bit).
+REACH_SLACK = 1e-9
 
 #: Columns of :class:`UnicycleScene`'s ``start``: the robot's pose and velocities now.
 X, Y, HEADING, SPEED, TURN_RATE = range(5)
@@ -60,6 +64,43 @@ class UnicycleScene(NamedTuple):
     segments: np.ndarray  # (M, 5) walls, polygon edges and the arena's edges (capsule rows)
     cost_to_go: CostToGo  # the static cost-to-go past the horizon
     turn_weight: float  # weight of the time still needed to face the goal at the horizon
+    futures: int  # F predicted futures per obstacle (the cone's 3, else 1): columns o, o + G, .. of one obstacle (N = F G)
+    reach_discs: np.ndarray  # (H, G, 3) x, y, radius: a disc per step holding every future's start, travel and contact distance
+    near_groups: np.ndarray  # (G',) int: the obstacles (indices into reach_discs) some plan can reach within the horizon
+
+
+def reach_discs(trajectory: np.ndarray, substeps: int, contact: np.ndarray, travel: np.ndarray, futures: int) -> np.ndarray:
+    """Each obstacle's disc per step (:class:`UnicycleScene`'s ``reach_discs``): centred on its middle
+    future at the step's start, wide enough to hold every future's start plus its ``contact`` distance
+    (robot radius + contact radius, ``(N,)``) and its ``travel`` that step. One distance to it skips
+    all the obstacle's futures at once (the cone triples them)."""
+    horizon = travel.shape[0]
+    groups = contact.shape[0] // futures
+    starts = trajectory[: horizon * substeps : substeps, :, :2].reshape(horizon, futures, groups, 2)
+    centre = starts[:, futures // 2]
+    spread = np.hypot(*(starts - centre[:, None]).transpose(3, 0, 1, 2))  # (H, F, G)
+    radius = (spread + travel.reshape(horizon, futures, groups) + contact.reshape(futures, groups)).max(axis=1)
+    return np.ascontiguousarray(np.dstack([centre, radius]))
+
+
+def within_reach(start: np.ndarray, params: np.ndarray, dt: float, robot_radius: float, segments: np.ndarray,
+                 discs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """The capsules (rows of ``segments``) and obstacles (indices into ``discs``' groups) that some plan
+    from ``start`` can touch within the horizon: the robot moves at most ``|v| dt`` a step (``|v|``
+    bounded by its limits and its speed now), so what lies farther from ``start`` (by ``REACH_SLACK``)
+    at every step fails :func:`control_cost`'s own distance tests at every step; leaving it out changes
+    no cost (bit for bit) and saves those tests in every evaluation."""
+    step = dt * max(abs(params[MIN_SPEED]), params[MAX_SPEED], abs(start[SPEED]))
+    horizon = discs.shape[0]
+    e = segments[:, 2:4] - segments[:, :2]
+    ee = (e * e).sum(axis=1)
+    t = np.clip(((start[:2] - segments[:, :2]) * e).sum(axis=1) / np.where(ee > 0.0, ee, 1.0), 0.0, 1.0)
+    gap = np.hypot(*(start[:2] - segments[:, :2] - t[:, None] * e).T) - robot_radius - segments[:, 4]
+    near_segments = np.ascontiguousarray(segments[gap <= horizon * step + REACH_SLACK])
+    # obstacle at step s: its disc, less the robot's own way there (s steps) and that step's arc
+    reach = step * np.arange(1, horizon + 1)[:, None] + discs[:, :, 2] + REACH_SLACK
+    near = (np.hypot(discs[:, :, 0] - start[X], discs[:, :, 1] - start[Y]) <= reach).any(axis=0)
+    return near_segments, np.flatnonzero(near).astype(np.int64)
 
 
 def unicycle_params(limits, dt: float) -> np.ndarray:
@@ -100,24 +141,33 @@ def _obstacle_contacts(arc, step, goal_f, scene, depth, first_touch, sx, sy):
     first = step * n
     ready = False
     sub_length = sub_delta = 0.0
-    for o in range(radii.shape[0]):
-        contact = rr + radii[o]
-        if math.hypot(arc.x - traj[first, o, 0], arc.y - traj[first, o, 1]) - contact > length + scene.travel[step, o]:
+    discs, futures = scene.reach_discs, scene.futures
+    groups = discs.shape[1]
+    for g in scene.near_groups:
+        # one squared distance for all of an obstacle's futures; REACH_SLACK makes this skip strictly
+        # rarer than each future's own test below, so the pairs tested are the same as without it
+        dx, dy, far = arc.x - discs[step, g, 0], arc.y - discs[step, g, 1], length + discs[step, g, 2] + REACH_SLACK
+        if dx * dx + dy * dy > far * far:
             continue
-        if not ready:
-            for j in range(n + 1):
-                sx[j], sy[j], _ = arc_point(arc, j / n)
-            sub_length = length / n
-            sub_delta = sub_length * abs(arc.turn_rate * arc.duration / n) / 8.0  # arc_contact's chord bound L |phi| / 8
-            ready = True
-        for j in range(1, n + 1):
-            a, b = first + j - 1, first + j
-            gap, u = arc_disc_between(arc, (j - 1) / n, j / n, sx[j - 1], sy[j - 1], sx[j], sy[j], sub_length, sub_delta,
-                                      traj[a, o, 0], traj[a, o, 1], traj[b, o, 0], traj[b, o, 1], contact)  # fmt: skip
-            if u <= 1.0 and (j - 1 + u) / n <= goal_f:  # a contact before the goal counts
-                if first_touch[o] < 0.0:
-                    first_touch[o] = step + (j - 1 + u) / n
-                depth[o] = max(depth[o], -gap)
+        for k in range(futures):
+            o = g + k * groups
+            contact = rr + radii[o]
+            if math.hypot(arc.x - traj[first, o, 0], arc.y - traj[first, o, 1]) - contact > length + scene.travel[step, o]:
+                continue
+            if not ready:
+                for j in range(n + 1):
+                    sx[j], sy[j], _ = arc_point(arc, j / n)
+                sub_length = length / n
+                sub_delta = sub_length * abs(arc.turn_rate * arc.duration / n) / 8.0  # arc_contact's chord bound L |phi| / 8
+                ready = True
+            for j in range(1, n + 1):
+                a, b = first + j - 1, first + j
+                gap, u = arc_disc_between(arc, (j - 1) / n, j / n, sx[j - 1], sy[j - 1], sx[j], sy[j], sub_length, sub_delta,
+                                          traj[a, o, 0], traj[a, o, 1], traj[b, o, 0], traj[b, o, 1], contact)  # fmt: skip
+                if u <= 1.0 and (j - 1 + u) / n <= goal_f:  # a contact before the goal counts
+                    if first_touch[o] < 0.0:
+                        first_touch[o] = step + (j - 1 + u) / n
+                    depth[o] = max(depth[o], -gap)
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
@@ -216,4 +266,4 @@ def population_cost(X, scene):
     return cost, penalty
 
 
-__all__ = ["UnicycleScene", "control_cost", "population_cost", "rollout", "unicycle_params"]
+__all__ = ["UnicycleScene", "control_cost", "population_cost", "reach_discs", "rollout", "unicycle_params", "within_reach"]

@@ -69,38 +69,43 @@ class UnicycleScene(NamedTuple):
     near_groups: np.ndarray  # (G',) int: the obstacles (indices into reach_discs) some plan can reach within the horizon
 
 
-def reach_discs(trajectory: np.ndarray, substeps: int, contact: np.ndarray, travel: np.ndarray, futures: int) -> np.ndarray:
-    """Each obstacle's disc per step (:class:`UnicycleScene`'s ``reach_discs``): centred on its middle
-    future at the step's start, wide enough to hold every future's start plus its ``contact`` distance
-    (robot radius + contact radius, ``(N,)``) and its ``travel`` that step. One distance to it skips
-    all the obstacle's futures at once (the cone triples them)."""
-    horizon = travel.shape[0]
-    groups = contact.shape[0] // futures
-    starts = trajectory[: horizon * substeps : substeps, :, :2].reshape(horizon, futures, groups, 2)
-    centre = starts[:, futures // 2]
-    spread = np.hypot(*(starts - centre[:, None]).transpose(3, 0, 1, 2))  # (H, F, G)
-    radius = (spread + travel.reshape(horizon, futures, groups) + contact.reshape(futures, groups)).max(axis=1)
-    return np.ascontiguousarray(np.dstack([centre, radius]))
+@numba.njit(cache=True, error_model="numpy")
+def broad_phase(scene):
+    """``(reach_discs, segments, near_groups)`` for a :class:`UnicycleScene` whose other fields are set.
 
-
-def within_reach(start: np.ndarray, params: np.ndarray, dt: float, robot_radius: float, segments: np.ndarray,
-                 discs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
-    """The capsules (rows of ``segments``) and obstacles (indices into ``discs``' groups) that some plan
-    from ``start`` can touch within the horizon: the robot moves at most ``|v| dt`` a step (``|v|``
-    bounded by its limits and its speed now), so what lies farther from ``start`` (by ``REACH_SLACK``)
-    at every step fails :func:`control_cost`'s own distance tests at every step; leaving it out changes
-    no cost (bit for bit) and saves those tests in every evaluation."""
-    step = dt * max(abs(params[MIN_SPEED]), params[MAX_SPEED], abs(start[SPEED]))
-    horizon = discs.shape[0]
-    e = segments[:, 2:4] - segments[:, :2]
-    ee = (e * e).sum(axis=1)
-    t = np.clip(((start[:2] - segments[:, :2]) * e).sum(axis=1) / np.where(ee > 0.0, ee, 1.0), 0.0, 1.0)
-    gap = np.hypot(*(start[:2] - segments[:, :2] - t[:, None] * e).T) - robot_radius - segments[:, 4]
-    near_segments = np.ascontiguousarray(segments[gap <= horizon * step + REACH_SLACK])
-    # obstacle at step s: its disc, less the robot's own way there (s steps) and that step's arc
-    reach = step * np.arange(1, horizon + 1)[:, None] + discs[:, :, 2] + REACH_SLACK
-    near = (np.hypot(discs[:, :, 0] - start[X], discs[:, :, 1] - start[Y]) <= reach).any(axis=0)
-    return near_segments, np.flatnonzero(near).astype(np.int64)
+    Each obstacle's disc per step is centred on its middle future at the step's start, wide enough to
+    hold every future's start plus its contact distance and travel that step: one distance to it skips
+    all the obstacle's futures at once (the cone triples them). The robot moves at most ``|v| dt`` a
+    step (``|v|`` bounded by its limits and its speed now), so a capsule or an obstacle farther from
+    the start than that (by ``REACH_SLACK``) at every step fails :func:`control_cost`'s own distance
+    tests at every step: it is left out (``segments``, ``near_groups``), which changes no cost (bit for
+    bit) and saves those tests in every evaluation. One call a replan (numpy took ten times longer)."""
+    traj, n, futures, travel = scene.trajectory, scene.substeps, scene.futures, scene.travel
+    params, start, rr, horizon = scene.params, scene.start, scene.robot_radius, scene.horizon_steps
+    contact_radii, segments = scene.contact_radii, scene.segments
+    groups = contact_radii.shape[0] // futures
+    step = scene.dt * max(abs(params[MIN_SPEED]), params[MAX_SPEED], abs(start[SPEED]))
+    discs = np.empty((horizon, groups, 3))
+    near = np.zeros(groups, np.bool_)
+    for s in range(horizon):
+        row = s * n
+        for g in range(groups):
+            middle = g + (futures // 2) * groups
+            cx, cy = traj[row, middle, 0], traj[row, middle, 1]
+            radius = 0.0
+            for k in range(futures):
+                o = g + k * groups
+                spread = math.hypot(traj[row, o, 0] - cx, traj[row, o, 1] - cy)
+                radius = max(radius, spread + travel[s, o] + (rr + contact_radii[o]))
+            discs[s, g, 0], discs[s, g, 1], discs[s, g, 2] = cx, cy, radius
+            # at step s the robot is at most s steps from the start, and its arc one step long
+            if math.hypot(cx - start[X], cy - start[Y]) <= (s + 1) * step + radius + REACH_SLACK:
+                near[g] = True
+    keep = np.zeros(segments.shape[0], np.bool_)
+    for k in range(segments.shape[0]):
+        gap = point_segment(start[X], start[Y], segments[k, 0], segments[k, 1], segments[k, 2], segments[k, 3]) - rr - segments[k, 4]
+        keep[k] = gap <= horizon * step + REACH_SLACK
+    return discs, np.ascontiguousarray(segments[keep]), np.flatnonzero(near)
 
 
 def unicycle_params(limits, dt: float) -> np.ndarray:
@@ -132,10 +137,12 @@ def rollout(x, scene):
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
-def _obstacle_contacts(arc, step, goal_f, scene, depth, first_touch, sx, sy):
+def _obstacle_contacts(arc, end_x, end_y, step, goal_f, scene, depth, first_touch, sx, sy):
     """Step ``step``'s arc against every predicted obstacle at every substep (before the goal, at
     ``goal_f``): the first touch (steps) and the deepest cut of each, updated in place. ``sx, sy``:
-    room for the arc's points at the substeps' ends, computed once if any obstacle is within reach."""
+    room for the arc's points at the substeps' ends, computed once if any obstacle is within reach
+    (its ends are the arc's start and ``end_x, end_y``, the step's pose: ``arc_point`` at 0 and 1 gives
+    the same numbers, the same operations as ``pose``)."""
     traj, n, rr, radii = scene.trajectory, scene.substeps, scene.robot_radius, scene.contact_radii
     length = abs(arc.speed) * arc.duration  # the arc's length: none of it is farther from its start
     first = step * n
@@ -155,7 +162,8 @@ def _obstacle_contacts(arc, step, goal_f, scene, depth, first_touch, sx, sy):
             if math.hypot(arc.x - traj[first, o, 0], arc.y - traj[first, o, 1]) - contact > length + scene.travel[step, o]:
                 continue
             if not ready:
-                for j in range(n + 1):
+                sx[0], sy[0], sx[n], sy[n] = arc.x, arc.y, end_x, end_y
+                for j in range(1, n):
                     sx[j], sy[j], _ = arc_point(arc, j / n)
                 sub_length = length / n
                 sub_delta = sub_length * abs(arc.turn_rate * arc.duration / n) / 8.0  # arc_contact's chord bound L |phi| / 8
@@ -228,12 +236,13 @@ def control_cost(x, scene):
         goal_f = NO_CONTACT
         if math.hypot(px - gx, py - gy) - goal_radius <= abs(v) * dt:  # within the arc's length
             goal_f = arc_goal(arc, gx, gy, goal_radius)
-        _obstacle_contacts(arc, step, goal_f, scene, depth, first_touch, sx, sy)
+        end_x, end_y, end_heading = pose(px, py, heading, v, w, dt, 1.0)
+        _obstacle_contacts(arc, end_x, end_y, step, goal_f, scene, depth, first_touch, sx, sy)
         if wall_touch < 0.0:  # only the first touch counts, as the env stops there
             f = _first_wall(arc, min(goal_f, 1.0), rr, segments)
             if f <= 1.0:
                 wall_touch = step + f
-        px, py, heading = pose(px, py, heading, v, w, dt, 1.0)
+        px, py, heading = end_x, end_y, end_heading
         if goal_f <= 1.0:
             arrival = step + goal_f
             break
@@ -266,4 +275,4 @@ def population_cost(X, scene):
     return cost, penalty
 
 
-__all__ = ["UnicycleScene", "control_cost", "population_cost", "reach_discs", "rollout", "unicycle_params", "within_reach"]
+__all__ = ["UnicycleScene", "broad_phase", "control_cost", "population_cost", "rollout", "unicycle_params"]

@@ -9,12 +9,17 @@
    k = 1, 2, 3 waypoints.
 3. Space-time planners: every replan's time over whole test episodes (random scenes, 8
    obstacles) at each Δd, median and p95, after a warm-up episode (compilation excluded).
+   The unicycle's native planners (``robot="unicycle"``) run here too, on random scenes, and their
+   ``-crowd`` variants on CrowdNav's circle crossing (its own speeds), with the median CPU time of a
+   replan (this process's: what a shared machine's load changes least) beside the wall-clock times.
 4. ``--dense`` (this part alone): the same at 30 and 50 obstacles x Δd 1, 2, 4 (issue 22's cells),
    on validation episodes (the seeds ``astar-spacetime``'s work budget was calibrated on), with each
    planner's success over them.
+5. ``--unicycle`` (this part alone): part 3's unicycle rows (issue 23's target: replanning <= 5 ms median).
 
     python scripts/bench_planners.py [--replans 200] [--scenes 20] [--spacetime-episodes 20]
     python scripts/bench_planners.py --dense [--dense-episodes 5] [--dense-obstacles 30,50] [--dense-delta-d 1,2,4]
+    python scripts/bench_planners.py --unicycle [--spacetime-episodes 20] [--unicycle-planners pso-unicycle,pso-unicycle-crowd]
 """
 
 from __future__ import annotations
@@ -127,17 +132,23 @@ def optimality(n_scenes: int) -> list[tuple[str, int, float, float, float]]:
     return rows
 
 
-SPACETIME_PLANNERS = ("astar-spacetime", "pso-spacetime", "abc-spacetime", "astar-unicycle", "pso-unicycle", "abc-unicycle")  # last three: unicycle
+HOLONOMIC_SPACETIME = ("astar-spacetime", "pso-spacetime", "abc-spacetime")
+UNICYCLE_SPACETIME = ("astar-unicycle", "pso-unicycle", "abc-unicycle")
+SPACETIME_PLANNERS = HOLONOMIC_SPACETIME + UNICYCLE_SPACETIME
+#: the unicycle's planners for crowds that steer, timed on CrowdNav's circle crossing (its own speeds)
+CROWD_SCENARIO, CROWD_PLANNERS = "crowdnav-circle-crossing", ("astar-unicycle-crowd", "pso-unicycle-crowd", "abc-unicycle-crowd")
 SPACETIME_TARGET_MS = (5.0, 50.0)  # median, p95
 
 
-def replan_cell(name: str, delta_d: float, seeds, n_obstacles: int | None = None) -> tuple[list[float], int]:
-    """Every replan's time (ms) of ``name`` over the episodes of ``seeds`` (random scenes), after a
-    warm-up episode, and how many of them it won."""
+def replan_cell(name: str, delta_d: float | None, seeds, n_obstacles: int | None = None, scenario: str = "random",
+                cpu: list | None = None) -> tuple[list[float], int]:  # fmt: skip
+    """Every replan's time (ms) of ``name`` over the episodes of ``seeds`` (``scenario``: random scenes
+    by default), after a warm-up episode, and how many of them it won; ``cpu``, if given, receives each
+    replan's CPU time (ms, this process's)."""
     from pathplan_env.splits import heldout_seeds
 
     robot = "unicycle" if name in agents.UNICYCLE_AGENTS else "holonomic"
-    env = gym.make("DynamicObstacle-v0", scenario="random", delta_d=delta_d, robot=robot, n_obstacles=n_obstacles)
+    env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=delta_d, robot=robot, n_obstacles=n_obstacles)
     agent = agents.make(name, env, seed=0)
     agents.rollout(agent, env, seed=heldout_seeds(9, 1)[0])  # warm-up: numba's cache loads here
     times, wins = [], 0
@@ -145,7 +156,10 @@ def replan_cell(name: str, delta_d: float, seeds, n_obstacles: int | None = None
         agent.reset()
         obs, _ = env.reset(seed=seed)
         while True:
+            begin = time.process_time()
             action, _ = agent.predict(obs, deterministic=True)
+            if cpu is not None:
+                cpu.append(1e3 * (time.process_time() - begin))
             times.append(1e3 * agent.last_plan_seconds)
             obs, _, terminated, truncated, info = env.step(action)
             if terminated or truncated:
@@ -154,16 +168,30 @@ def replan_cell(name: str, delta_d: float, seeds, n_obstacles: int | None = None
     return times, wins
 
 
-def spacetime_replan_times(episodes: int, deltas=(0.25, 0.5, 1.0, 2.0)) -> list[tuple[str, float, float, float, int]]:
-    """``(planner, Δd, median ms, p95 ms, replans)`` over every replan of ``episodes`` test episodes."""
+def spacetime_replan_times(episodes: int, deltas=(0.25, 0.5, 1.0, 2.0), planners=SPACETIME_PLANNERS,
+                           crowd_planners=CROWD_PLANNERS) -> list[tuple[str, str, float, float, float, int]]:  # fmt: skip
+    """``(planner, scene, median ms, p95 ms, median CPU ms, replans)`` over every replan of ``episodes``
+    test episodes: random scenes at each Δd, then the crowd planners on CrowdNav's circle crossing."""
     from pathplan_env.splits import heldout_seeds
 
+    cells = [(name, delta_d, "random") for name in planners for delta_d in deltas]
+    cells += [(name, None, CROWD_SCENARIO) for name in crowd_planners]
     rows = []
-    for name in tqdm(SPACETIME_PLANNERS, desc="space-time replans", leave=False):
-        for delta_d in deltas:
-            times, _ = replan_cell(name, delta_d, heldout_seeds(0, episodes))
-            rows.append((name, delta_d, float(np.median(times)), float(np.percentile(times, 95)), len(times)))
+    for name, delta_d, scenario in tqdm(cells, desc="space-time replans", leave=False):
+        cpu: list[float] = []
+        times, _ = replan_cell(name, delta_d, heldout_seeds(0, episodes), scenario=scenario, cpu=cpu)
+        scene = f"Δd {delta_d:g}" if scenario == "random" else scenario
+        rows.append((name, scene, float(np.median(times)), float(np.percentile(times, 95)), float(np.median(cpu)), len(times)))
     return rows
+
+
+def print_spacetime(episodes: int, planners=SPACETIME_PLANNERS, crowd_planners=CROWD_PLANNERS) -> None:
+    median_target, p95_target = SPACETIME_TARGET_MS
+    print(f"\nSpace-time planners: every replan of {episodes} test episodes (random, 8 obstacles; {CROWD_SCENARIO} at its own speeds), ms")
+    print(f"| planner | scene | replans | median (target <= {median_target:g}) | p95 (target <= {p95_target:g}) | median CPU |")
+    print("|---|---|---:|---:|---:|---:|")
+    for name, scene, median, p95, cpu, count in spacetime_replan_times(episodes, planners=planners, crowd_planners=crowd_planners):
+        print(f"| {name} | {scene} | {count} | {median:.2f} | {p95:.2f} | {cpu:.2f} |", flush=True)
 
 
 DENSE_PLANNERS = ("astar-spacetime", "pso-spacetime", "abc-spacetime")
@@ -187,6 +215,9 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--scenes", type=int, default=20)
     parser.add_argument("--spacetime-episodes", type=int, default=20)
     parser.add_argument("--dense", action="store_true", help="only the dense cells (30 and 50 obstacles x Δd 1, 2, 4)")
+    parser.add_argument("--unicycle", action="store_true", help="only the unicycle's space-time rows (random scenes, circle crossing)")
+    parser.add_argument("--unicycle-planners", default=",".join(UNICYCLE_SPACETIME + CROWD_PLANNERS),
+                        help="comma-separated: which of them (the -crowd ones on the circle crossing)")
     parser.add_argument("--dense-episodes", type=int, default=5, help="validation episodes a dense cell")
     parser.add_argument("--dense-obstacles", default="30,50", help="comma-separated obstacle counts of the dense cells")
     parser.add_argument("--dense-delta-d", default="1,2,4", help="comma-separated Δd of the dense cells")
@@ -198,6 +229,9 @@ def parse_args(argv=None) -> argparse.Namespace:
     except ValueError as error:
         parser.error(f"--dense-obstacles / --dense-delta-d: comma-separated numbers ({error})")
     args.dense_planners = [p.strip() for p in args.dense_planners.split(",") if p.strip()]
+    args.unicycle_planners = [p.strip() for p in args.unicycle_planners.split(",") if p.strip()]
+    if set(args.unicycle_planners) - set(UNICYCLE_SPACETIME + CROWD_PLANNERS):
+        parser.error(f"--unicycle-planners: each one of {UNICYCLE_SPACETIME + CROWD_PLANNERS}")
     unknown = sorted(set(args.dense_planners) - set(agents.available()))
     if unknown or args.dense_episodes < 1:
         parser.error(f"--dense-planners: unknown {unknown}" if unknown else "--dense-episodes must be >= 1")
@@ -219,6 +253,10 @@ def main(argv=None) -> None:
     if args.dense:
         print_dense(args)
         return
+    if args.unicycle:
+        chosen = args.unicycle_planners
+        print_spacetime(args.spacetime_episodes, [p for p in UNICYCLE_SPACETIME if p in chosen], [p for p in CROWD_PLANNERS if p in chosen])
+        return
 
     times = replan_times(args.replans)
     ours = times["ours: pso"]
@@ -234,12 +272,7 @@ def main(argv=None) -> None:
     for name, k, success, median, p90 in optimality(args.scenes):
         print(f"| {name} | {k} | {success:.2f} | {median:.4f} | {p90:.4f} |")
 
-    median_target, p95_target = SPACETIME_TARGET_MS
-    print(f"\nSpace-time planners: every replan of {args.spacetime_episodes} test episodes (random, 8 obstacles), ms")
-    print(f"| planner | Δd | replans | median (target <= {median_target:g}) | p95 (target <= {p95_target:g}) |")
-    print("|---|---:|---:|---:|---:|")
-    for name, delta_d, median, p95, count in spacetime_replan_times(args.spacetime_episodes):
-        print(f"| {name} | {delta_d:g} | {count} | {median:.2f} | {p95:.2f} |")
+    print_spacetime(args.spacetime_episodes)
 
 
 if __name__ == "__main__":

@@ -27,9 +27,12 @@ from ..base import point_along
 from .costtogo import route
 from .metaheuristic import MetaheuristicAgent
 from .spacetime import SpacetimeModel
-from .unicycle_rollout import UnicycleScene, rollout, unicycle_params
+from .unicycle_rollout import UnicycleScene, broad_phase, rollout, unicycle_params
 
 #: Constant controls ``(a_v, a_ω)`` among the warm-start rows: turns at full and at the lowest target speed.
+#: Placeholders for the broad phase's fields until :func:`~.unicycle_rollout.broad_phase` fills them.
+_NO_DISCS, _NO_GROUPS = np.zeros((0, 0, 3)), np.zeros(0, np.int64)
+
 TURNS = tuple((a_v, a_w) for a_v in (1.0, -1.0) for a_w in (-1.0, -0.5, 0.5, 1.0))
 
 
@@ -65,6 +68,8 @@ class UnicycleMetaheuristicAgent(MetaheuristicAgent):
         self.params = unicycle_params(self.limits, self.facts.dt)
         self.control_lo, self.control_hi = -np.ones(2 * self.n_controls), np.ones(2 * self.n_controls)
         self._edges = arena_edges(self.facts.bounds)
+        # the warm-start rows that depend on nothing: braking, then the constant turns (built once, not every replan)
+        self._constant_rows = np.array([np.tile([-1.0, 0.0], self.n_controls)] + [np.tile(control, self.n_controls) for control in TURNS])
 
     def problem(self, obs, memory: dict | None = None) -> UnicycleScene:
         """The cost's problem for one observation (walls and cost-to-go kept in ``memory`` while they stay)."""
@@ -73,12 +78,15 @@ class UnicycleMetaheuristicAgent(MetaheuristicAgent):
         horizon = self.model.horizon_steps
         moves = np.hypot(*np.diff(trajectory[:, :, :2], axis=0).transpose(2, 0, 1))
         travel = np.ascontiguousarray(moves.reshape(horizon, n, -1).sum(axis=1))
+        futures = 3 if self.model.prediction == "cone" else 1  # predict_scene's cone: its futures side by side
         speed = float(np.hypot(*np.asarray(obs["robot_velocity"], np.float64)))
         start = np.array([robot[0], robot[1], float(obs["robot_heading"][0]), speed, float(obs["robot_angular_velocity"][0])])
         f = self.facts
-        return UnicycleScene(trajectory, n, f.robot_radius, radii, start, goal, f.goal_radius, self.params, f.dt, self.hold, horizon,
-                             self.penalty_weight, travel, np.ascontiguousarray(np.vstack([segments.reshape(-1, 5), self._edges])), ctg,
-                             self.turn_weight)  # fmt: skip
+        scene = UnicycleScene(trajectory, n, f.robot_radius, radii, start, goal, f.goal_radius, self.params, f.dt, self.hold, horizon,
+                              self.penalty_weight, travel, np.vstack([segments.reshape(-1, 5), self._edges]), ctg, self.turn_weight,
+                              futures, _NO_DISCS, _NO_GROUPS)  # fmt: skip
+        discs, near_segments, near_groups = broad_phase(scene)
+        return scene._replace(reach_discs=discs, segments=near_segments, near_groups=near_groups)
 
     def shifted(self, controls: np.ndarray) -> np.ndarray:
         """The plan one control on: the rest of it, its last control held once more."""
@@ -105,9 +113,7 @@ class UnicycleMetaheuristicAgent(MetaheuristicAgent):
     def seed_rows(self, problem: UnicycleScene, previous: np.ndarray | None) -> np.ndarray:
         """Warm-start rows after the shifted plan (the module's doc)."""
         rows = [previous] if previous is not None else []
-        rows += [self.pursuit(problem), np.tile([-1.0, 0.0], self.n_controls)]
-        rows += [np.tile(control, self.n_controls) for control in TURNS]
-        return np.array(rows)
+        return np.vstack(rows + [self.pursuit(problem)[None], self._constant_rows])
 
     def plan(self, obs, memory):
         problem = self.problem(obs, memory)

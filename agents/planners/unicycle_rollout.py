@@ -31,10 +31,14 @@ from numba.extending import overload
 from pathplan_env.arc_contact import Arc, arc_capsule, arc_disc_between, arc_goal, arc_point
 from pathplan_env.geometry import NO_CONTACT
 from pathplan_env.statics import point_segment
-from pathplan_env.unicycle_step import DV, MAX_SPEED, MAX_TURN_RATE, PARAMS_SIZE, pose, step_velocity
+from pathplan_env.unicycle_step import DV, MAX_SPEED, MAX_TURN_RATE, MIN_SPEED, PARAMS_SIZE, pose, step_velocity
 
 from .costtogo import CostToGo, distance_to_goal
 from .objective import INFEASIBLE, TWO_PI, objective
+
+#: Metres added to a reach disc's radius (far above rounding, far below any clearance): an obstacle it
+#: skips is one its own distance test would skip too, so skipping by disc changes no cost (bit for bit).
+REACH_SLACK = 1e-9
 
 #: Columns of :class:`UnicycleScene`'s ``start``: the robot's pose and velocities now.
 X, Y, HEADING, SPEED, TURN_RATE = range(5)
@@ -60,6 +64,48 @@ class UnicycleScene(NamedTuple):
     segments: np.ndarray  # (M, 5) walls, polygon edges and the arena's edges (capsule rows)
     cost_to_go: CostToGo  # the static cost-to-go past the horizon
     turn_weight: float  # weight of the time still needed to face the goal at the horizon
+    futures: int  # F predicted futures per obstacle (the cone's 3, else 1): columns o, o + G, .. of one obstacle (N = F G)
+    reach_discs: np.ndarray  # (H, G, 3) x, y, radius: a disc per step holding every future's start, travel and contact distance
+    near_groups: np.ndarray  # (G',) int: the obstacles (indices into reach_discs) some plan can reach within the horizon
+
+
+@numba.njit(cache=True, error_model="numpy")
+def broad_phase(scene):
+    """``(reach_discs, segments, near_groups)`` for a :class:`UnicycleScene` whose other fields are set.
+
+    Each obstacle's disc per step is centred on its middle future at the step's start, wide enough to
+    hold every future's start plus its contact distance and travel that step: one distance to it skips
+    all the obstacle's futures at once (the cone triples them). The robot moves at most ``|v| dt`` a
+    step (``|v|`` bounded by its limits and its speed now), so a capsule or an obstacle farther from
+    the start than that (by ``REACH_SLACK``) at every step fails :func:`control_cost`'s own distance
+    tests at every step: it is left out (``segments``, ``near_groups``), which changes no cost (bit for
+    bit) and saves those tests in every evaluation. One call a replan (numpy took ten times longer)."""
+    traj, n, futures, travel = scene.trajectory, scene.substeps, scene.futures, scene.travel
+    params, start, rr, horizon = scene.params, scene.start, scene.robot_radius, scene.horizon_steps
+    contact_radii, segments = scene.contact_radii, scene.segments
+    groups = contact_radii.shape[0] // futures
+    step = scene.dt * max(abs(params[MIN_SPEED]), params[MAX_SPEED], abs(start[SPEED]))
+    discs = np.empty((horizon, groups, 3))
+    near = np.zeros(groups, np.bool_)
+    for s in range(horizon):
+        row = s * n
+        for g in range(groups):
+            middle = g + (futures // 2) * groups
+            cx, cy = traj[row, middle, 0], traj[row, middle, 1]
+            radius = 0.0
+            for k in range(futures):
+                o = g + k * groups
+                spread = math.hypot(traj[row, o, 0] - cx, traj[row, o, 1] - cy)
+                radius = max(radius, spread + travel[s, o] + (rr + contact_radii[o]))
+            discs[s, g, 0], discs[s, g, 1], discs[s, g, 2] = cx, cy, radius
+            # at step s the robot is at most s steps from the start, and its arc one step long
+            if math.hypot(cx - start[X], cy - start[Y]) <= (s + 1) * step + radius + REACH_SLACK:
+                near[g] = True
+    keep = np.zeros(segments.shape[0], np.bool_)
+    for k in range(segments.shape[0]):
+        gap = point_segment(start[X], start[Y], segments[k, 0], segments[k, 1], segments[k, 2], segments[k, 3]) - rr - segments[k, 4]
+        keep[k] = gap <= horizon * step + REACH_SLACK
+    return discs, np.ascontiguousarray(segments[keep]), np.flatnonzero(near)
 
 
 def unicycle_params(limits, dt: float) -> np.ndarray:
@@ -91,33 +137,45 @@ def rollout(x, scene):
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
-def _obstacle_contacts(arc, step, goal_f, scene, depth, first_touch, sx, sy):
+def _obstacle_contacts(arc, end_x, end_y, step, goal_f, scene, depth, first_touch, sx, sy):
     """Step ``step``'s arc against every predicted obstacle at every substep (before the goal, at
     ``goal_f``): the first touch (steps) and the deepest cut of each, updated in place. ``sx, sy``:
-    room for the arc's points at the substeps' ends, computed once if any obstacle is within reach."""
+    room for the arc's points at the substeps' ends, computed once if any obstacle is within reach
+    (its ends are the arc's start and ``end_x, end_y``, the step's pose: ``arc_point`` at 0 and 1 gives
+    the same numbers, the same operations as ``pose``)."""
     traj, n, rr, radii = scene.trajectory, scene.substeps, scene.robot_radius, scene.contact_radii
     length = abs(arc.speed) * arc.duration  # the arc's length: none of it is farther from its start
     first = step * n
     ready = False
     sub_length = sub_delta = 0.0
-    for o in range(radii.shape[0]):
-        contact = rr + radii[o]
-        if math.hypot(arc.x - traj[first, o, 0], arc.y - traj[first, o, 1]) - contact > length + scene.travel[step, o]:
+    discs, futures = scene.reach_discs, scene.futures
+    groups = discs.shape[1]
+    for g in scene.near_groups:
+        # one squared distance for all of an obstacle's futures; REACH_SLACK makes this skip strictly
+        # rarer than each future's own test below, so the pairs tested are the same as without it
+        dx, dy, far = arc.x - discs[step, g, 0], arc.y - discs[step, g, 1], length + discs[step, g, 2] + REACH_SLACK
+        if dx * dx + dy * dy > far * far:
             continue
-        if not ready:
-            for j in range(n + 1):
-                sx[j], sy[j], _ = arc_point(arc, j / n)
-            sub_length = length / n
-            sub_delta = sub_length * abs(arc.turn_rate * arc.duration / n) / 8.0  # arc_contact's chord bound L |phi| / 8
-            ready = True
-        for j in range(1, n + 1):
-            a, b = first + j - 1, first + j
-            gap, u = arc_disc_between(arc, (j - 1) / n, j / n, sx[j - 1], sy[j - 1], sx[j], sy[j], sub_length, sub_delta,
-                                      traj[a, o, 0], traj[a, o, 1], traj[b, o, 0], traj[b, o, 1], contact)  # fmt: skip
-            if u <= 1.0 and (j - 1 + u) / n <= goal_f:  # a contact before the goal counts
-                if first_touch[o] < 0.0:
-                    first_touch[o] = step + (j - 1 + u) / n
-                depth[o] = max(depth[o], -gap)
+        for k in range(futures):
+            o = g + k * groups
+            contact = rr + radii[o]
+            if math.hypot(arc.x - traj[first, o, 0], arc.y - traj[first, o, 1]) - contact > length + scene.travel[step, o]:
+                continue
+            if not ready:
+                sx[0], sy[0], sx[n], sy[n] = arc.x, arc.y, end_x, end_y
+                for j in range(1, n):
+                    sx[j], sy[j], _ = arc_point(arc, j / n)
+                sub_length = length / n
+                sub_delta = sub_length * abs(arc.turn_rate * arc.duration / n) / 8.0  # arc_contact's chord bound L |phi| / 8
+                ready = True
+            for j in range(1, n + 1):
+                a, b = first + j - 1, first + j
+                gap, u = arc_disc_between(arc, (j - 1) / n, j / n, sx[j - 1], sy[j - 1], sx[j], sy[j], sub_length, sub_delta,
+                                          traj[a, o, 0], traj[a, o, 1], traj[b, o, 0], traj[b, o, 1], contact)  # fmt: skip
+                if u <= 1.0 and (j - 1 + u) / n <= goal_f:  # a contact before the goal counts
+                    if first_touch[o] < 0.0:
+                        first_touch[o] = step + (j - 1 + u) / n
+                    depth[o] = max(depth[o], -gap)
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
@@ -178,12 +236,13 @@ def control_cost(x, scene):
         goal_f = NO_CONTACT
         if math.hypot(px - gx, py - gy) - goal_radius <= abs(v) * dt:  # within the arc's length
             goal_f = arc_goal(arc, gx, gy, goal_radius)
-        _obstacle_contacts(arc, step, goal_f, scene, depth, first_touch, sx, sy)
+        end_x, end_y, end_heading = pose(px, py, heading, v, w, dt, 1.0)
+        _obstacle_contacts(arc, end_x, end_y, step, goal_f, scene, depth, first_touch, sx, sy)
         if wall_touch < 0.0:  # only the first touch counts, as the env stops there
             f = _first_wall(arc, min(goal_f, 1.0), rr, segments)
             if f <= 1.0:
                 wall_touch = step + f
-        px, py, heading = pose(px, py, heading, v, w, dt, 1.0)
+        px, py, heading = end_x, end_y, end_heading
         if goal_f <= 1.0:
             arrival = step + goal_f
             break
@@ -216,4 +275,4 @@ def population_cost(X, scene):
     return cost, penalty
 
 
-__all__ = ["UnicycleScene", "control_cost", "population_cost", "rollout", "unicycle_params"]
+__all__ = ["UnicycleScene", "broad_phase", "control_cost", "population_cost", "rollout", "unicycle_params"]

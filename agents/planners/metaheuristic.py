@@ -128,14 +128,18 @@ class MetaheuristicAgent(Agent):
         return self.run_optimizer(scene, self.search_lo, self.search_hi, memory, self.straight_line(scene.robot, scene.goal))
 
     def run_optimizer(self, problem: Scene | TimedScene, lo: np.ndarray, hi: np.ndarray, memory: dict[str, Any],
-                      seeds: np.ndarray, budget: float = 1.0) -> np.ndarray:  # fmt: skip
+                      seeds: np.ndarray, budget: float = 1.0, stall: int | None = None) -> np.ndarray:  # fmt: skip
         """The optimiser on any objective (``agents.planners.objective.objective``) in the box ``[lo, hi]``.
 
         With ``warm_start``, the population holds the previous best (``memory["best"]``) and the
         rows of ``seeds`` (the straight line to the goal first; as many as fit); the rest is
-        uniform in the box. ``budget`` scales the iterations (1: the agent's own).
+        uniform in the box. ``budget`` scales the iterations (1: the agent's own); ``stall``, when
+        given, replaces the rule's early exit for this run (0: the whole budget).
         """
         pso_settings, abc_settings = self.pso_settings, self.abc_settings
+        if stall is not None and stall != self.rule.stall:
+            rule = self.rule._replace(stall=int(stall))
+            pso_settings, abc_settings = pso_settings._replace(rule=rule), abc_settings._replace(rule=rule)
         if budget != 1.0:
             iterations = max(1, round(self.iterations * budget))
             pso_settings = pso_settings._replace(inertia=inertia_schedule(iterations, self.w_max, self.w_min))

@@ -1,4 +1,4 @@
-"""The unicycle's step, compiled: two kernel calls a step and one a physics substep.
+"""The unicycle's step, compiled: one kernel call a physics substep.
 
 What ``unicycle.drive`` used to do in Python around the contact kernels (the target within the
 acceleration limits, the goal and walls along the arc, each substep's stop logic, the final pose)
@@ -7,11 +7,14 @@ operation, so every episode is the same bit for bit (a digest test pins it). Pyt
 ``max`` are spelled as the comparisons they make (:func:`_py_min`), so even a tie between ``0.0``
 and ``-0.0`` resolves as before.
 
-* :func:`begin_arc`: the action's target (:func:`pathplan_env.unicycle.command`), the step's
-  ``(v, ω)`` within the limits (``next_velocity``), then the goal and the static capsules along the
-  whole arc (``arc_contact.step_statics``); the result goes into a ``log`` array (columns below).
-* :func:`arc_substep_logged`: one substep's contact with the moving discs
-  (``arc_contact.arc_substep``) and where the robot stops; the last substep writes the final pose.
+:func:`fly_substep` is substep ``k`` of the step; the first also starts the step (``begin_arc``:
+the action's target (:func:`pathplan_env.unicycle.command`), the step's ``(v, ω)`` within the
+limits (``next_velocity``), then the goal and the static capsules along the whole arc
+(``arc_contact.step_statics``), which move with nothing Chipmunk does); each is one substep's
+contact with the moving discs (``arc_contact.arc_substep``) and where the robot stops; the last
+writes the final pose. The results go into one ``state`` array (columns below). One call a
+substep, not a start call and one a substep: a kernel's call from Python costs about a
+microsecond, a tenth of the unicycle's step.
 """
 
 from __future__ import annotations
@@ -23,23 +26,24 @@ import numba
 from .arc_contact import DURATION, HEADING, SPEED, TURN_RATE, X, Y, arc_substep, step_statics
 from .geometry import NO_CONTACT
 
-#: Columns of the episode's ``params`` array :func:`begin_arc` reads: the action's mapping, the
+#: Columns of the episode's ``params`` (``state[PARAMS:]``) :func:`begin_arc` reads: the action's mapping, the
 #: per-step velocity changes (``max_acceleration * dt``, ``max_angular_acceleration * dt``), the goal,
 #: its radius, and the arena's diagonal (the widest gap).
 MIN_SPEED, MAX_SPEED, MAX_TURN_RATE, DV, DW, GOAL_X, GOAL_Y, GOAL_RADIUS, DIAGONAL = range(9)
 PARAMS_SIZE = 9
 #: The step's ``state`` array: an ``arc_contact`` robot row (``state[:ROBOT_SIZE]``: the arc and the
-#: robot's radius), then the log (columns below, counted from ``ROBOT_SIZE``). One array, one argument:
-#: a kernel's call from Python costs a fifth of a microsecond per argument.
+#: robot's radius), then the log (columns below, counted from ``ROBOT_SIZE``), then the episode's
+#: params. One array, one argument: a kernel's call from Python costs ~0.15 µs per array argument.
 ROBOT_SIZE = 7
-#: Columns of the step's log (in ``state``, after the robot row): the goal and wall fractions, where the robot stops for them, the
-#: The step's ``(v, ω)`` and the point its full arc ends at (what ``info["waypoint"]`` shows); the goal
-#: and wall fractions, where the robot stops for them, the smallest gap so far, the first contact,
+#: Columns of the step's log (in ``state``, after the robot row): the step's ``(v, ω)`` and the point
+#: its full arc ends at (what ``info["waypoint"]`` shows); the goal and wall fractions, where the robot stops for them, the smallest gap so far, the first contact,
 #: whether it still moves; after the last substep the pose it ends at (heading wrapped to
 #: (-pi, pi]), its speed, turn rate and velocity (zero once stopped).
 (ARC_SPEED, ARC_TURN_RATE, ARC_END_X, ARC_END_Y, GOAL, WALL, STOP, MIN_GAP, FIRST_CONTACT, MOVING, END_X, END_Y, END_HEADING,
  END_SPEED, END_TURN_RATE, END_VX, END_VY) = range(ROBOT_SIZE, ROBOT_SIZE + 17)  # fmt: skip
-STATE_SIZE = ROBOT_SIZE + 17
+#: Where the episode's ``params`` (their columns above) start in ``state``.
+PARAMS = ROBOT_SIZE + 17
+STATE_SIZE = PARAMS + PARAMS_SIZE
 
 
 @numba.njit(cache=True, inline="always")
@@ -84,18 +88,14 @@ def pose(x, y, heading, speed, turn_rate, duration, f):
 
 
 @numba.njit(cache=True)
-def begin_arc(action, command, x, y, heading, speed, turn_rate, params, segments, state):
+def begin_arc(a0, a1, command, x, y, heading, speed, turn_rate, params, segments, state):
     """Start a step from pose ``(x, y, heading)`` at ``(speed, turn_rate)``: fill ``state`` (its robot
     row's duration and radius are set once an episode).
 
-    :param action: the action (``command``: a normalised target, clipped to [-1, 1]^2), or the
-        step's own ``(v, ω)`` to replay a recorded move (``command`` False).
-    :return: False, with nothing written, for a NaN or infinite action.
+    :param a0, a1: the action (``command``: a normalised target, clipped to [-1, 1]^2; finite), or
+        the step's own ``(v, ω)`` to replay a recorded move (``command`` False).
     """
     robot, log = state[:ROBOT_SIZE], state
-    a0, a1 = float(action[0]), float(action[1])
-    if not (math.isfinite(a0) and math.isfinite(a1)):
-        return False
     if command:
         a0, a1 = step_velocity(a0, a1, speed, turn_rate, params)
     robot[X], robot[Y], robot[HEADING], robot[SPEED], robot[TURN_RATE] = x, y, heading, a0, a1
@@ -104,7 +104,20 @@ def begin_arc(action, command, x, y, heading, speed, turn_rate, params, segments
     log[MIN_GAP], log[FIRST_CONTACT], log[MOVING] = _py_min(params[DIAGONAL], wall_gap), NO_CONTACT, 1.0
     x1, y1, _ = pose(x, y, heading, a0, a1, robot[DURATION], 1.0)
     log[ARC_SPEED], log[ARC_TURN_RATE], log[ARC_END_X], log[ARC_END_Y] = a0, a1, x1, y1
-    return True
+
+
+@numba.njit(cache=True)
+def fly_substep(a0, a1, command, x, y, heading, speed, turn_rate, k, n, state, segments, before, after, radii, speeds):
+    """Substep ``k`` of ``n`` (1-based) of the step from pose ``(x, y, heading)`` at ``(speed,
+    turn_rate)`` by the finite action ``(a0, a1)`` (:func:`begin_arc`'s arguments, read when ``k`` is
+    1: the step starts there), then :func:`arc_substep_logged`; ``state[PARAMS:]`` holds the episode's
+    params.
+
+    :return: whether any obstacle's speed was restored (the caller writes the bodies back).
+    """
+    if k == 1:
+        begin_arc(a0, a1, command, x, y, heading, speed, turn_rate, state[PARAMS:], segments, state)
+    return arc_substep_logged(state, k, n, before, after, radii, speeds)
 
 
 @numba.njit(cache=True)
@@ -150,4 +163,4 @@ def _finish(robot, log):
     log[END_VX], log[END_VY] = speed * math.cos(heading), speed * math.sin(heading)
 
 
-__all__ = ["PARAMS_SIZE", "STATE_SIZE", "arc_substep_logged", "begin_arc", "pose", "step_velocity"]
+__all__ = ["PARAMS", "PARAMS_SIZE", "STATE_SIZE", "fly_substep", "pose", "step_velocity"]

@@ -34,7 +34,7 @@ import numpy as np
 
 from .geometry import NO_CONTACT, swept_pair
 from .statics import point_segment, swept_capsule
-from .substep_kernels import _finish_substep  # the world's speed restoration, reused from inside the kernel
+from .substep_kernels import restore_speeds  # the world's speed restoration, reused from inside the kernel
 
 #: Relative to the reach: a gap at or below ``CONTACT_TOLERANCE * reach`` is a contact.
 CONTACT_TOLERANCE = 1e-9
@@ -222,7 +222,7 @@ def _arc(robot):
 def arc_substep(robot, k, n, u_end, state, new_state, radii, speeds):
     """Substep ``k`` of ``n`` (1-based) of the arc ``robot`` against every obstacle moving linearly from
     ``state`` to ``new_state``, the robot flying only the first ``u_end`` of it (``< 0``: it rests),
-    then the world's speed restoration (``substep_kernels._finish_substep``: bounces keep directions).
+    then the world's speed restoration (``substep_kernels.restore_speeds``: bounces keep directions).
 
     :return: ``(min_gap, u_contact, restored)``: ``u_contact`` in the substep's own [0, 1] (``NO_CONTACT``: none).
     """
@@ -243,7 +243,7 @@ def arc_substep(robot, k, n, u_end, state, new_state, radii, speeds):
             min_gap = min(min_gap, gap)
             if u <= 1.0:
                 u_contact = min(u_contact, u * u_end)
-    restored = _finish_substep(state, new_state, 0.0, 0.0, 0.0, 0.0, 0.0, radii, speeds)[2]
+    restored = restore_speeds(state, new_state, speeds)
     return min_gap, u_contact, restored
 
 

@@ -142,8 +142,8 @@ class UnicycleAction(ActionType):
         self.params = check_params(params)
         self.limits: UnicycleLimits | None = None
         self._limits_key = self._segments_key = None
-        self._state = np.zeros(STATE_SIZE)  # the kernel's row (the step's log and the episode's params), refilled every episode
-        self._params = self._state[PARAMS:]
+        self._state = np.zeros(STATE_SIZE)  # the kernel's row (the step's log, the episode's params and arrays), refilled every episode
+        self._params = self._state[PARAMS:STATE_SIZE]
         self._episode: tuple | None = None  # what every step reads of the episode's world (_bind)
         self._rows, self._rows_used = np.empty((0, 2), np.float32), OBSERVATION_ROWS  # observe_robot's block
 
@@ -174,6 +174,20 @@ class UnicycleAction(ActionType):
         super().reset(world, arena)
         scenario = world.scenario
         dt = scenario.dt
+        statics = world.static_segments
+        segments_key = (scenario.bounds, statics.tobytes() if statics.size else b"")
+        if segments_key != self._segments_key:
+            self._segments = np.ascontiguousarray(np.vstack([statics.reshape(-1, 5), arena_edges(scenario.bounds)]))
+            self._segments_key = segments_key
+        # the episode's radii and capsules after the kernel's fixed columns (unicycle_step.episode_arrays)
+        n, size = world.n_obstacles, STATE_SIZE + world.n_obstacles + self._segments.size
+        if self._state.shape[0] != size:
+            state = np.zeros(size)
+            state[:STATE_SIZE] = self._state[:STATE_SIZE]  # (the limits, written only when they change)
+            self._state, self._params = state, state[PARAMS:STATE_SIZE]
+        state = self._state
+        state[STATE_SIZE : STATE_SIZE + n] = world.radii
+        state[STATE_SIZE + n :] = self._segments.ravel()
         # what the limits depend on: the next episode of the same env usually has the same (a fifth of a reset saved)
         limits_key = (scenario.robot_speed, scenario.robot_radius, dt, scenario.bounds)
         if limits_key != self._limits_key:
@@ -181,11 +195,6 @@ class UnicycleAction(ActionType):
             # the kernels' arrays (pathplan_env.unicycle_step columns): numba types arrays in C, records in Python
             self._params[:5] = limits.min_speed, limits.max_speed, limits.max_turn_rate, limits.max_acceleration * dt, limits.max_angular_acceleration * dt
             self._limits_key = limits_key
-        statics = world.static_segments
-        segments_key = (scenario.bounds, statics.tobytes() if statics.size else b"")
-        if segments_key != self._segments_key:
-            self._segments = np.ascontiguousarray(np.vstack([statics.reshape(-1, 5), arena_edges(scenario.bounds)]))
-            self._segments_key = segments_key
         (sx, sy), (gx, gy) = scenario.start, scenario.goal
         world.robot_heading = math.atan2(gy - sy, gx - sx)  # at rest, facing the goal
         world.robot_forward_speed = world.robot_angular_velocity = 0.0
@@ -210,8 +219,8 @@ class UnicycleAction(ActionType):
         were a twentieth of it): the world's substeps, Chipmunk's space and batch read, the arrays."""
         steer = world._steer if world._drivers else None
         self._episode = (world, steer, world.substeps, world.space._space, world._buffer._float_arr, world._request,
-                         world.scenario.dt / world.substeps, world.scenario.dt, self._state, self._segments, world.obstacle_state,
-                         world._pymunk_state, world.radii, world._speeds)  # fmt: skip
+                         world.scenario.dt / world.substeps, world.scenario.dt, self._state, world.obstacle_state, world._pymunk_state,
+                         world._speeds)  # fmt: skip
         return self._episode
 
     def _fly(self, a0: float, a1: float, command: bool, world):
@@ -220,7 +229,7 @@ class UnicycleAction(ActionType):
         episode = self._episode
         if episode is None or episode[0] is not world:
             episode = self._bind(world)
-        _, steer, n, space, array, request, substep, dt, state, segments, before, after, radii, speeds = episode
+        _, steer, n, space, array, request, substep, dt, state, before, after, speeds = episode
         (x, y), heading, speed, turn_rate = world.robot_xy, world.robot_heading, world.robot_forward_speed, world.robot_angular_velocity
         if steer is not None:  # World.begin_step: goal-directed obstacles choose their velocities
             steer()
@@ -229,7 +238,7 @@ class UnicycleAction(ActionType):
             space_step(space, substep)
             array.num = 0
             each_body(space, READ_BODY, request)
-            if fly_substep(a0, a1, command, x, y, heading, speed, turn_rate, k, n, state, segments, before, after, radii, speeds):
+            if fly_substep(a0, a1, command, x, y, heading, speed, turn_rate, k, n, state, before, after, speeds):
                 world.write_bodies()
         v, w, arc_x, arc_y, goal, _, _, min_gap, first_contact, _, x, y, heading, speed, turn_rate, vx, vy = state[ROBOT_SIZE:PARAMS].tolist()
         world.robot_xy, world.robot_heading = (x, y), heading
@@ -244,7 +253,7 @@ class UnicycleAction(ActionType):
 
     def __setstate__(self, state):
         self.__dict__.update(state)
-        self._params = self._state[PARAMS:]  # (a view again: pickling copied the arrays apart)
+        self._params = self._state[PARAMS:STATE_SIZE]  # (a view again: pickling copied the arrays apart)
 
 
 def pose(x: float, y: float, heading: float, speed: float, turn_rate: float, duration: float, f: float) -> tuple[float, float, float]:

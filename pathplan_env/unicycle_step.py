@@ -43,6 +43,10 @@ ROBOT_SIZE = 7
  END_SPEED, END_TURN_RATE, END_VX, END_VY) = range(ROBOT_SIZE, ROBOT_SIZE + 17)  # fmt: skip
 #: Where the episode's ``params`` (their columns above) start in ``state``.
 PARAMS = ROBOT_SIZE + 17
+#: ``state``'s fixed part; after it, the episode's arrays: the ``N`` obstacle radii and the static
+#: capsules (``M`` rows of 5, the arena's edges last), flattened. One array, one argument
+#: (:func:`episode_arrays`): two fewer for every substep's call. (The obstacles' speeds stay the
+#: world's own array: goal-directed humans change them every step.)
 STATE_SIZE = PARAMS + PARAMS_SIZE
 
 
@@ -106,17 +110,25 @@ def begin_arc(a0, a1, command, x, y, heading, speed, turn_rate, params, segments
     log[ARC_SPEED], log[ARC_TURN_RATE], log[ARC_END_X], log[ARC_END_Y] = a0, a1, x1, y1
 
 
+@numba.njit(cache=True, inline="always")
+def episode_arrays(state, n_obstacles):
+    """``(params, radii, segments)``: views of ``state``'s episode part (:data:`STATE_SIZE`)."""
+    radii = state[STATE_SIZE : STATE_SIZE + n_obstacles]
+    return state[PARAMS:STATE_SIZE], radii, state[STATE_SIZE + n_obstacles :].reshape(-1, 5)
+
+
 @numba.njit(cache=True)
-def fly_substep(a0, a1, command, x, y, heading, speed, turn_rate, k, n, state, segments, before, after, radii, speeds):
+def fly_substep(a0, a1, command, x, y, heading, speed, turn_rate, k, n, state, before, after, speeds):
     """Substep ``k`` of ``n`` (1-based) of the step from pose ``(x, y, heading)`` at ``(speed,
     turn_rate)`` by the finite action ``(a0, a1)`` (:func:`begin_arc`'s arguments, read when ``k`` is
-    1: the step starts there), then :func:`arc_substep_logged`; ``state[PARAMS:]`` holds the episode's
-    params.
+    1: the step starts there), then :func:`arc_substep_logged`; ``state`` holds the episode's params,
+    radii and capsules (:func:`episode_arrays`), ``speeds`` the obstacles' speeds.
 
     :return: whether any obstacle's speed was restored (the caller writes the bodies back).
     """
+    params, radii, segments = episode_arrays(state, before.shape[0])
     if k == 1:
-        begin_arc(a0, a1, command, x, y, heading, speed, turn_rate, state[PARAMS:], segments, state)
+        begin_arc(a0, a1, command, x, y, heading, speed, turn_rate, params, segments, state)
     return arc_substep_logged(state, k, n, before, after, radii, speeds)
 
 

@@ -32,7 +32,7 @@ from .arc_contact import DURATION, RADIUS
 from .arc_contact import Arc as Arc
 from .arena import Arena
 from .chipmunk import READ_BODY, each_body, space_step
-from .unicycle_step import PARAMS, ROBOT_SIZE, STATE_SIZE, fly_substep
+from .unicycle_step import END_VY, PARAMS, ROBOT_SIZE, STATE_SIZE, fly_substep
 
 _isfinite = math.isfinite  # (a global, not an attribute, on the step's path)
 #: Rows (heading, turn rate) :meth:`UnicycleAction.observe_robot` allocates at once.
@@ -240,7 +240,7 @@ class UnicycleAction(ActionType):
             each_body(space, READ_BODY, request)
             if fly_substep(a0, a1, command, x, y, heading, speed, turn_rate, k, n, state, before, after, speeds):
                 world.write_bodies()
-        v, w, arc_x, arc_y, goal, _, _, min_gap, first_contact, _, x, y, heading, speed, turn_rate, vx, vy = state[ROBOT_SIZE:PARAMS].tolist()
+        v, w, arc_x, arc_y, goal, _, _, min_gap, first_contact, _, x, y, heading, speed, turn_rate, vx, vy = state[ROBOT_SIZE : END_VY + 1].tolist()
         world.robot_xy, world.robot_heading = (x, y), heading
         world.robot_forward_speed, world.robot_angular_velocity, world.robot_velocity_xy = speed, turn_rate, (vx, vy)
         world.time += dt

@@ -23,7 +23,7 @@ import math
 
 import numba
 
-from .arc_contact import DURATION, HEADING, SPEED, TURN_RATE, X, Y, arc_substep, step_statics
+from .arc_contact import DURATION, HEADING, SPEED, TURN_RATE, X, Y, _arc, _bound, arc_point, arc_substep_between, step_statics_between
 from .geometry import NO_CONTACT
 
 #: Columns of the episode's ``params`` (``state[PARAMS:]``) :func:`begin_arc` reads: the action's mapping, the
@@ -39,10 +39,13 @@ ROBOT_SIZE = 7
 #: its full arc ends at (what ``info["waypoint"]`` shows); the goal and wall fractions, where the robot stops for them, the smallest gap so far, the first contact,
 #: whether it still moves; after the last substep the pose it ends at (heading wrapped to
 #: (-pi, pi]), its speed, turn rate and velocity (zero once stopped).
+#: Then the arc's ends (its pose at 0 and at 1: ``arc_contact.arc_point``) and ``arc_contact._bound(arc,
+#: 0, 1)``, computed once a step: the goal, the walls, the first substep and the end pose all read
+#: them (each was three sines and cosines, computed up to five times a step).
 (ARC_SPEED, ARC_TURN_RATE, ARC_END_X, ARC_END_Y, GOAL, WALL, STOP, MIN_GAP, FIRST_CONTACT, MOVING, END_X, END_Y, END_HEADING,
- END_SPEED, END_TURN_RATE, END_VX, END_VY) = range(ROBOT_SIZE, ROBOT_SIZE + 17)  # fmt: skip
+ END_SPEED, END_TURN_RATE, END_VX, END_VY, A_X, A_Y, B_X, B_Y, B_HEADING, B_LENGTH, B_DELTA) = range(ROBOT_SIZE, ROBOT_SIZE + 24)  # fmt: skip
 #: Where the episode's ``params`` (their columns above) start in ``state``.
-PARAMS = ROBOT_SIZE + 17
+PARAMS = ROBOT_SIZE + 24
 #: ``state``'s fixed part; after it, the episode's arrays: the ``N`` obstacle radii and the static
 #: capsules (``M`` rows of 5, the arena's edges last), flattened. One array, one argument
 #: (:func:`episode_arrays`): two fewer for every substep's call. (The obstacles' speeds stay the
@@ -103,10 +106,15 @@ def begin_arc(a0, a1, command, x, y, heading, speed, turn_rate, params, segments
     if command:
         a0, a1 = step_velocity(a0, a1, speed, turn_rate, params)
     robot[X], robot[Y], robot[HEADING], robot[SPEED], robot[TURN_RATE] = x, y, heading, a0, a1
-    goal_fraction, wall, wall_gap = step_statics(robot, segments, params[GOAL_X], params[GOAL_Y], params[GOAL_RADIUS])
+    arc, radius = _arc(robot)
+    ax, ay, _ = arc_point(arc, 0.0)
+    x1, y1, heading1 = arc_point(arc, 1.0)  # (pose(x, y, heading, a0, a1, duration, 1.0): the same operations)
+    length, delta = _bound(arc, 0.0, 1.0)
+    log[A_X], log[A_Y], log[B_X], log[B_Y], log[B_HEADING], log[B_LENGTH], log[B_DELTA] = ax, ay, x1, y1, heading1, length, delta
+    goal_fraction, wall, wall_gap = step_statics_between(arc, radius, ax, ay, x1, y1, length, delta, segments, params[GOAL_X], params[GOAL_Y],
+                                                         params[GOAL_RADIUS])  # fmt: skip
     log[GOAL], log[WALL], log[STOP] = goal_fraction, wall, _py_min(goal_fraction, wall)  # NO_CONTACT (> 1) if neither
     log[MIN_GAP], log[FIRST_CONTACT], log[MOVING] = _py_min(params[DIAGONAL], wall_gap), NO_CONTACT, 1.0
-    x1, y1, _ = pose(x, y, heading, a0, a1, robot[DURATION], 1.0)
     log[ARC_SPEED], log[ARC_TURN_RATE], log[ARC_END_X], log[ARC_END_Y] = a0, a1, x1, y1
 
 
@@ -145,7 +153,25 @@ def arc_substep_logged(state, k, n, before, after, radii, speeds):
     u_end = -1.0
     if moving:
         u_end = 1.0 if stop >= k / n else _py_max(stop * n - (k - 1), 0.0)
-    gap, u, restored = arc_substep(robot, k, n, u_end, before, after, radii, speeds)
+    # arc_contact.arc_substep, its ends read from the log where they are the arc's (at 0 and at 1)
+    arc, radius = _arc(robot)
+    f0 = (k - 1) / n
+    f1 = f0 + u_end / n
+    ax = ay = bx = by = length = delta = 0.0
+    if u_end >= 0.0:
+        if f0 == 0.0:
+            ax, ay = log[A_X], log[A_Y]
+        else:
+            ax, ay, _ = arc_point(arc, f0)
+        if f1 == 1.0:
+            bx, by = log[B_X], log[B_Y]
+        else:
+            bx, by, _ = arc_point(arc, f1)
+        if f0 == 0.0 and f1 == 1.0:
+            length, delta = log[B_LENGTH], log[B_DELTA]
+        else:
+            length, delta = _bound(arc, f0, f1)
+    gap, u, restored = arc_substep_between(arc, radius, f0, f1, ax, ay, bx, by, length, delta, u_end, before, after, radii, speeds)
     if moving:
         if u <= 1.0:  # an obstacle first (at or before the goal and the walls): the robot stops touching
             log[FIRST_CONTACT], log[MIN_GAP], log[MOVING] = (k - 1 + u) / n, 0.0, 0.0
@@ -168,11 +194,15 @@ def _finish(robot, log):
     moving = log[MOVING] > 0.0
     first_contact = log[FIRST_CONTACT]
     end = 1.0 if moving else (first_contact if first_contact <= 1.0 else log[STOP])
-    x, y, heading = pose(robot[X], robot[Y], robot[HEADING], robot[SPEED], robot[TURN_RATE], robot[DURATION], end)
+    if end == 1.0:  # the arc's end, computed at its start
+        x, y, heading = log[B_X], log[B_Y], log[B_HEADING]
+    else:
+        x, y, heading = pose(robot[X], robot[Y], robot[HEADING], robot[SPEED], robot[TURN_RATE], robot[DURATION], end)
     speed, turn_rate = (robot[SPEED], robot[TURN_RATE]) if moving else (0.0, 0.0)
-    log[END_X], log[END_Y], log[END_HEADING] = x, y, math.atan2(math.sin(heading), math.cos(heading))
+    cos, sin = math.cos(heading), math.sin(heading)
+    log[END_X], log[END_Y], log[END_HEADING] = x, y, math.atan2(sin, cos)
     log[END_SPEED], log[END_TURN_RATE] = speed, turn_rate
-    log[END_VX], log[END_VY] = speed * math.cos(heading), speed * math.sin(heading)
+    log[END_VX], log[END_VY] = speed * cos, speed * sin
 
 
 __all__ = ["PARAMS", "PARAMS_SIZE", "STATE_SIZE", "fly_substep", "pose", "step_velocity"]

@@ -11,6 +11,7 @@ unicycle (``robot="unicycle"``, random (speed, turn rate) targets) beside the ho
 from __future__ import annotations
 
 import argparse
+import os
 import time
 
 import gymnasium as gym
@@ -86,6 +87,7 @@ def parse_args(argv=None) -> argparse.Namespace:
 def main(argv=None) -> None:
     args = parse_args(argv)
 
+    load_before = os.getloadavg()[0]  # a shared machine's load: what the raw rates below depend on, the ratios far less
     reference = gym.make("CartPole-v1")
     cartpole = best_of(lambda: reference, args.steps, args.repeats)
     print(f"CartPole-v1: {cartpole:10.0f} steps/s (reference; every ratio below is the median of {args.repeats} paired runs)")
@@ -95,6 +97,7 @@ def main(argv=None) -> None:
         make = lambda robot=robot, n=n: gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=n, delta_d=args.delta_d, robot=robot)
         rate, ratio = paired_ratio(make, reference, args.steps, args.repeats)
         print(f"| {robot} | {n} | {rate:.0f} | {ratio:.3f}x | {target} |")
+    print(f"\n(load average over 1 min: {load_before:.1f} at the start, {os.getloadavg()[0]:.1f} after the robot table; {os.cpu_count()} cores)")
     if args.robots_only:
         return
     print()

@@ -36,8 +36,8 @@ PARAMS_SIZE = 9
 #: params. One array, one argument: a kernel's call from Python costs ~0.15 µs per array argument.
 ROBOT_SIZE = 7
 #: Columns of the step's log (in ``state``, after the robot row): the step's ``(v, ω)`` and the point
-#: its full arc ends at (what ``info["waypoint"]`` shows); the goal and wall fractions, where the robot stops for them, the smallest gap so far, the first contact,
-#: whether it still moves; after the last substep the pose it ends at (heading wrapped to
+#: its full arc ends at (what ``info["waypoint"]`` shows); the goal and wall fractions, where the
+#: robot stops for them, the smallest gap so far, the first contact, whether it still moves; after the last substep the pose it ends at (heading wrapped to
 #: (-pi, pi]), its speed, turn rate and velocity (zero once stopped).
 #: Then the arc's ends (its pose at 0 and at 1: ``arc_contact.arc_point``) and ``arc_contact._bound(arc,
 #: 0, 1)``, computed once a step: the goal, the walls, the first substep and the end pose all read

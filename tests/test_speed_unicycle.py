@@ -1,18 +1,33 @@
 """The unicycle step's fast paths give what the paths they replace gave (issue 23's speed work).
 
 One compiled call a substep reads the arc's ends computed once a step, the obstacles' speeds are
-restored without a swept test of a zero robot, and the state observation writes the heading and turn
-rate into its own rows: each is checked here against the slower composition it replaces (the
-episodes themselves are pinned by the unicycle digests in ``tests/test_unicycle.py``).
+restored without a swept test of a zero robot, the state observation writes the heading and turn
+rate into its own rows, and the random preset draws in Python floats: each is checked here against
+the slower composition it replaces (the episodes themselves are pinned by the digests in
+``tests/test_unicycle.py``, ``tests/test_env.py`` and ``tests/test_speed_digests.py``).
 """
 
 from __future__ import annotations
+
+import math
 
 import gymnasium as gym
 import numpy as np
 
 import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
 from pathplan_env.arc_contact import Arc, _bound, arc_capsules, arc_goal, arc_point, step_statics_between
+from pathplan_env.presets import (
+    _CANDIDATES,
+    DT,
+    RANDOM_MIN_START_GOAL,
+    RANDOM_OBSTACLE_GAP,
+    RANDOM_RADIUS_RANGE,
+    RANDOM_START_CLEARANCE,
+    ROBOT_RADIUS,
+    _place_obstacles,
+    random_arena_bounds,
+    sample_random_scenario,
+)
 from pathplan_env.substep_kernels import _finish_substep, restore_speeds
 from pathplan_env.unicycle import arena_edges
 
@@ -78,3 +93,39 @@ def test_the_lidar_still_gets_the_robot_entries_merged_in():
     obs, *_ = env.step(np.array([1.0, 0.5], np.float32))
     assert obs["robot_heading"][0] == np.float32(env.unwrapped.world.robot_heading)
     assert env.observation_space.contains(obs)
+
+
+def _random_scene_with_numpy(rng, n, delta_d):
+    """The random preset's draws as it computed them before (numpy on 2-element arrays, ``np.stack``)."""
+    xmin, ymin, xmax, ymax = random_arena_bounds(n)
+    lo, hi = np.array([xmin, ymin]), np.array([xmax, ymax])
+    margin = ROBOT_RADIUS + 0.3
+    (lx, ly), (wx, wy) = (lo + margin).tolist(), ((hi - margin) - (lo + margin)).tolist()
+    while True:
+        (u0, u1), (u2, u3) = rng.random((2, 2)).tolist()
+        sx, sy, gx, gy = lx + wx * u0, ly + wy * u1, lx + wx * u2, ly + wy * u3
+        if math.hypot(sx - gx, sy - gy) >= RANDOM_MIN_START_GOAL:
+            break
+    radii = RANDOM_RADIUS_RANGE[0] + (RANDOM_RADIUS_RANGE[1] - RANDOM_RADIUS_RANGE[0]) * rng.random(n)
+    unit = rng.random((n, _CANDIDATES, 2))
+    centers, _ = _place_obstacles(unit, radii, xmin, ymin, xmax, ymax, sx, sy, gx, gy, ROBOT_RADIUS + RANDOM_START_CLEARANCE, RANDOM_OBSTACLE_GAP)
+    velocities = np.zeros((n, 2))
+    if delta_d is not None:
+        angles = (2 * np.pi) * rng.random(n)
+        velocities = (delta_d * radii / DT)[:, None] * np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    return (sx, sy), (gx, gy), centers, radii, velocities
+
+
+def test_the_random_preset_draws_what_numpy_drew():
+    for seed in range(60):
+        for n in (1, 5, 20):
+            for delta_d in (None, 0.25, 1.7):
+                a, b = np.random.default_rng(seed), np.random.default_rng(seed)
+                scenario = sample_random_scenario(a, n, delta_d)
+                start, goal, centers, radii, velocities = _random_scene_with_numpy(b, n, delta_d)
+                assert (scenario.start, scenario.goal) == (start, goal)
+                arrays = scenario.arrays()
+                for key, value in (("positions", centers), ("radii", radii), ("velocities", velocities)):
+                    assert arrays[key].dtype == value.dtype and arrays[key].tobytes() == value.tobytes(), key
+                assert [ob.velocity for ob in scenario.obstacles] == [tuple(v) for v in velocities.tolist()]
+                assert a.bit_generator.state == b.bit_generator.state

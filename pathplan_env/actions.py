@@ -39,6 +39,9 @@ class ActionType:
     turns = False
     #: Whether ``__init__`` takes ``robot_params`` (a robot model's limits) after the arena.
     takes_params = False
+    #: The :meth:`robot_entries` that are ``(1,)`` floats read from the ``World`` attributes of the
+    #: same names: an observation type that carries them (``carry_robot_scalars``) writes them itself.
+    robot_scalars: tuple[str, ...] = ()
 
     def __init__(self, arena: Arena):
         self.arena = arena
@@ -155,6 +158,9 @@ def with_robot_entries(observation_type, action_type: ActionType, dt: float):
         return space, observe
     if not isinstance(space, spaces.Dict):
         raise ValueError(f"observation {observation_type.name!r} is no Dict: it cannot carry the {action_type.name} robot's {sorted(extra)}")
+    if set(extra) == set(action_type.robot_scalars) and hasattr(observation_type, "carry_robot_scalars"):
+        observation_type.carry_robot_scalars(tuple(extra))  # the same entries, in the same order, in its own rows
+        return spaces.Dict(dict(space.spaces) | extra), observe
     return spaces.Dict(dict(space.spaces) | extra), _WithRobot(observe, action_type.observe_robot)
 
 

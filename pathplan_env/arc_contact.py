@@ -34,7 +34,7 @@ import numpy as np
 
 from .geometry import NO_CONTACT, swept_pair
 from .statics import point_segment, swept_capsule
-from .substep_kernels import _finish_substep  # the world's speed restoration, reused from inside the kernel
+from .substep_kernels import restore_speeds  # the world's speed restoration, reused from inside the kernel
 
 #: Relative to the reach: a gap at or below ``CONTACT_TOLERANCE * reach`` is a contact.
 CONTACT_TOLERANCE = 1e-9
@@ -201,8 +201,29 @@ def step_statics(robot, segments, goal_x, goal_y, goal_radius):
     """:class:`StepStatics`' values of the arc ``robot`` (an :class:`Arc`'s values as an array plus the robot
     radius, see :func:`_arc`) against the capsules, in one call."""
     arc, radius = _arc(robot)
-    goal = arc_goal(arc, goal_x, goal_y, goal_radius)
-    gap, wall = arc_capsules(arc, min(goal, 1.0), radius, segments)
+    ax, ay, _ = arc_point(arc, 0.0)
+    bx, by, _ = arc_point(arc, 1.0)
+    length, delta = _bound(arc, 0.0, 1.0)
+    return step_statics_between(arc, radius, ax, ay, bx, by, length, delta, segments, goal_x, goal_y, goal_radius)
+
+
+@numba.njit(cache=True)
+def step_statics_between(arc, radius, ax, ay, bx, by, length, delta, segments, goal_x, goal_y, goal_radius):
+    """:func:`step_statics` given the whole arc's ends (``arc_point`` at 0 and 1) and ``_bound(arc, 0, 1)``:
+    :func:`arc_goal` then :func:`arc_capsules` up to the goal, the same operations without computing
+    the ends again (each is three sines and cosines)."""
+    goal = arc_disc_between(arc, 0.0, 1.0, ax, ay, bx, by, length, delta, goal_x, goal_y, goal_x, goal_y, goal_radius)[1]
+    f_end = min(goal, 1.0)
+    if f_end != 1.0:  # the goal part-way: the walls count up to there
+        bx, by, _ = arc_point(arc, f_end)
+        length, delta = _bound(arc, 0.0, f_end)
+    gap = np.inf
+    wall = NO_CONTACT
+    for i in range(segments.shape[0]):
+        g, f = _arc_capsule(arc, f_end, ax, ay, bx, by, length, delta, radius, segments[i, 0], segments[i, 1], segments[i, 2], segments[i, 3],
+                            segments[i, 4])  # fmt: skip
+        gap = min(gap, g)
+        wall = min(wall, f)
     if wall > 1.0:
         wall = NO_CONTACT
     return goal, wall, 0.0 if wall <= 1.0 else gap  # (a plain tuple: boxing a NamedTuple costs a microsecond)
@@ -222,19 +243,28 @@ def _arc(robot):
 def arc_substep(robot, k, n, u_end, state, new_state, radii, speeds):
     """Substep ``k`` of ``n`` (1-based) of the arc ``robot`` against every obstacle moving linearly from
     ``state`` to ``new_state``, the robot flying only the first ``u_end`` of it (``< 0``: it rests),
-    then the world's speed restoration (``substep_kernels._finish_substep``: bounces keep directions).
+    then the world's speed restoration (``substep_kernels.restore_speeds``: bounces keep directions).
 
     :return: ``(min_gap, u_contact, restored)``: ``u_contact`` in the substep's own [0, 1] (``NO_CONTACT``: none).
     """
     arc, robot_radius = _arc(robot)
-    min_gap = np.inf
-    u_contact = NO_CONTACT
+    f0 = (k - 1) / n
+    f1 = f0 + u_end / n
+    ax = ay = bx = by = length = delta = 0.0
     if u_end >= 0.0:
-        f0 = (k - 1) / n
-        f1 = f0 + u_end / n
         ax, ay, _ = arc_point(arc, f0)
         bx, by, _ = arc_point(arc, f1)
         length, delta = _bound(arc, f0, f1)
+    return arc_substep_between(arc, robot_radius, f0, f1, ax, ay, bx, by, length, delta, u_end, state, new_state, radii, speeds)
+
+
+@numba.njit(cache=True)
+def arc_substep_between(arc, robot_radius, f0, f1, ax, ay, bx, by, length, delta, u_end, state, new_state, radii, speeds):
+    """:func:`arc_substep` given the piece's fractions ``f0 = (k - 1) / n`` and ``f1 = f0 + u_end / n``, its
+    ends (``arc_point`` at both) and ``_bound(arc, f0, f1)``, for a caller that has them already."""
+    min_gap = np.inf
+    u_contact = NO_CONTACT
+    if u_end >= 0.0:
         for i in range(radii.shape[0]):
             oax, oay = state[i, 0], state[i, 1]
             obx = oax + u_end * (new_state[i, 0] - oax)
@@ -243,9 +273,9 @@ def arc_substep(robot, k, n, u_end, state, new_state, radii, speeds):
             min_gap = min(min_gap, gap)
             if u <= 1.0:
                 u_contact = min(u_contact, u * u_end)
-    restored = _finish_substep(state, new_state, 0.0, 0.0, 0.0, 0.0, 0.0, radii, speeds)[2]
+    restored = restore_speeds(state, new_state, speeds)
     return min_gap, u_contact, restored
 
 
 __all__ = ["Arc", "CONTACT_TOLERANCE", "StepStatics", "arc_capsule", "arc_capsules", "arc_disc", "arc_disc_between", "arc_goal", "arc_point",
-           "arc_substep", "step_statics"]  # fmt: skip
+           "arc_substep", "arc_substep_between", "step_statics", "step_statics_between"]  # fmt: skip

@@ -136,9 +136,19 @@ class StateObservation(ObservationType):
         self.layout = StateLayout(*state_layout(self.max_obstacles))
         self._slices = self.layout.slices()
         self._pairs = (self.max_obstacles, 2)
+        self._carried: tuple[str, ...] = ()  # the robot's own scalar entries (carry_robot_scalars)
         self._template = np.zeros(self.layout.size, np.float32)
         self._rows_used = self.BLOCK_ROWS  # no block yet: the first observation allocates one
         self.reserve_static_segments(0)
+
+    def carry_robot_scalars(self, names: tuple[str, ...]) -> None:
+        """Carry the robot's own scalar entries (a turning robot's heading and turn rate: ``World``
+        attributes of these names, each a ``(1,)`` float32 entry after the others) in each
+        observation's row, written where the row is: a dict of their own merged into every
+        observation cost a tenth of the unicycle's step. Called once, before the first observation."""
+        self._carried = tuple(names)
+        self._template = np.zeros(self.layout.size + len(self._carried), np.float32)  # (those columns are written every step)
+        self._rows_used = self.BLOCK_ROWS
 
     def reserve_static_segments(self, count: int) -> None:
         """Show the scene's walls and polygons (``World.static_segments``) in ``count`` padded rows:
@@ -207,7 +217,7 @@ class StateObservation(ObservationType):
         self._rows_used = i + 1
         _observation_row(self._block[i], self._template, x, y, vx, vy, world.obstacle_state, self.max_obstacles)
         position, velocity, goal, positions, velocities, radii, mask = self._entries
-        return {
+        obs = {
             "robot_position": position[i],
             "robot_velocity": velocity[i],
             "goal": goal[i],
@@ -215,20 +225,31 @@ class StateObservation(ObservationType):
             "obstacle_velocities": velocities[i],
             "obstacle_radii": radii[i],
             "obstacle_mask": mask[i],
-        } | self._static_entries()
+        }
+        if self.max_static_segments:
+            obs.update(self._static_entries())
+        if self._carried:
+            block = self._block
+            for name, column, view in self._carried_entries:
+                block[i, column] = getattr(world, name)
+                obs[name] = view[i]
+        return obs
 
     def _new_block(self) -> None:
         """A block of :data:`BLOCK_ROWS` observations and each entry's view across it."""
         n, s, (m, _) = self.BLOCK_ROWS, self._slices, self._pairs
-        self._block = block = np.empty((n, self.layout.size), np.float32)
+        size = self.layout.size
+        self._block = block = np.empty((n, size + len(self._carried)), np.float32)
         self._entries = (block[:, s.robot_position], block[:, s.robot_velocity], block[:, s.goal],
                          block[:, s.obstacle_positions].reshape(n, m, 2), block[:, s.obstacle_velocities].reshape(n, m, 2),
                          block[:, s.obstacle_radii], block[:, s.obstacle_mask])  # fmt: skip
+        self._carried_entries = tuple((name, size + j, block[:, size + j : size + j + 1]) for j, name in enumerate(self._carried))
 
     def __getstate__(self):
         state = self.__dict__.copy()  # a copy of the env starts a block of its own
         state.pop("_block", None)
         state.pop("_entries", None)
+        state.pop("_carried_entries", None)
         state["_rows_used"] = self.BLOCK_ROWS
         return state
 

@@ -69,10 +69,10 @@ def random_arena_bounds(n_obstacles: int) -> tuple[float, float, float, float]:
 
 
 @numba.njit(cache=True)
-def _place_obstacles(unit, radii, lo, hi, start, goal, endpoint_clearance, gap):
+def _place_obstacles(unit, radii, xmin, ymin, xmax, ymax, sx, sy, gx, gy, endpoint_clearance, gap):
     """Rejection sampling: obstacle ``i`` takes the first of its candidate points ``unit[i]`` that keeps
-    clear of the start, the goal and the obstacles placed before it. Compiled: with 50 obstacles
-    the loop over candidates and placed obstacles dominated the reset.
+    clear of the start ``(sx, sy)``, the goal ``(gx, gy)`` and the obstacles placed before it. Compiled:
+    with 50 obstacles the loop over candidates and placed obstacles dominated the reset.
 
     :return: ``(centers, placed)``; ``placed < len(radii)`` when some obstacle found no free candidate.
     """
@@ -82,10 +82,10 @@ def _place_obstacles(unit, radii, lo, hi, start, goal, endpoint_clearance, gap):
         rad = radii[i]
         found = False
         for c in range(m):
-            x = lo[0] + rad + unit[i, c, 0] * (hi[0] - lo[0] - 2 * rad)
-            y = lo[1] + rad + unit[i, c, 1] * (hi[1] - lo[1] - 2 * rad)
-            ok = math.hypot(x - start[0], y - start[1]) > rad + endpoint_clearance
-            ok = ok and math.hypot(x - goal[0], y - goal[1]) > rad + endpoint_clearance
+            x = xmin + rad + unit[i, c, 0] * (xmax - xmin - 2 * rad)
+            y = ymin + rad + unit[i, c, 1] * (ymax - ymin - 2 * rad)
+            ok = math.hypot(x - sx, y - sy) > rad + endpoint_clearance
+            ok = ok and math.hypot(x - gx, y - gy) > rad + endpoint_clearance
             j = 0
             while ok and j < i:
                 ok = math.hypot(x - centers[j, 0], y - centers[j, 1]) > radii[j] + rad + gap
@@ -114,35 +114,38 @@ def sample_random_scenario(rng: np.random.Generator, n_obstacles: int = 8, delta
     n = int(n_obstacles)
     bounds = random_arena_bounds(n)
     xmin, ymin, xmax, ymax = bounds
-    lo, hi = np.array([xmin, ymin]), np.array([xmax, ymax])
     r = ROBOT_RADIUS
     margin = r + 0.3
     # Generator.uniform's own draws, written as low + (high - low) * random() (bit-identical): under
-    # numpy 2, uniform() with array bounds costs 5x this, and the start-goal loop draws a few times
-    # (in Python floats, the same two roundings per coordinate as numpy's ``low + span * u``: numpy's
-    # per-call cost on 2 x 2 arrays was a tenth of a reset)
-    (lx, ly), (wx, wy) = (lo + margin).tolist(), ((hi - margin) - (lo + margin)).tolist()
+    # numpy 2, uniform() with array bounds costs 5x this, and the start-goal loop draws a few times.
+    # Scalars here are Python floats, the same IEEE operations numpy did on 2-element arrays (whose
+    # per-call cost was a tenth of a reset).
+    lx, ly = xmin + margin, ymin + margin
+    wx, wy = (xmax - margin) - lx, (ymax - margin) - ly
     while True:
         (u0, u1), (u2, u3) = rng.random((2, 2)).tolist()
         sx, sy, gx, gy = lx + wx * u0, ly + wy * u1, lx + wx * u2, ly + wy * u3
         if math.hypot(sx - gx, sy - gy) >= RANDOM_MIN_START_GOAL:
             break
-    start, goal = np.array([sx, sy]), np.array([gx, gy])
     r_low, r_high = RANDOM_RADIUS_RANGE
     radii = r_low + (r_high - r_low) * rng.random(n)
     unit = rng.random((n, _CANDIDATES, 2))
-    centers, placed = _place_obstacles(unit, radii, lo, hi, start, goal, r + RANDOM_START_CLEARANCE, RANDOM_OBSTACLE_GAP)
+    centers, placed = _place_obstacles(unit, radii, xmin, ymin, xmax, ymax, sx, sy, gx, gy, r + RANDOM_START_CLEARANCE, RANDOM_OBSTACLE_GAP)
     if placed < n:
         raise ValueError(f"n_obstacles: could not place {n} obstacles in the random arena {bounds} (placed {placed})")
-    velocities = np.zeros((n, 2))
-    if delta_d is not None:
+    radius_list = radii.tolist()
+    if delta_d is None:
+        moves = [(0.0, 0.0)] * n
+    else:
         angles = (2 * math.pi) * rng.random(n)
-        velocities = (delta_d * radii / DT)[:, None] * np.stack([np.cos(angles), np.sin(angles)], axis=1)
-        if n and delta_d * max(radii.tolist()) > math.hypot(xmax - xmin, ymax - ymin):
+        # speed * (cos, sin) per obstacle, in Python floats: the products numpy's broadcast made
+        # (np.stack and two broadcasts on a few rows were a tenth of a reset)
+        speeds = (delta_d * radii / DT).tolist()
+        moves = [(s * c, s * si) for s, c, si in zip(speeds, np.cos(angles).tolist(), np.sin(angles).tolist())]
+        if n and delta_d * max(radius_list) > math.hypot(xmax - xmin, ymax - ymin):
             raise ValueError(f"delta_d {delta_d} makes obstacles cross the whole arena in one step; lower delta_d")
-    obstacles = tuple(
-        Obstacle._from_checked(tuple(c), rad, tuple(v)) for c, rad, v in zip(centers.tolist(), radii.tolist(), velocities.tolist())
-    )
+    velocities = np.array(moves, np.float64).reshape(n, 2)
+    obstacles = tuple(Obstacle._from_checked(tuple(c), rad, v) for c, rad, v in zip(centers.tolist(), radius_list, moves))
     return Scenario._from_checked(
         {"positions": centers, "velocities": velocities, "radii": radii},
         bounds=bounds, start=(sx, sy), goal=(gx, gy), obstacles=obstacles, robot_radius=r,

@@ -24,8 +24,17 @@ def _finish_substep(state, new_state, ax, ay, bx, by, robot_radius, radii, speed
     which is then copied into ``state``). Returns ``(min_gap, t_contact, any_restored)``.
     """
     min_gap, t_contact = swept_contact(ax, ay, bx, by, robot_radius, state, new_state, radii)
+    return min_gap, t_contact, restore_speeds(state, new_state, speeds)
+
+
+@numba.njit(cache=True)
+def restore_speeds(state, new_state, speeds):
+    """:func:`_finish_substep`'s second half alone, for callers with no straight-moving robot to test
+    (a robot flying arcs, the obstacles' trajectory): every obstacle's own speed back into
+    ``new_state`` (bounces keep directions), then ``new_state`` copied into ``state``. Returns
+    whether any speed was restored."""
     restored = False
-    for i in range(radii.shape[0]):
+    for i in range(speeds.shape[0]):
         vx, vy = new_state[i, 2], new_state[i, 3]
         norm = math.hypot(vx, vy)
         if norm > 0.0 and abs(norm - speeds[i]) > SPEED_TOLERANCE * speeds[i]:
@@ -34,7 +43,7 @@ def _finish_substep(state, new_state, ax, ay, bx, by, robot_radius, radii, speed
             restored = True
         for j in range(4):
             state[i, j] = new_state[i, j]
-    return min_gap, t_contact, restored
+    return restored
 
 
 @numba.njit(cache=True)

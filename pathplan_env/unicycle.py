@@ -32,8 +32,9 @@ from .arc_contact import DURATION, RADIUS
 from .arc_contact import Arc as Arc
 from .arena import Arena
 from .chipmunk import READ_BODY, each_body, space_step
-from .unicycle_step import PARAMS_SIZE, ROBOT_SIZE, STATE_SIZE, arc_substep_logged, begin_arc
+from .unicycle_step import END_VY, PARAMS, ROBOT_SIZE, STATE_SIZE, fly_substep
 
+_isfinite = math.isfinite  # (a global, not an attribute, on the step's path)
 #: Rows (heading, turn rate) :meth:`UnicycleAction.observe_robot` allocates at once.
 OBSERVATION_ROWS = 1024
 #: Seconds a default base takes to reach its top speed (and its top turn rate) from rest.
@@ -134,13 +135,16 @@ class UnicycleAction(ActionType):
     name = "unicycle"
     takes_params = True
     turns = True
+    robot_scalars = ("robot_heading", "robot_angular_velocity")
 
     def __init__(self, arena: Arena, params: dict | None = None):
         super().__init__(arena)
         self.params = check_params(params)
         self.limits: UnicycleLimits | None = None
         self._limits_key = self._segments_key = None
-        self._params, self._state = np.zeros(PARAMS_SIZE), np.zeros(STATE_SIZE)  # the kernels' rows, refilled every episode
+        self._state = np.zeros(STATE_SIZE)  # the kernel's row (the step's log, the episode's params and arrays), refilled every episode
+        self._params = self._state[PARAMS:STATE_SIZE]
+        self._episode: tuple | None = None  # what every step reads of the episode's world (_bind)
         self._rows, self._rows_used = np.empty((0, 2), np.float32), OBSERVATION_ROWS  # observe_robot's block
 
     def space(self) -> spaces.Box:
@@ -170,6 +174,20 @@ class UnicycleAction(ActionType):
         super().reset(world, arena)
         scenario = world.scenario
         dt = scenario.dt
+        statics = world.static_segments
+        segments_key = (scenario.bounds, statics.tobytes() if statics.size else b"")
+        if segments_key != self._segments_key:
+            self._segments = np.ascontiguousarray(np.vstack([statics.reshape(-1, 5), arena_edges(scenario.bounds)]))
+            self._segments_key = segments_key
+        # the episode's radii and capsules after the kernel's fixed columns (unicycle_step.episode_arrays)
+        n, size = world.n_obstacles, STATE_SIZE + world.n_obstacles + self._segments.size
+        if self._state.shape[0] != size:
+            state = np.zeros(size)
+            state[:STATE_SIZE] = self._state[:STATE_SIZE]  # (the limits, written only when they change)
+            self._state, self._params = state, state[PARAMS:STATE_SIZE]
+        state = self._state
+        state[STATE_SIZE : STATE_SIZE + n] = world.radii
+        state[STATE_SIZE + n :] = self._segments.ravel()
         # what the limits depend on: the next episode of the same env usually has the same (a fifth of a reset saved)
         limits_key = (scenario.robot_speed, scenario.robot_radius, dt, scenario.bounds)
         if limits_key != self._limits_key:
@@ -177,53 +195,65 @@ class UnicycleAction(ActionType):
             # the kernels' arrays (pathplan_env.unicycle_step columns): numba types arrays in C, records in Python
             self._params[:5] = limits.min_speed, limits.max_speed, limits.max_turn_rate, limits.max_acceleration * dt, limits.max_angular_acceleration * dt
             self._limits_key = limits_key
-        statics = world.static_segments
-        segments_key = (scenario.bounds, statics.tobytes() if statics.size else b"")
-        if segments_key != self._segments_key:
-            self._segments = np.ascontiguousarray(np.vstack([statics.reshape(-1, 5), arena_edges(scenario.bounds)]))
-            self._segments_key = segments_key
         (sx, sy), (gx, gy) = scenario.start, scenario.goal
         world.robot_heading = math.atan2(gy - sy, gx - sx)  # at rest, facing the goal
         world.robot_forward_speed = world.robot_angular_velocity = 0.0
         self._params[5:] = gx, gy, scenario.goal_radius, scenario.arena_diagonal
         self._state[DURATION], self._state[RADIUS] = dt, scenario.robot_radius
+        self._bind(world)
 
     def advance(self, action, world):
         if type(action) is not np.ndarray or action.shape != (2,) or action.dtype.char not in "fd":
             action = parse_action(action)
-        (x, y), state = world.robot_xy, self._state
-        if not begin_arc(action, True, x, y, world.robot_heading, world.robot_forward_speed, world.robot_angular_velocity, self._params,
-                         self._segments, state):  # fmt: skip
+        a0, a1 = action.tolist()  # (float32 to Python float is exact: the kernel computes as before)
+        if not (_isfinite(a0) and _isfinite(a1)):
             raise ValueError(f"action must be finite, got {action!r} (NaN or infinite)")
-        return _fly(world, state)
+        return self._fly(a0, a1, True, world)
 
     def replay(self, world, move):
-        (x, y), state = world.robot_xy, self._state
-        begin_arc(np.array(move, np.float64), False, x, y, world.robot_heading, world.robot_forward_speed, world.robot_angular_velocity,
-                  self._params, self._segments, state)  # fmt: skip
-        return _fly(world, state)
+        v, w = move
+        return self._fly(float(v), float(w), False, world)
 
+    def _bind(self, world) -> tuple:
+        """What every step of ``world``'s episode reads, fetched once (a dozen attribute loads a step
+        were a twentieth of it): the world's substeps, Chipmunk's space and batch read, the arrays."""
+        steer = world._steer if world._drivers else None
+        self._episode = (world, steer, world.substeps, world.space._space, world._buffer._float_arr, world._request,
+                         world.scenario.dt / world.substeps, world.scenario.dt, self._state, world.obstacle_state, world._pymunk_state,
+                         world._speeds)  # fmt: skip
+        return self._episode
 
-def _fly(world, state: np.ndarray):
-    """The step ``unicycle_step.begin_arc`` started in ``state``: every substep, then the robot's new
-    state into ``world``; :meth:`ActionType.advance`'s result."""
-    n, radii, speeds = world.substeps, world.radii, world._speeds
-    world.begin_step()
-    # World.advance_obstacles inlined (as World.step does: a method call per substep was a tenth of the step)
-    space, array, request, substep = world.space._space, world._buffer._float_arr, world._request, world.scenario.dt / n
-    before, after = world.obstacle_state, world._pymunk_state
-    for k in range(1, n + 1):
-        space_step(space, substep)
-        array.num = 0
-        each_body(space, READ_BODY, request)
-        if arc_substep_logged(state, k, n, before, after, radii, speeds):
-            world.write_bodies()
-    v, w, arc_x, arc_y, goal, _, _, min_gap, first_contact, _, x, y, heading, speed, turn_rate, vx, vy = state[ROBOT_SIZE:].tolist()
-    world.robot_xy, world.robot_heading = (x, y), heading
-    world.robot_forward_speed, world.robot_angular_velocity, world.robot_velocity_xy = speed, turn_rate, (vx, vy)
-    dt = world.scenario.dt
-    world.time += dt
-    return v * dt, goal, min_gap, first_contact, (arc_x, arc_y), (v, w)
+    def _fly(self, a0: float, a1: float, command: bool, world):
+        """The step by ``(a0, a1)`` (``unicycle_step.fly_substep``'s, finite): every substep, then the
+        robot's new state into ``world``; :meth:`ActionType.advance`'s result."""
+        episode = self._episode
+        if episode is None or episode[0] is not world:
+            episode = self._bind(world)
+        _, steer, n, space, array, request, substep, dt, state, before, after, speeds = episode
+        (x, y), heading, speed, turn_rate = world.robot_xy, world.robot_heading, world.robot_forward_speed, world.robot_angular_velocity
+        if steer is not None:  # World.begin_step: goal-directed obstacles choose their velocities
+            steer()
+        # World.advance_obstacles inlined (as World.step does: a method call per substep was a tenth of the step)
+        for k in range(1, n + 1):
+            space_step(space, substep)
+            array.num = 0
+            each_body(space, READ_BODY, request)
+            if fly_substep(a0, a1, command, x, y, heading, speed, turn_rate, k, n, state, before, after, speeds):
+                world.write_bodies()
+        v, w, arc_x, arc_y, goal, _, _, min_gap, first_contact, _, x, y, heading, speed, turn_rate, vx, vy = state[ROBOT_SIZE : END_VY + 1].tolist()
+        world.robot_xy, world.robot_heading = (x, y), heading
+        world.robot_forward_speed, world.robot_angular_velocity, world.robot_velocity_xy = speed, turn_rate, (vx, vy)
+        world.time += dt
+        return v * dt, goal, min_gap, first_contact, (arc_x, arc_y), (v, w)
+
+    def __getstate__(self):
+        state = self.__dict__.copy()
+        state["_episode"] = None  # Chipmunk's pointers do not pickle; the next step binds the world again
+        return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        self._params = self._state[PARAMS:STATE_SIZE]  # (a view again: pickling copied the arrays apart)
 
 
 def pose(x: float, y: float, heading: float, speed: float, turn_rate: float, duration: float, f: float) -> tuple[float, float, float]:

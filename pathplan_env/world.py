@@ -29,7 +29,7 @@ from .geometry import NO_CONTACT
 from .routing import drivers_statics
 from .scenarios import Scenario
 from .statics import capsules_clearance, pymunk_segments, static_stop
-from .substep_kernels import SPEED_TOLERANCE, _clearance, _finish_substep, _gap_until  # noqa: F401 (SPEED_TOLERANCE: its old home)
+from .substep_kernels import SPEED_TOLERANCE, _clearance, _finish_substep, _gap_until, restore_speeds  # noqa: F401 (SPEED_TOLERANCE: its old home)
 from .substeps import MAX_SUBSTEP_DISPLACEMENT, MAX_SUBSTEPS, SUBSTEP_SLACK, scenario_substeps, substeps_for  # noqa: F401 (their old home)
 
 _STATE_FIELDS = pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.VELOCITY
@@ -347,7 +347,7 @@ class World:
             space_step(space, dt / n)
             array.num = 0
             each_body(space, READ_BODY, request)
-            _, _, restored = _finish_substep(self.obstacle_state, self._pymunk_state, 0.0, 0.0, 0.0, 0.0, 0.0, self.radii, self._speeds)
+            restored = restore_speeds(self.obstacle_state, self._pymunk_state, self._speeds)  # (no robot to sweep)
             if restored:
                 self._write_bodies()
             out[s] = self.obstacle_state

@@ -12,12 +12,14 @@ import numpy as np
 import pytest
 import torch
 
+import agents
 import pathplan_env  # noqa: F401
 from agents.rl.set_encoder import SetAttentionExtractor
 from agents.rl.set_features import EGO_SIZE, TOKEN_SIZE, SetLearningEnv, set_feature_size, set_features, split_features
 from agents.rl.set_numpy import NumpySetPolicy, export_set_policy
 from agents.rl.set_policy import SetRLAgent
 from agents.rl.training import Args, build_model, make_env
+from pathplan_env.splits import heldout_seeds
 from pathplan_env.wrappers import EnvFacts
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -167,3 +169,32 @@ def test_the_agent_matches_the_sb3_backend(set_model):
     numpy_agent, sb3_agent = SetRLAgent(env, path=path, backend="numpy"), SetRLAgent(env, path=path, backend="sb3")
     for obs in seen:
         np.testing.assert_allclose(numpy_agent.predict(obs, deterministic=True)[0], sb3_agent.predict(obs, deterministic=True)[0], atol=1e-4)
+
+
+@pytest.mark.slow  # about 20 s of CPU: demonstrations, cloning, PPO, validation, export
+def test_tiny_set_training_run_ships_a_numpy_agent(tmp_path):
+    from agents.rl.training import ship, train
+
+    args = Args(
+        observation="set", set_tokens=6, set_hidden="16,16", total_timesteps=256, n_envs=2, n_steps=64, eval_freq=128, eval_episodes=2,
+        checkpoint_freq=256, out=str(tmp_path / "run"), progress=False, teacher_steps=150, teacher_epochs=1,
+    )  # fmt: skip
+    meta = train(args)
+    assert meta["observation"] == "set" and meta["args"]["set_tokens"] == 6 and meta["command"].startswith("python scripts/train_rl.py ")
+    shipped = ship(tmp_path / "run", "ppo", "best", models_dir=tmp_path / "models", results_dir=tmp_path, name="ppo_set")
+    assert (tmp_path / "ppo_set_learning_curve.png").exists() and isinstance(NumpySetPolicy(shipped.with_suffix(".npz")), NumpySetPolicy)
+    env = gym.make("DynamicObstacle-v0")
+    agent = SetRLAgent(env, path=shipped)
+    assert agent.backend == "numpy" and agent.n_tokens == 6
+    assert "is_success" in agents.rollout(agent, env, seed=3)
+
+
+@pytest.mark.slow  # 200 episodes
+def test_shipped_ppo_set_meets_its_claim_on_other_held_out_episodes():
+    # docs/results/ppo_set.md: 0.96 [0.93, 0.98] on split 0's 200 test episodes at Δd 0.25; here split 1's first
+    # 200 (never used for training, selection or that table) gave 0.895 (ppo: 0.905); a margin below that
+    env = gym.make("DynamicObstacle-v0", scenario="random", delta_d=0.25)
+    agent = agents.make("ppo-set", env)
+    assert agent.backend == "numpy"
+    rate = np.mean([agents.rollout(agent, env, seed)["is_success"] for seed in heldout_seeds(1, 200)])
+    assert rate >= 0.85, rate

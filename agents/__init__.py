@@ -17,6 +17,7 @@ from .rl import RLAgent
 from .rl.lidar_policy import LidarRLAgent
 from .rl.sarl_policy import SARLAgent
 from .rl.sb3_model import SB3Agent, trained_agent
+from .rl.set_policy import SetRLAgent
 
 register("straight", StraightAgent)
 register("velocity-obstacle", VelocityObstacleAgent)
@@ -25,6 +26,7 @@ register("oracle-static", StaticOracleAgent)
 register("oracle-clairvoyant", ClairvoyantOracle)  # privileged: reads the simulator
 register("ppo", partial(trained_agent, algo="ppo"))  # the shipped PPO; with path=: a train_rl.py model, or any PPO .zip
 register("ppo-lidar", LidarRLAgent)  # the shipped lidar PPO (1-D conv encoder): observation="lidar"; with path=: a train_rl.py --observation lidar model
+register("ppo-set", SetRLAgent)  # the set-encoder PPO (attention over every obstacle); with path=: a train_rl.py --observation set model
 register("sarl", SARLAgent)  # value network with attention + one-step lookahead on predicted humans (agents/models/sarl_crowdnav.npz)
 register("sarl-random", partial(SARLAgent, setting="random"))  # the same trained on random scenes, bouncing obstacles (sarl_random.npz)
 register("sb3", SB3Agent)  # any SB3 model file as it comes, path= required (agents.rl.sb3_model)

@@ -1,6 +1,7 @@
 """Export a trained PPO's actor to numpy (``.npz`` beside the ``.zip``), so it runs without torch.
 
     python scripts/export_policy.py agents/models/ppo.zip [--resave]
+    python scripts/export_policy.py agents/models/ppo_set.zip     # a set encoder (--observation set) exports too
 
 ``--resave`` also saves the ``.zip`` again with the installed numpy and SB3, so that it loads
 without "Could not deserialize object" warnings (the shipped one was pickled under numpy 1.26).
@@ -12,7 +13,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from agents.rl.numpy_policy import export_policy
+from agents.rl.set_numpy import export_any_policy
 
 
 def parse_args(argv=None) -> argparse.Namespace:
@@ -38,7 +39,7 @@ def main(argv=None) -> None:
     if args.resave:
         model.save(path)
         print(f"re-saved {path}")
-    print(f"wrote {export_policy(model, path.with_suffix('.npz'))}")
+    print(f"wrote {export_any_policy(model, path.with_suffix('.npz'))}")
 
 
 if __name__ == "__main__":

@@ -6,6 +6,8 @@
     python scripts/train_rl.py --observation lidar --scenarios random,doorway,random,cluttered-room,random,corridor,random,intersection
         --teacher-steps 100000 --teacher-epochs 15 --total-timesteps 800000 --eval-freq 50000 --budget-minutes 57 --out runs/ppo_lidar
         (one command: a lidar policy with a 1-D convolution encoder, run by agents.make("ppo-lidar", env))
+    python scripts/train_rl.py --observation set --total-timesteps 250000 --teacher-steps 50000 --teacher-epochs 10 --eval-freq 25000
+        --out runs/ppo_set   (every obstacle a token, attention pooling: agents.make("ppo-set", env); docs/results/ppo_set.md)
 
 The policy sees ``pathplan_env.wrappers.make_learning_env``'s egocentric features and acts in its
 relative-waypoint action space, the same transforms ``agents.make("ppo", env)`` applies at test time.
@@ -25,6 +27,11 @@ the scan in the goal's frame, min-pooled to ``--lidar-bins``, with its change si
 ``agents.rl.lidar_encoder``: stride-2 ``Conv1d`` layers with circular padding), cloned from a teacher
 that reads the exact state while a lockstep twin env records what the lidar sees; ``--scenarios``
 deals presets (wall families too) to the training envs; ``--budget-minutes`` caps the run's wall time.
+
+``--observation set`` trains on every obstacle as a token (``agents.rl.set_features``: goal-frame
+position, velocity, radius, gap and positions predicted by the planners' physics, distance-sorted,
+masked, with an ego token; ``agents.rl.set_encoder``: SARL's attention pooling or, with
+``--set-pooling mean``, DeepSets'), cloned from the same teacher; ``--set-tokens`` sets the padding.
 """
 
 from __future__ import annotations

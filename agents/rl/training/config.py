@@ -19,6 +19,7 @@ from pathplan_env.splits import training_seed_base
 from pathplan_env.zoo import PPO_SETTINGS
 
 from ..lidar_features import check_lidar_settings
+from ..set_features import check_n_tokens, check_pooling, parse_hidden
 
 #: How a run is started from a shell (``Args.command_line``).
 SCRIPT = "scripts/train_rl.py"
@@ -53,7 +54,8 @@ class Args:
     k_nearest: int = 8
     """obstacles in the observation features (nearest by surface gap; observation 'state')"""
     observation: str = "state"
-    """what the policy sees: 'state' (the k nearest obstacles, an MLP) or 'lidar' (a scan, a 1-D convolution encoder; ppo only)"""
+    """what the policy sees: 'state' (the k nearest obstacles, an MLP), 'lidar' (a scan, a 1-D convolution encoder; ppo only)
+    or 'set' (every obstacle as a token, an attention set encoder; ppo only)"""
     observation_params: str = ""
     """JSON of the 'lidar' observation's parameters (pathplan_env.sensor_params: lidar_beams, lidar_range, ...); '' = the defaults"""
     lidar_bins: int = 90
@@ -62,6 +64,12 @@ class Args:
     """scan channels: 1 (the scan) or 2 (and its change since the last step: motion)"""
     conv_channels: str = "16,16,16"
     """output channels of the lidar encoder's stride-2 convolutions"""
+    set_tokens: int = 12
+    """obstacle tokens of the 'set' observation (the nearest by surface gap; padded and masked)"""
+    set_hidden: str = "64,64"
+    """widths of the set encoder's token embedding MLP (the last is the pooled width)"""
+    set_pooling: str = "attention"
+    """the set encoder's pooling: 'attention' (SARL's) or 'mean' (DeepSets')"""
     scenarios: str = "random"
     """comma-separated presets of the training envs, dealt to them in turn (repeat a name to weight it); validation runs one env per distinct name"""
     learning_rate: float = PPO_SETTINGS.learning_rate
@@ -139,7 +147,17 @@ class Args:
             widths = [w.strip() for w in self.conv_channels.split(",")]
             if not all(w.isdigit() and int(w) > 0 for w in widths):
                 raise ValueError(f"conv_channels must be comma-separated positive widths such as '16,16,16', got {self.conv_channels!r}")
+        if self.observation == "set":
+            if self.algo != "ppo":
+                raise ValueError(f"observation: 'set' (the set encoder) is implemented for ppo, got algo {self.algo!r}")
+            check_n_tokens(self.set_tokens, "set_tokens")
+            parse_hidden(self.set_hidden, "set_hidden")
+            check_pooling(self.set_pooling, "set_pooling")
         training_seed_base(self.seed)  # range check
+
+    def env_observation(self) -> str:
+        """The env's observation type: the set policy reads ``"state"`` (every obstacle's position and velocity)."""
+        return "state" if self.observation == "set" else self.observation
 
     def scenario_list(self) -> list[str]:
         """``scenarios`` as preset names, one per training env in turn."""
@@ -151,12 +169,12 @@ class Args:
 
     def sensor_params(self) -> dict:
         """``observation_params`` as the env's ``observation_params`` dict (``{}`` for 'state')."""
-        if self.observation not in ("state", "lidar"):
-            raise ValueError(f"observation must be 'state' or 'lidar', got {self.observation!r}")
+        if self.observation not in ("state", "lidar", "set"):
+            raise ValueError(f"observation must be 'state', 'lidar' or 'set', got {self.observation!r}")
         if not self.observation_params:
             return {}
-        if self.observation == "state":
-            raise ValueError("observation_params: observation 'state' takes none")
+        if self.observation != "lidar":
+            raise ValueError(f"observation_params: observation {self.observation!r} takes none")
         try:
             params = json.loads(self.observation_params)
         except json.JSONDecodeError as error:

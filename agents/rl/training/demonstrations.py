@@ -64,7 +64,7 @@ def concatenate(parts: list[Demonstrations]) -> Demonstrations:
 
 def collect_demonstrations(
     env: gym.Env, teacher: str, steps: int, gamma: float, k_nearest: int = 8, seed: int | None = None, progress: bool = True,
-    learner_env: gym.Env | None = None, learner_features: Callable | None = None,
+    learner_env: gym.Env | None = None, learner_features: Callable | None = None, features_of: Callable | None = None,
 ) -> Demonstrations:  # fmt: skip
     """Roll out the agent ``teacher`` (an ``agents.make`` name) on ``env`` for at least ``steps`` env steps and
     keep its successful episodes.
@@ -78,9 +78,13 @@ def collect_demonstrations(
         ``env``), stepped in lockstep; ``learner_features(obs, episode_start)`` (a stateful
         ``agents.rl.lidar_features.LidarFeatureStack``, say) turns its observations into the
         recorded features. ``None``: the features are ``egocentric_features`` of ``env``'s.
+    :param features_of: ``features_of(obs, facts)`` records other features of ``env``'s own observations
+        (``agents.rl.set_features.set_features``, say) instead of ``egocentric_features``.
     """
     if (learner_env is None) != (learner_features is None):
         raise ValueError("learner_env and learner_features go together")
+    if features_of is not None and learner_env is not None:
+        raise ValueError("features_of: give either features_of or learner_env and learner_features, not both")
     facts = EnvFacts.of(env)
     agent = make(teacher, env, seed=seed)
     features, actions, returns = [], [], []
@@ -93,7 +97,9 @@ def collect_demonstrations(
             episode_features, episode_actions, rewards = [], [], []
             while True:
                 action, _ = agent.predict(obs, deterministic=True)
-                if learner_env is None:
+                if features_of is not None:
+                    episode_features.append(features_of(obs, facts))
+                elif learner_env is None:
                     episode_features.append(egocentric_features(obs, facts, k_nearest))
                 else:
                     _check_twins(obs, seen)

@@ -85,7 +85,7 @@ def write_sidecars(out: Path, meta: dict, models: tuple[str, ...] = ("cloned_mod
 
 
 def shipped_name(args: Args) -> str:
-    """The name a run ships under: ``ppo`` (or ``sac``), ``ppo_lidar`` for a lidar policy."""
+    """The name a run ships under: ``ppo`` (or ``sac``), ``ppo_lidar`` for a lidar policy, ``ppo_set`` for a set encoder."""
     return args.algo if args.observation == "state" else f"{args.algo}_{args.observation}"
 
 
@@ -101,8 +101,8 @@ def ship(out: Path, algo: str, which: str, models_dir: Path = MODELS_DIR, result
     if algo == "ppo":
         from stable_baselines3 import PPO
 
-        from ..numpy_policy import export_policy
+        from ..set_numpy import export_any_policy  # the set encoder's own export, numpy_policy's for the others
 
-        export_policy(PPO.load(shipped, device="cpu"), shipped.with_suffix(".npz"))
+        export_any_policy(PPO.load(shipped, device="cpu"), shipped.with_suffix(".npz"))
     shutil.copyfile(out / "learning_curve.png", results_dir / f"{name}_learning_curve.png")
     return shipped

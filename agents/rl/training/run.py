@@ -6,6 +6,10 @@ Training episodes come from ``EpisodeSchedule`` streams of training seeds (disjo
 validation and test splits of ``pathplan_env.splits``); the teacher's demonstrations take the second
 half of the run's seed block, the training envs the first.
 
+With ``observation='set'`` the policy sees ``agents.rl.set_features``' obstacle tokens through
+``agents.rl.set_encoder``'s attention pooling (the env's ``"state"`` observation; the teacher's
+demonstrations are recorded as set features).
+
 With ``observation='lidar'`` the policy sees ``agents.rl.lidar_features``' goal-frame scan through
 ``agents.rl.lidar_encoder``'s convolutions; the teacher still plays on ``"state"`` (a privileged
 teacher: ``demonstrations``), and ``scenarios`` may mix the random preset with wall families.
@@ -16,6 +20,7 @@ from __future__ import annotations
 import json
 import time
 from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 
 import gymnasium as gym
@@ -26,13 +31,14 @@ from pathplan_env.wrappers import EnvFacts, EpisodeSchedule, make_learning_env
 from pathplan_env.zoo import PPO_SETTINGS
 
 from ..lidar_features import LidarFeatureStack, LidarLearningEnv
+from ..set_features import SetLearningEnv, set_features
 from .config import Args
 from .demonstrations import collect_demonstrations, concatenate
 from .outputs import learning_curve, run_metadata, ship, shipped_name, write_sidecars
 
 
 def _training_env(args: Args, scenario: str = "random", observation: str | None = None) -> gym.Env:
-    observation = args.observation if observation is None else observation
+    observation = args.env_observation() if observation is None else observation
     params = args.sensor_params() if observation == args.observation else {}
     return gym.make("DynamicObstacle-v0", scenario=scenario, reward_collision=args.reward_collision, reward_proximity=args.reward_proximity,
                     observation=observation, observation_params=params or None)  # fmt: skip
@@ -47,6 +53,8 @@ def learning_env(args: Args, env: gym.Env) -> gym.Env:
     """The policy's wrappers around a raw env: the egocentric features ('state') or the lidar's."""
     if args.observation == "lidar":
         return LidarLearningEnv(env, args.lidar_bins, args.lidar_frames)
+    if args.observation == "set":
+        return SetLearningEnv(env, args.set_tokens)
     return make_learning_env(env, k_nearest=args.k_nearest)
 
 
@@ -85,6 +93,8 @@ def scenario_demonstrations(args: Args, gamma: float):
     for scenario in dict.fromkeys(names):
         steps = args.teacher_steps * names.count(scenario) // len(names)
         twin = {}
+        if args.observation == "set":  # the teacher's own observation, seen as set features: no twin needed
+            twin = {"features_of": partial(set_features, n_tokens=args.set_tokens)}
         if args.observation == "lidar":
             twin_env = demonstration_env(args, scenario, "lidar")
             twin = {"learner_env": twin_env, "learner_features": LidarFeatureStack(EnvFacts.of(twin_env), args.lidar_bins, args.lidar_frames)}
@@ -114,6 +124,11 @@ def build_model(args: Args, env, log_dir: Path):
 
             policy_kwargs |= dict(features_extractor_class=LidarConvExtractor,
                                   features_extractor_kwargs=dict(bins=args.lidar_bins, frames=args.lidar_frames, channels=args.conv_channels))  # fmt: skip
+        if args.observation == "set":
+            from ..set_encoder import SetAttentionExtractor
+
+            policy_kwargs |= dict(features_extractor_class=SetAttentionExtractor,
+                                  features_extractor_kwargs=dict(hidden=args.set_hidden, pooling=args.set_pooling))  # fmt: skip
         model = PPO(
             "MlpPolicy", env, n_steps=args.n_steps, batch_size=settings.batch_size, n_epochs=settings.n_epochs, gamma=settings.gamma,
             gae_lambda=settings.gae_lambda, clip_range=settings.clip_range, ent_coef=args.ent_coef, policy_kwargs=policy_kwargs, **common,

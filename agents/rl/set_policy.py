@@ -1,0 +1,81 @@
+"""A trained set-encoder PPO as an agent: every obstacle a token, attention pooling, no torch at run time.
+
+``scripts/train_rl.py --observation set`` trains it: :mod:`agents.rl.set_features` turns the
+``"state"`` observation into distance-sorted obstacle tokens (with their predicted positions), a
+presence mask and an ego token; :mod:`agents.rl.set_encoder` pools them (SARL's attention); PPO acts
+in the learning wrappers' relative-waypoint space. :mod:`agents.rl.set_numpy` runs the exported
+``.npz`` without torch::
+
+    agent = agents.make("ppo-set", env)                                   # agents/models/ppo_set.zip (.npz)
+    agent = agents.make("ppo-set", env, path="runs/ppo_set/best_model.zip", backend="sb3")
+"""
+
+from __future__ import annotations
+
+import time
+from functools import lru_cache
+from pathlib import Path
+
+from pathplan_env.wrappers import relative_action_to_waypoint
+
+from ..base import Agent
+from .policy import MODELS_DIR, _load_model, model_metadata
+from .set_features import check_n_tokens, set_feature_size, set_features
+from .set_numpy import NumpySetPolicy
+
+
+@lru_cache(maxsize=8)
+def _load_numpy_set_policy(path: Path, mtime: float) -> NumpySetPolicy:
+    return NumpySetPolicy(path)
+
+
+class SetRLAgent(Agent):
+    """A PPO trained on the set features (``scripts/train_rl.py --observation set``).
+
+    :param path: the model's ``.zip`` (default: the shipped ``agents/models/ppo_set.zip``), with its
+        ``.json`` sidecar beside it.
+    :param backend: ``"numpy"`` (the exported ``.npz``; no torch), ``"sb3"`` or ``"auto"`` (numpy if the
+        ``.npz`` exists).
+    :raises ValueError: naming ``backend`` or ``path`` (no model, or one not trained on the set features).
+    """
+
+    name = "ppo-set"
+
+    def __init__(self, env, seed: int | None = None, path: str | Path | None = None, backend: str = "auto"):
+        super().__init__(env, seed=seed)
+        if backend not in ("auto", "numpy", "sb3"):
+            raise ValueError(f"backend must be 'auto', 'numpy' or 'sb3', got {backend!r}")
+        path = Path(path) if path is not None else MODELS_DIR / "ppo_set.zip"
+        exported = path.with_suffix(".npz")
+        if backend == "auto":
+            backend = "numpy" if exported.exists() else "sb3"
+        if not (exported if backend == "numpy" else path).exists():
+            raise ValueError(f"path: no model at {exported if backend == 'numpy' else path}; train one with scripts/train_rl.py --observation set")
+        self.metadata = model_metadata(path)
+        args = self.metadata["args"]
+        if args.get("observation") != "set":
+            raise ValueError(f"path: {path} was trained on observation {args.get('observation', 'state')!r}, not 'set'")
+        self.n_tokens = check_n_tokens(int(args["set_tokens"]), "set_tokens")
+        self.backend = backend
+        if backend == "numpy":
+            self.model = _load_numpy_set_policy(exported.resolve(), exported.stat().st_mtime)
+            size = self.model.observation_size
+        else:
+            self.model = _load_model(path.resolve(), "ppo", path.stat().st_mtime)
+            size = self.model.observation_space.shape[0]
+        if size != set_feature_size(self.n_tokens):
+            raise ValueError(f"path: model expects features of size {size}, {self.n_tokens} tokens give {set_feature_size(self.n_tokens)}")
+
+    def predict(self, observation, state=None, episode_start=None, deterministic: bool = False):
+        begin = time.perf_counter()
+        features = set_features(observation, self.facts, self.n_tokens)
+        if self.backend == "numpy":
+            relative = self.model.predict(features, deterministic=deterministic, rng=self.rng)
+        else:
+            relative, _ = self.model.predict(features, deterministic=deterministic)
+        waypoints = relative_action_to_waypoint(observation, relative, self.facts)
+        self.last_plan_seconds = time.perf_counter() - begin
+        return self.waypoint_to_action(waypoints), state
+
+
+__all__ = ["SetRLAgent"]

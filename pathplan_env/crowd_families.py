@@ -58,10 +58,14 @@ def _humans(rng, n: int, layout: Scenario, draw: Callable) -> tuple[Obstacle, ..
     :raises ValueError: naming ``n_obstacles`` when one finds no place.
     """
     starts, goals = draw(rng, n * _CANDIDATES)
-    ok = _fitting(starts, goals, layout)
+    rules = _rules(layout)
+    if polygon_shapes(layout):  # shapely's test up front; else each candidate is checked when reached
+        ok = _fitting(starts, goals, layout).astype(np.int8)
+    else:
+        ok = np.full(n * _CANDIDATES, -1, np.int8)
     starts, goals, ok = starts.reshape(n, _CANDIDATES, 2), goals.reshape(n, _CANDIDATES, 2), ok.reshape(n, _CANDIDATES)
     centers, ends = np.empty((n, 2)), np.empty((n, 2))
-    i = _place_spaced(starts, goals, ok, centers, ends, 0, SPACING)
+    i = _place_spaced(starts, goals, ok, centers, ends, 0, SPACING, rules)
     while i < n:  # human i found no place among its first candidates: more batches
         for _ in range(_MORE_BATCHES):
             mine_s, mine_g = draw(rng, _CANDIDATES)
@@ -72,22 +76,28 @@ def _humans(rng, n: int, layout: Scenario, draw: Callable) -> tuple[Obstacle, ..
             raise ValueError(f"n_obstacles: could not place {n} humans in the {layout.name!r} layout (placed {i})")
         k = int(np.argmax(fits))
         centers[i], ends[i] = mine_s[k], mine_g[k]
-        i = _place_spaced(starts, goals, ok, centers, ends, i + 1, SPACING)
+        i = _place_spaced(starts, goals, ok, centers, ends, i + 1, SPACING, rules)
     # valid by construction (inside the arena, clear of the walls, the robot and each other): not validated again
     return tuple(Obstacle._from_checked(tuple(c), HUMAN_RADIUS, (0.0, 0.0), tuple(g), HUMAN_SPEED) for c, g in zip(centers.tolist(), ends.tolist()))
 
 
 @numba.njit(cache=True)
-def _place_spaced(starts, goals, ok, centers, ends, first, spacing):
-    """Humans ``first..`` in turn take their first candidate ``k`` with ``ok[i, k]`` whose start and goal
-    keep ``spacing`` from every human placed (``centers``, ``ends``, filled in); returns the index of
-    the first human with no such candidate (``n`` when all are placed). Compiled: this loop was most
-    of a 20-human reset; the same ``hypot`` comparisons as :func:`_spaced`, so the same choices."""
+def _place_spaced(starts, goals, ok, centers, ends, first, spacing, rules):
+    """Humans ``first..`` in turn take their first candidate ``k`` that fits (``ok[i, k]`` 1; -1: not yet
+    checked, then checked here by :func:`_fitting_kernel`'s test with ``rules``, :func:`_rules`) whose
+    start and goal keep ``spacing`` from every human placed (``centers``, ``ends``, filled in); returns
+    the index of the first human with no such candidate (``n`` when all are placed). Compiled: this loop
+    was most of a 20-human reset; the same ``hypot`` comparisons as :func:`_spaced`, so the same choices.
+    Checking a candidate only when it is reached (most humans take one of their first few) gives the
+    choices checking all of them first gave."""
+    box, reach, segments, robot, keep = rules
     n, m = ok.shape
     for i in range(first, n):
         chosen = -1
         for k in range(m):
-            if not ok[i, k]:
+            if ok[i, k] < 0:
+                ok[i, k] = _fits(starts[i, k], goals[i, k], box, reach, segments, robot, keep)
+            if ok[i, k] == 0:
                 continue
             clear = True
             for j in range(i):
@@ -111,15 +121,22 @@ def _fitting(starts: np.ndarray, goals: np.ndarray, layout: Scenario) -> np.ndar
     numpy's dozen passes over the candidates were a fifth of a crowd's reset; polygons by shapely)."""
     import shapely
 
+    ok = _fitting_kernel(starts, goals, *_rules(layout))
+    for shape in polygon_shapes(layout):
+        ok &= ~shapely.contains_xy(shape, starts[:, 0], starts[:, 1]) & ~shapely.contains_xy(shape, goals[:, 0], goals[:, 1])
+    return ok
+
+
+def _rules(layout: Scenario) -> tuple:
+    """What :func:`_fits` reads of ``layout``: ``(box, reach, segments, robot, keep)``, the arena less
+    ``reach`` (a human's radius and wall clearance), the capsules, the robot's start and goal, and the
+    distance a human's start keeps from them."""
     xmin, ymin, xmax, ymax = layout.bounds
     reach = HUMAN_RADIUS + WALL_CLEARANCE
     box = np.array([xmin + reach, ymin + reach, xmax - reach, ymax - reach])
     keep = HUMAN_RADIUS + layout.robot_radius + families.START_CLEARANCE
-    robot = np.array([layout.start, layout.goal], np.float64)
-    ok = _fitting_kernel(starts, goals, box, reach, np.asarray(layout.static_segments, np.float64).reshape(-1, 5), robot, keep)
-    for shape in polygon_shapes(layout):
-        ok &= ~shapely.contains_xy(shape, starts[:, 0], starts[:, 1]) & ~shapely.contains_xy(shape, goals[:, 0], goals[:, 1])
-    return ok
+    segments = np.ascontiguousarray(layout.static_segments, np.float64).reshape(-1, 5)
+    return box, reach, segments, np.array([layout.start, layout.goal], np.float64), keep
 
 
 @numba.njit(cache=True)
@@ -130,10 +147,15 @@ def _fitting_kernel(starts, goals, box, reach, segments, robot, keep):
     n = starts.shape[0]
     ok = np.empty(n, np.bool_)
     for p in range(n):
-        ok[p] = (_free_point(starts[p, 0], starts[p, 1], box, reach, segments) and _free_point(goals[p, 0], goals[p, 1], box, reach, segments)
-                 and _beyond(starts[p, 0] - robot[0, 0], starts[p, 1] - robot[0, 1], 0.0, keep)
-                 and _beyond(starts[p, 0] - robot[1, 0], starts[p, 1] - robot[1, 1], 0.0, keep))  # fmt: skip
+        ok[p] = _fits(starts[p], goals[p], box, reach, segments, robot, keep)
     return ok
+
+
+@numba.njit(cache=True, inline="always")
+def _fits(start, goal, box, reach, segments, robot, keep):
+    return (_free_point(start[0], start[1], box, reach, segments) and _free_point(goal[0], goal[1], box, reach, segments)
+            and _beyond(start[0] - robot[0, 0], start[1] - robot[0, 1], 0.0, keep)
+            and _beyond(start[0] - robot[1, 0], start[1] - robot[1, 1], 0.0, keep))  # fmt: skip
 
 
 @numba.njit(cache=True, inline="always")

@@ -65,3 +65,22 @@ def test_corridor_trips_are_numpys():
         rng = np.random.default_rng(seed)
         fast_starts, fast_goals = _corridor_trips(rng.random(k), rng.random((k, 2)), rng.random(k))
         assert np.array_equal(fast_starts, starts) and np.array_equal(fast_goals, goals)
+
+
+@pytest.mark.parametrize("n", [4, 20, 40])
+def test_candidates_checked_when_reached_are_placed_as_all_checked_first(n):
+    """``_place_spaced`` checks a candidate when it reaches it: the same humans as the mask of all
+    (layouts without polygons: with them ``_humans`` checks every candidate first, shapely's test)."""
+    from pathplan_env.crowd_families import _CANDIDATES, SPACING, _place_spaced, _rules, _uniform
+
+    for name, box in (("corridor-crowd", (0.5, 0.5, 15.5, 5.5)), ("doorway-crowd", (0.5, 0.5, 11.5, 7.5))):
+        layout = CROWD_FAMILIES[name](np.random.default_rng(n), 0)
+        assert not polygon_shapes(layout)
+        rng = np.random.default_rng(n)
+        starts, goals = _uniform(rng, box, n * _CANDIDATES).reshape(n, _CANDIDATES, 2), _uniform(rng, box, n * _CANDIDATES).reshape(n, _CANDIDATES, 2)
+        placed = []
+        for ok in (_fitting(starts.reshape(-1, 2), goals.reshape(-1, 2), layout).astype(np.int8), np.full(n * _CANDIDATES, -1, np.int8)):
+            centers, ends = np.full((n, 2), np.nan), np.full((n, 2), np.nan)
+            i = _place_spaced(starts, goals, ok.reshape(n, _CANDIDATES), centers, ends, 0, SPACING, _rules(layout))
+            placed.append((i, centers[:i].tolist(), ends[:i].tolist()))
+        assert placed[0] == placed[1] and placed[0][0] >= 2

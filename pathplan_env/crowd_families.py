@@ -36,27 +36,13 @@ from . import families
 from .crowdnav import DISCOMFORT_DISTANCE, HUMAN_ORCA, HUMAN_RADIUS
 from .routing import path_lengths
 from .scenarios import Obstacle, Scenario, check_count
-from .statics import points_clearance, polygon_shapes
+from .statics import polygon_shapes
 
 #: Preferred speed at construction (m/s): what Δd 0.25 gives a 0.3 m human at dt 0.1 s (make_scenario sets it).
 HUMAN_SPEED = 0.25 * HUMAN_RADIUS / families.DT
 WALL_CLEARANCE = 0.1
 SPACING = 2 * HUMAN_RADIUS + DISCOMFORT_DISTANCE
 _CANDIDATES = 64
-
-
-def _free(points: np.ndarray, layout: Scenario) -> np.ndarray:
-    """Which points a human's disc fits at: clear of walls and polygons, inside the arena."""
-    import shapely
-
-    xmin, ymin, xmax, ymax = layout.bounds
-    reach = HUMAN_RADIUS + WALL_CLEARANCE
-    ok = (points[:, 0] >= xmin + reach) & (points[:, 0] <= xmax - reach) & (points[:, 1] >= ymin + reach) & (points[:, 1] <= ymax - reach)
-    if len(layout.static_segments):
-        ok &= points_clearance(points, layout.static_segments) > reach
-    for shape in polygon_shapes(layout):
-        ok &= ~shapely.contains_xy(shape, points[:, 0], points[:, 1])
-    return ok
 
 
 #: Batches of candidates a human may draw beyond the first before a layout counts as too crowded.
@@ -72,10 +58,14 @@ def _humans(rng, n: int, layout: Scenario, draw: Callable) -> tuple[Obstacle, ..
     :raises ValueError: naming ``n_obstacles`` when one finds no place.
     """
     starts, goals = draw(rng, n * _CANDIDATES)
-    ok = _fitting(starts, goals, layout)
+    rules = _rules(layout)
+    if polygon_shapes(layout):  # shapely's test up front; else each candidate is checked when reached
+        ok = _fitting(starts, goals, layout).astype(np.int8)
+    else:
+        ok = np.full(n * _CANDIDATES, -1, np.int8)
     starts, goals, ok = starts.reshape(n, _CANDIDATES, 2), goals.reshape(n, _CANDIDATES, 2), ok.reshape(n, _CANDIDATES)
     centers, ends = np.empty((n, 2)), np.empty((n, 2))
-    i = _place_spaced(starts, goals, ok, centers, ends, 0, SPACING)
+    i = _place_spaced(starts, goals, ok, centers, ends, 0, SPACING, rules)
     while i < n:  # human i found no place among its first candidates: more batches
         for _ in range(_MORE_BATCHES):
             mine_s, mine_g = draw(rng, _CANDIDATES)
@@ -86,22 +76,28 @@ def _humans(rng, n: int, layout: Scenario, draw: Callable) -> tuple[Obstacle, ..
             raise ValueError(f"n_obstacles: could not place {n} humans in the {layout.name!r} layout (placed {i})")
         k = int(np.argmax(fits))
         centers[i], ends[i] = mine_s[k], mine_g[k]
-        i = _place_spaced(starts, goals, ok, centers, ends, i + 1, SPACING)
+        i = _place_spaced(starts, goals, ok, centers, ends, i + 1, SPACING, rules)
     # valid by construction (inside the arena, clear of the walls, the robot and each other): not validated again
     return tuple(Obstacle._from_checked(tuple(c), HUMAN_RADIUS, (0.0, 0.0), tuple(g), HUMAN_SPEED) for c, g in zip(centers.tolist(), ends.tolist()))
 
 
 @numba.njit(cache=True)
-def _place_spaced(starts, goals, ok, centers, ends, first, spacing):
-    """Humans ``first..`` in turn take their first candidate ``k`` with ``ok[i, k]`` whose start and goal
-    keep ``spacing`` from every human placed (``centers``, ``ends``, filled in); returns the index of
-    the first human with no such candidate (``n`` when all are placed). Compiled: this loop was most
-    of a 20-human reset; the same ``hypot`` comparisons as :func:`_spaced`, so the same choices."""
+def _place_spaced(starts, goals, ok, centers, ends, first, spacing, rules):
+    """Humans ``first..`` in turn take their first candidate ``k`` that fits (``ok[i, k]`` 1; -1: not yet
+    checked, then checked here by :func:`_fitting_kernel`'s test with ``rules``, :func:`_rules`) whose
+    start and goal keep ``spacing`` from every human placed (``centers``, ``ends``, filled in); returns
+    the index of the first human with no such candidate (``n`` when all are placed). Compiled: this loop
+    was most of a 20-human reset; the same ``hypot`` comparisons as :func:`_spaced`, so the same choices.
+    Checking a candidate only when it is reached (most humans take one of their first few) gives the
+    choices checking all of them first gave."""
+    box, reach, segments, robot, keep = rules
     n, m = ok.shape
     for i in range(first, n):
         chosen = -1
         for k in range(m):
-            if not ok[i, k]:
+            if ok[i, k] < 0:
+                ok[i, k] = _fits(starts[i, k], goals[i, k], box, reach, segments, robot, keep)
+            if ok[i, k] == 0:
                 continue
             clear = True
             for j in range(i):
@@ -120,12 +116,75 @@ def _place_spaced(starts, goals, ok, centers, ends, first, spacing):
 
 
 def _fitting(starts: np.ndarray, goals: np.ndarray, layout: Scenario) -> np.ndarray:
-    """Which (start, goal) candidates a human fits: both free, the start clear of the robot's start and goal."""
-    ok = _free(starts, layout) & _free(goals, layout)
-    keep = HUMAN_RADIUS + layout.robot_radius + families.START_CLEARANCE
-    for end in (layout.start, layout.goal):
-        ok &= np.hypot(starts[:, 0] - end[0], starts[:, 1] - end[1]) > keep
+    """Which (start, goal) candidates a human fits: both free, the start clear of the robot's start and goal
+    (the arena, the walls and the robot in one compiled pass, the same comparisons as numpy's of before:
+    numpy's dozen passes over the candidates were a fifth of a crowd's reset; polygons by shapely)."""
+    import shapely
+
+    ok = _fitting_kernel(starts, goals, *_rules(layout))
+    for shape in polygon_shapes(layout):
+        ok &= ~shapely.contains_xy(shape, starts[:, 0], starts[:, 1]) & ~shapely.contains_xy(shape, goals[:, 0], goals[:, 1])
     return ok
+
+
+def _rules(layout: Scenario) -> tuple:
+    """What :func:`_fits` reads of ``layout``: ``(box, reach, segments, robot, keep)``, the arena less
+    ``reach`` (a human's radius and wall clearance), the capsules, the robot's start and goal, and the
+    distance a human's start keeps from them."""
+    xmin, ymin, xmax, ymax = layout.bounds
+    reach = HUMAN_RADIUS + WALL_CLEARANCE
+    box = np.array([xmin + reach, ymin + reach, xmax - reach, ymax - reach])
+    keep = HUMAN_RADIUS + layout.robot_radius + families.START_CLEARANCE
+    segments = np.ascontiguousarray(layout.static_segments, np.float64).reshape(-1, 5)
+    return box, reach, segments, np.array([layout.start, layout.goal], np.float64), keep
+
+
+@numba.njit(cache=True)
+def _fitting_kernel(starts, goals, box, reach, segments, robot, keep):
+    """:func:`_fitting` without the polygons: inside ``box`` (the arena less ``reach``), farther than
+    ``reach`` from every capsule (``points_clearance``'s minimum), the start farther than ``keep`` from
+    each row of ``robot``. NaN coordinates fail the box, as in numpy."""
+    n = starts.shape[0]
+    ok = np.empty(n, np.bool_)
+    for p in range(n):
+        ok[p] = _fits(starts[p], goals[p], box, reach, segments, robot, keep)
+    return ok
+
+
+@numba.njit(cache=True, inline="always")
+def _fits(start, goal, box, reach, segments, robot, keep):
+    return (_free_point(start[0], start[1], box, reach, segments) and _free_point(goal[0], goal[1], box, reach, segments)
+            and _beyond(start[0] - robot[0, 0], start[1] - robot[0, 1], 0.0, keep)
+            and _beyond(start[0] - robot[1, 0], start[1] - robot[1, 1], 0.0, keep))  # fmt: skip
+
+
+@numba.njit(cache=True, inline="always")
+def _free_point(x, y, box, reach, segments):
+    if not (x >= box[0] and x <= box[2] and y >= box[1] and y <= box[3]):
+        return False
+    for i in range(segments.shape[0]):  # statics.point_segment's arithmetic, to the hypot
+        ax, ay, ex, ey = segments[i, 0], segments[i, 1], segments[i, 2] - segments[i, 0], segments[i, 3] - segments[i, 1]
+        ee = ex * ex + ey * ey
+        t = 0.0
+        if ee > 0.0:
+            t = min(max(((x - ax) * ex + (y - ay) * ey) / ee, 0.0), 1.0)
+        if not _beyond(x - ax - t * ex, y - ay - t * ey, segments[i, 4], reach):
+            return False
+    return True
+
+
+@numba.njit(cache=True, inline="always")
+def _beyond(dx, dy, minus, limit):
+    """``math.hypot(dx, dy) - minus > limit``, bit for bit, with libm's hypot (most of the check's time)
+    only when the squared distance is within a relative 1e-9 of the limit (their rounding is ~1e-16)."""
+    edge = limit + minus
+    if edge > 0.0:
+        q = dx * dx + dy * dy
+        if q > edge * edge * (1.0 + 1e-9):
+            return True
+        if q < edge * edge * (1.0 - 1e-9):
+            return False
+    return math.hypot(dx, dy) - minus > limit
 
 
 def _spaced(starts: np.ndarray, goals: np.ndarray, centers: np.ndarray, ends: np.ndarray) -> np.ndarray:
@@ -158,13 +217,27 @@ def corridor_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:
     layout = families.corridor(rng, 0)
 
     def draw(rng, k):
-        way = np.where(rng.random(k) < 0.5, -1.0, 1.0)
-        starts = _uniform(rng, (0.8, 1.5, 7.2, 4.5), k)
-        starts[:, 0] = np.where(way > 0, starts[:, 0], 16.0 - starts[:, 0])
-        goals = np.column_stack([starts[:, 0] + 8.0 * way, 1.5 + 3.0 * rng.random(k)])
-        return starts, goals
+        return _corridor_trips(rng.random(k), rng.random((k, 2)), rng.random(k))
 
     return _crowd(rng, n, layout, draw)
+
+
+@numba.njit(cache=True)
+def _corridor_trips(way, unit, across):
+    """The corridor's (starts, goals) from its draws: ``way`` < 0.5 walks right to left, ``unit`` places
+    the start in the entry half (mirrored for a walk to the left), the goal 8 m along at height ``across``.
+    Compiled (numpy's ten passes were a tenth of a reset); the float operations numpy did, in its order
+    (``tests/test_speed_crowd_reset.py``)."""
+    k = way.shape[0]
+    starts, goals = np.empty((k, 2)), np.empty((k, 2))
+    for i in range(k):
+        sign = -1.0 if way[i] < 0.5 else 1.0
+        x = 0.8 + unit[i, 0] * (7.2 - 0.8)
+        starts[i, 0] = x if sign > 0 else 16.0 - x
+        starts[i, 1] = 1.5 + unit[i, 1] * (4.5 - 1.5)
+        goals[i, 0] = starts[i, 0] + 8.0 * sign
+        goals[i, 1] = 1.5 + 3.0 * across[i]
+    return starts, goals
 
 
 CROWD_DOOR_WIDTH = 2.0

@@ -4,7 +4,10 @@ CartPole-v1, back to back); then a step and a reset of each apart (random action
 every few steps in these narrow scenes, so resets weigh); with ``--profile``, where corridor-crowd's
 time goes.
 
-    python scripts/bench_families.py [--steps 5000] [--repeats 3] [--profile]
+    python scripts/bench_families.py [--steps 5000] [--repeats 3] [--profile] [--clock cpu] [--crowd-only]
+
+``--clock cpu`` times with this thread's CPU time (as ``bench_env.py``'s); ``--crowd-only`` prints
+the corridor-crowd rows alone (to compare two versions of the package: ``PYTHONPATH=<dir>``).
 
 Bouncing families at ``--delta-d``; the crowd family's humans at their own speeds. Target (issue 21):
 corridor-crowd with 20 humans >= 0.1x CartPole-v1 (robot-sf's profile: 1,718 steps/s with 17
@@ -15,13 +18,14 @@ from __future__ import annotations
 
 import argparse
 import cProfile
+import os
 import pstats
-import time
 
+import bench_env
 import gymnasium as gym
-from bench_env import best_of, paired_ratio, steps_per_second
+from bench_env import CLOCKS, best_of, paired_ratio, steps_per_second
 
-import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
+import pathplan_env  # (registers DynamicObstacle-v0; its path is printed)
 
 #: ``(preset, obstacles or None for the family's own count, target ratio or None)``.
 FAMILY_ROWS = (
@@ -40,10 +44,10 @@ def make_family(preset: str, n: int | None, delta_d: float):
     return gym.make("DynamicObstacle-v0", scenario=preset, n_obstacles=n, delta_d=None if crowd else delta_d)
 
 
-def family_table(reference: gym.Env, steps: int, repeats: int, delta_d: float) -> list[str]:
+def family_table(reference: gym.Env, steps: int, repeats: int, delta_d: float, rows=FAMILY_ROWS) -> list[str]:
     """The families' rows (markdown), each paired with ``reference`` (CartPole-v1)."""
     lines = ["| family | obstacles | steps/s | ratio to CartPole-v1 | target |", "|---|---:|---:|---:|---:|"]
-    for preset, n, target in FAMILY_ROWS:
+    for preset, n, target in rows:
         rate, ratio = paired_ratio(lambda preset=preset, n=n: make_family(preset, n, delta_d), reference, steps, repeats)
         count = n if n is not None else make_family(preset, None, delta_d).unwrapped.scenario.n_obstacles
         lines.append(f"| {preset} | {count} | {rate:.0f} | {ratio:.3f}x | {f'>= {target}x' if target else ''} |")
@@ -59,34 +63,34 @@ def step_and_reset(preset: str, n: int | None, delta_d: float, repeats: int = 3)
     def steps():
         env.reset(seed=0)
         hold = unwrapped.waypoint_to_action(unwrapped.scenario.start)
-        start = time.perf_counter()
+        start = bench_env.clock()
         for _ in range(200):
             unwrapped.step(hold)
-        return (time.perf_counter() - start) / 200
+        return (bench_env.clock() - start) / 200
 
     def resets():
-        start = time.perf_counter()
+        start = bench_env.clock()
         for seed in range(20):
             env.reset(seed=seed)
-        return (time.perf_counter() - start) / 20
+        return (bench_env.clock() - start) / 20
 
     steps(), resets()  # warm-up
     return 1e6 * min(steps() for _ in range(repeats)), 1e3 * min(resets() for _ in range(repeats))
 
 
-def cost_table(delta_d: float) -> list[str]:
+def cost_table(delta_d: float, rows=FAMILY_ROWS) -> list[str]:
     """Where the time goes: a step and a reset of each family, against CartPole-v1's step."""
     cartpole = gym.make("CartPole-v1")
     cartpole.reset(seed=0)
-    start = time.perf_counter()
+    start = bench_env.clock()
     for _ in range(20000):
         _, _, terminated, truncated, _ = cartpole.step(0)
         if terminated or truncated:
             cartpole.reset()
-    cartpole_us = 1e6 * (time.perf_counter() - start) / 20000
+    cartpole_us = 1e6 * (bench_env.clock() - start) / 20000
     lines = [f"Where the time goes (CartPole-v1 through gym.make, resets included: {cartpole_us:.1f} µs a step)",
              "| family | obstacles | step µs (unwrapped) | CartPole's step ÷ this step | reset ms |", "|---|---:|---:|---:|---:|"]  # fmt: skip
-    for preset, n, _ in FAMILY_ROWS:
+    for preset, n, _ in rows:
         step_us, reset_ms = step_and_reset(preset, n, delta_d)
         count = n if n is not None else make_family(preset, None, delta_d).unwrapped.scenario.n_obstacles
         lines.append(f"| {preset} | {count} | {step_us:.0f} | {cartpole_us / step_us:.3f}x | {reset_ms:.1f} |")
@@ -111,16 +115,22 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--delta-d", type=float, default=0.25)
     parser.add_argument("--profile", action="store_true", help="also profile corridor-crowd with 20 humans")
+    parser.add_argument("--clock", choices=sorted(CLOCKS), default="wall", help="time with the wall clock or this thread's CPU time")
+    parser.add_argument("--crowd-only", action="store_true", help="only corridor-crowd with 20 humans (its rate and its step and reset)")
     return parser.parse_args(argv)
 
 
 def main(argv=None) -> None:
     args = parse_args(argv)
+    bench_env.clock = CLOCKS[args.clock]  # steps_per_second reads bench_env's
+    print(f"pathplan_env from {os.path.dirname(pathplan_env.__file__)}; clock: {args.clock}; load average (1 min) {os.getloadavg()[0]:.1f}")
     reference = gym.make("CartPole-v1")
     cartpole = best_of(lambda: reference, args.steps, args.repeats)
     print(f"CartPole-v1: {cartpole:10.0f} steps/s (reference; every ratio below is the median of {args.repeats} paired runs)")
-    print("\n".join(family_table(reference, args.steps, args.repeats, args.delta_d)))
-    print("\n" + "\n".join(cost_table(args.delta_d)))
+    rows = [row for row in FAMILY_ROWS if row[0] == "corridor-crowd"] if args.crowd_only else FAMILY_ROWS
+    print("\n".join(family_table(reference, args.steps, args.repeats, args.delta_d, rows)))
+    print(f"(load average (1 min) {os.getloadavg()[0]:.1f} after; {os.cpu_count()} cores)")
+    print("\n" + "\n".join(cost_table(args.delta_d, rows)))
     if args.profile:
         profile("corridor-crowd", 20, args.delta_d, args.steps)
 

@@ -13,20 +13,17 @@ with ``observation="lidar"`` and the sensor it was trained with (the sidecar's `
 from __future__ import annotations
 
 import json
-import time
 from pathlib import Path
 
 import numpy as np
 
 from pathplan_env.sensor_params import SensorParams
-from pathplan_env.wrappers import relative_action_to_waypoint
 
-from ..base import Agent
 from .lidar_features import LidarFeatureStack, check_lidar_settings, lidar_feature_size
-from .policy import MODELS_DIR, _load_model, _load_numpy_policy, model_metadata
+from .policy import MODELS_DIR, FeaturePolicyAgent, _load_model, _load_numpy_policy, model_metadata
 
 
-class LidarRLAgent(Agent):
+class LidarRLAgent(FeaturePolicyAgent):
     """A PPO trained on the ``"lidar"`` observation (``scripts/train_rl.py --observation lidar``).
 
     It remembers each env's last scan (``lidar_frames = 2``: the scan's change is its motion cue);
@@ -84,16 +81,8 @@ class LidarRLAgent(Agent):
         super().reset()
         self.stack.reset()
 
-    def predict(self, observation, state=None, episode_start=None, deterministic: bool = False):
-        begin = time.perf_counter()
-        features = self.stack(observation, episode_start)
-        if self.backend == "numpy":
-            relative = self.model.predict(features, deterministic=deterministic, rng=self.rng)
-        else:
-            relative, _ = self.model.predict(features, deterministic=deterministic)
-        waypoints = relative_action_to_waypoint({"robot_position": observation["robot_position"], "goal": observation["goal"]}, relative, self.facts)
-        self.last_plan_seconds = time.perf_counter() - begin
-        return self.waypoint_to_action(waypoints), state
+    def features(self, observation, episode_start=None):
+        return self.stack(observation, episode_start)
 
 
 __all__ = ["LidarRLAgent"]

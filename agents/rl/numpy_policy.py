@@ -54,7 +54,6 @@ class NumpyPolicy:
 def export_policy(model, path: str | Path) -> Path:
     """Write ``model``'s (an SB3 PPO with an ``MlpPolicy``, its features flat or through the lidar's
     convolution encoder) actor to ``path`` (``.npz``)."""
-    import torch
     from stable_baselines3.common.torch_layers import FlattenExtractor
 
     policy = model.policy
@@ -65,6 +64,15 @@ def export_policy(model, path: str | Path) -> Path:
         if not isinstance(policy.features_extractor, LidarConvExtractor) or not policy.share_features_extractor:
             raise ValueError(f"model: only a flat input or a shared LidarConvExtractor exports, got {type(policy.features_extractor).__name__}")
         encoder = export_encoder(policy.features_extractor)
+    return write_actor(model, path, encoder)
+
+
+def write_actor(model, path: str | Path, encoder: dict) -> Path:
+    """Write ``model``'s MLP actor head and the ``encoder``'s exported arrays to ``path`` (``.npz``):
+    every exporter's last step (:func:`export_policy`, ``agents.rl.set_numpy.export_set_policy``)."""
+    import torch
+
+    policy = model.policy
     layers = [m for m in policy.mlp_extractor.policy_net if isinstance(m, torch.nn.Linear)] + [policy.action_net]
     activations = {type(m).__name__ for m in policy.mlp_extractor.policy_net if not isinstance(m, torch.nn.Linear)}
     if len(activations) != 1 or next(iter(activations)) not in _ACTIVATIONS:

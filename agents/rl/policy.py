@@ -47,7 +47,31 @@ def _load_model(path: Path, algo: str, mtime: float):
     return classes[algo].load(path, device="cpu")
 
 
-class RLAgent(Agent):
+class FeaturePolicyAgent(Agent):
+    """A policy over features of the observation that acts in the learning wrappers' relative-waypoint
+    space (``ppo``, ``ppo-set``, ``ppo-lidar``): a subclass loads ``self.model`` (an exported
+    :class:`~agents.rl.numpy_policy.NumpyPolicy` when ``self.backend == "numpy"``, else an SB3 model)
+    and says how it reads an observation (:meth:`features`)."""
+
+    backend: str = "numpy"
+
+    def features(self, observation, episode_start=None):
+        raise NotImplementedError
+
+    def predict(self, observation, state=None, episode_start=None, deterministic: bool = False):
+        begin = time.perf_counter()
+        features = self.features(observation, episode_start)
+        if self.backend == "numpy":
+            relative = self.model.predict(features, deterministic=deterministic, rng=self.rng)
+        else:
+            relative, _ = self.model.predict(features, deterministic=deterministic)
+        frame = {"robot_position": observation["robot_position"], "goal": observation["goal"]}  # all the mapping reads
+        waypoints = relative_action_to_waypoint(frame, relative, self.facts)
+        self.last_plan_seconds = time.perf_counter() - begin
+        return self.waypoint_to_action(waypoints), state
+
+
+class RLAgent(FeaturePolicyAgent):
     """A stable-baselines3 model trained on the learning wrappers (``scripts/train_rl.py``).
 
     ``path`` is the model's ``.zip`` (default: the shipped ``agents/models/<algo>.zip``). Actions
@@ -82,13 +106,5 @@ class RLAgent(Agent):
         if size != expected:
             raise ValueError(f"path: model expects observations of size {size}, the wrappers give {expected}")
 
-    def predict(self, observation, state=None, episode_start=None, deterministic: bool = False):
-        begin = time.perf_counter()
-        features = egocentric_features(observation, self.facts, self.k_nearest)
-        if self.backend == "numpy":
-            relative = self.model.predict(features, deterministic=deterministic, rng=self.rng)
-        else:
-            relative, _ = self.model.predict(features, deterministic=deterministic)
-        waypoints = relative_action_to_waypoint(observation, relative, self.facts)
-        self.last_plan_seconds = time.perf_counter() - begin
-        return self.waypoint_to_action(waypoints), state
+    def features(self, observation, episode_start=None):
+        return egocentric_features(observation, self.facts, self.k_nearest)

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .numpy_policy import _ACTIVATIONS, NumpyPolicy
+from .numpy_policy import NumpyPolicy, write_actor
 from .set_features import EGO_SIZE, MASK_FILL, POOLINGS, TOKEN_SIZE
 
 #: The ``.npz`` keys of an exported set encoder start with this.
@@ -97,26 +97,12 @@ class NumpySetPolicy(NumpyPolicy):
 def export_set_policy(model, path: str | Path) -> Path:
     """Write ``model``'s (an SB3 PPO whose ``MlpPolicy`` shares a ``SetAttentionExtractor``) actor to
     ``path`` (``.npz``), as :class:`NumpySetPolicy` reads it."""
-    import torch
-
     from .set_encoder import SetAttentionExtractor
 
     policy = model.policy
     if not isinstance(policy.features_extractor, SetAttentionExtractor) or not policy.share_features_extractor:
         raise ValueError(f"model: expected a shared SetAttentionExtractor, got {type(policy.features_extractor).__name__}")
-    layers = [m for m in policy.mlp_extractor.policy_net if isinstance(m, torch.nn.Linear)] + [policy.action_net]
-    activations = {type(m).__name__ for m in policy.mlp_extractor.policy_net if not isinstance(m, torch.nn.Linear)}
-    if len(activations) != 1 or next(iter(activations)) not in _ACTIVATIONS:
-        raise ValueError(f"model: only MLPs with one of {sorted(_ACTIVATIONS)} activations export, got {sorted(activations)}")
-    arrays = {f"w{i}": layer.weight.detach().cpu().numpy().T.astype(np.float32) for i, layer in enumerate(layers)}
-    arrays |= {f"b{i}": layer.bias.detach().cpu().numpy().astype(np.float32) for i, layer in enumerate(layers)}
-    path = Path(path)
-    np.savez_compressed(
-        path, **arrays, **export_set_encoder(policy.features_extractor), n_layers=len(layers), activation=next(iter(activations)),
-        log_std=policy.log_std.detach().cpu().numpy().astype(np.float32),
-        action_low=model.action_space.low, action_high=model.action_space.high, observation_size=model.observation_space.shape[0],
-    )  # fmt: skip
-    return path
+    return write_actor(model, path, export_set_encoder(policy.features_extractor))
 
 
 def export_any_policy(model, path: str | Path) -> Path:

@@ -12,14 +12,10 @@ in the learning wrappers' relative-waypoint space. :mod:`agents.rl.set_numpy` ru
 
 from __future__ import annotations
 
-import time
 from functools import lru_cache
 from pathlib import Path
 
-from pathplan_env.wrappers import relative_action_to_waypoint
-
-from ..base import Agent
-from .policy import MODELS_DIR, _load_model, model_metadata
+from .policy import MODELS_DIR, FeaturePolicyAgent, _load_model, model_metadata
 from .set_features import check_n_tokens, set_feature_size, set_features
 from .set_numpy import NumpySetPolicy
 
@@ -29,7 +25,7 @@ def _load_numpy_set_policy(path: Path, mtime: float) -> NumpySetPolicy:
     return NumpySetPolicy(path)
 
 
-class SetRLAgent(Agent):
+class SetRLAgent(FeaturePolicyAgent):
     """A PPO trained on the set features (``scripts/train_rl.py --observation set``).
 
     :param path: the model's ``.zip`` (default: the shipped ``agents/models/ppo_set.zip``), with its
@@ -66,16 +62,8 @@ class SetRLAgent(Agent):
         if size != set_feature_size(self.n_tokens):
             raise ValueError(f"path: model expects features of size {size}, {self.n_tokens} tokens give {set_feature_size(self.n_tokens)}")
 
-    def predict(self, observation, state=None, episode_start=None, deterministic: bool = False):
-        begin = time.perf_counter()
-        features = set_features(observation, self.facts, self.n_tokens)
-        if self.backend == "numpy":
-            relative = self.model.predict(features, deterministic=deterministic, rng=self.rng)
-        else:
-            relative, _ = self.model.predict(features, deterministic=deterministic)
-        waypoints = relative_action_to_waypoint(observation, relative, self.facts)
-        self.last_plan_seconds = time.perf_counter() - begin
-        return self.waypoint_to_action(waypoints), state
+    def features(self, observation, episode_start=None):
+        return set_features(observation, self.facts, self.n_tokens)
 
 
 __all__ = ["SetRLAgent"]

@@ -35,12 +35,16 @@ def parse_args(argv=None):
     parser.add_argument("before", type=Path)
     parser.add_argument("after", type=Path)
     parser.add_argument("--delta-d", type=float, default=None, help="only this Δd")
+    parser.add_argument("--pool", action="store_true", help="pool the wall families: maze or not, humans or bouncing, per Δd; "
+                        "successes, and episodes lost and won (a paired count)")  # fmt: skip
     return parser.parse_args(argv)
 
 
 def main(argv=None) -> None:
     args = parse_args(argv)
     before, after = load(args.before), load(args.after)
+    if args.pool:
+        return pooled(before, after)
     cells = sorted({k[:3] for k in after if k in before and (args.delta_d is None or k[2] == args.delta_d)})
     print("| agent | scenario | Δd | episodes | successes before -> after | identical | path length ratio before -> after | plan ms before -> after |")
     print("|---|---|---:|---:|---|---:|---|---|")
@@ -52,6 +56,20 @@ def main(argv=None) -> None:
         plan = lambda rs: statistics.median(r["plan_ms"] for r in rs)  # noqa: E731
         print(f"| {cell[0]} | {cell[1]} | {cell[2]:g} | {len(keys)} | {sum(r['success'] for r in b)} -> {sum(r['success'] for r in a)} | "
               f"{same} | {ratio(b):.4f} -> {ratio(a):.4f} | {plan(b):.2f} -> {plan(a):.2f} |")  # fmt: skip
+
+
+def pooled(before: dict, after: dict) -> None:
+    groups: dict = {}
+    for key in sorted(set(before) & set(after)):
+        _, scenario, delta_d, _ = key
+        group = ("humans" if scenario.endswith("-crowd") else "bouncing", "maze" if scenario.startswith("maze") else "other families", delta_d)
+        g = groups.setdefault(group, [0, 0, 0, 0])
+        b, a = before[key]["success"], after[key]["success"]
+        g[0], g[1], g[2], g[3] = g[0] + b, g[1] + a, g[2] + (b and not a), g[3] + (a and not b)
+    print("| obstacles | families | Δd | successes before -> after | lost | won |")
+    print("|---|---|---:|---|---:|---:|")
+    for (kind, family, delta_d), (b, a, lost, won) in sorted(groups.items()):
+        print(f"| {kind} | {family} | {delta_d:g} | {b} -> {a} | {lost} | {won} |")
 
 
 if __name__ == "__main__":

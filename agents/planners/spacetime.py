@@ -274,7 +274,9 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     Every other parameter is :class:`~agents.planners.metaheuristic.MetaheuristicAgent`'s; here
     ``constraint`` defaults to ``"deb"`` and ``stall`` to 5 (with ``violation="first-contact"``: at
     30 obstacles and Δd 2 on validation episodes ABC went from 0.49 to 0.91 × the limit, PSO from
-    0.71 to 0.80, no 8-obstacle cell worse; docs/results/dense_planners/ablation.md).
+    0.71 to 0.80, no 8-obstacle cell worse; docs/results/dense_planners/ablation.md), except in a
+    replan whose scene has walls or resting discs (a cost-to-go field), which runs its whole budget
+    (docs/results/walls_stall: the maze and static scenes gain, humans crossing rooms at Δd 1 lose).
     """
 
     def __init__(self, env, seed: int | None = None, *, optimizer: str = "pso", horizon_steps: int = 10, margin: float = 0.005,

@@ -52,8 +52,8 @@ def main(argv=None) -> None:
         keys = [k for k in after if k[:3] == cell and k in before]
         b, a = [before[k] for k in keys], [after[k] for k in keys]
         same = sum(x["steps"] == y["steps"] and x["path_length"] == y["path_length"] for x, y in zip(b, a))
-        ratio = lambda rs: statistics.mean(r["ratio"] for r in rs if r["success"])  # noqa: E731
-        plan = lambda rs: statistics.median(r["plan_ms"] for r in rs)  # noqa: E731
+        ratio = lambda rs: statistics.mean(r["ratio"] for r in rs if r["success"])
+        plan = lambda rs: statistics.median(r["plan_ms"] for r in rs)
         print(f"| {cell[0]} | {cell[1]} | {cell[2]:g} | {len(keys)} | {sum(r['success'] for r in b)} -> {sum(r['success'] for r in a)} | "
               f"{same} | {ratio(b):.4f} -> {ratio(a):.4f} | {plan(b):.2f} -> {plan(a):.2f} |")  # fmt: skip
 

@@ -4,6 +4,7 @@ import agents
 def _v(name, **kw):
     def f(env, seed=None):
         return agents.make(name, env, seed=seed, **kw)
+
     return f
 
 

@@ -20,7 +20,7 @@ import numpy as np
 from pathplan_env.sensor_params import SensorParams
 
 from .lidar_features import LidarFeatureStack, check_lidar_settings, lidar_feature_size
-from .policy import MODELS_DIR, FeaturePolicyAgent, _load_model, _load_numpy_policy, model_metadata
+from .policy import FeaturePolicyAgent, _load_model, _load_numpy_policy, locate_model, model_metadata
 
 
 class LidarRLAgent(FeaturePolicyAgent):
@@ -40,14 +40,7 @@ class LidarRLAgent(FeaturePolicyAgent):
 
     def __init__(self, env, seed: int | None = None, path: str | Path | None = None, backend: str = "auto"):
         super().__init__(env, seed=seed)
-        if backend not in ("auto", "numpy", "sb3"):
-            raise ValueError(f"backend must be 'auto', 'numpy' or 'sb3', got {backend!r}")
-        path = Path(path) if path is not None else MODELS_DIR / "ppo_lidar.zip"
-        exported = path.with_suffix(".npz")
-        if backend == "auto":
-            backend = "numpy" if exported.exists() else "sb3"
-        if not (exported if backend == "numpy" else path).exists():
-            raise ValueError(f"path: no model at {exported if backend == 'numpy' else path}; train one with scripts/train_rl.py --observation lidar")
+        path, exported, backend = locate_model(path, "ppo_lidar.zip", backend, "scripts/train_rl.py --observation lidar")
         self.metadata = model_metadata(path)
         args = self.metadata["args"]
         if args.get("observation") != "lidar":

@@ -31,6 +31,26 @@ def model_metadata(path: str | Path) -> dict:
     return json.loads(sidecar.read_text())
 
 
+def locate_model(path: str | Path | None, default: str, backend: str, trainer: str) -> tuple[Path, Path, str]:
+    """``(path, exported, backend)`` for a learned agent: the model's ``.zip`` (``default`` in
+    ``agents/models`` when ``path`` is None), its numpy export beside it (``.npz``) and the backend
+    ``"auto"`` resolves to (numpy when the export exists).
+
+    :raises ValueError: naming ``backend`` (not auto, numpy or sb3) or ``path`` (no model there;
+        ``trainer`` is the command that makes one).
+    """
+    if backend not in ("auto", "numpy", "sb3"):
+        raise ValueError(f"backend must be 'auto', 'numpy' or 'sb3', got {backend!r}")
+    path = Path(path) if path is not None else MODELS_DIR / default
+    exported = path.with_suffix(".npz")
+    if backend == "auto":
+        backend = "numpy" if exported.exists() else "sb3"
+    if not (exported if backend == "numpy" else path).exists():
+        raise ValueError(f"path: no model at {exported if backend == 'numpy' else path}; train one with {trainer}"
+                         + (" (scripts/export_policy.py writes the .npz)" if backend == "numpy" else ""))  # fmt: skip
+    return path, exported, backend
+
+
 @lru_cache(maxsize=8)
 def _load_numpy_policy(path: Path, mtime: float) -> NumpyPolicy:
     return NumpyPolicy(path)
@@ -84,15 +104,7 @@ class RLAgent(FeaturePolicyAgent):
 
     def __init__(self, env, seed: int | None = None, algo: str = "ppo", path: str | Path | None = None, backend: str = "auto"):
         super().__init__(env, seed=seed)
-        if backend not in ("auto", "numpy", "sb3"):
-            raise ValueError(f"backend must be 'auto', 'numpy' or 'sb3', got {backend!r}")
-        path = Path(path) if path is not None else MODELS_DIR / f"{algo}.zip"
-        exported = path.with_suffix(".npz")
-        if backend == "auto":
-            backend = "numpy" if exported.exists() else "sb3"
-        if not (exported if backend == "numpy" else path).exists():
-            raise ValueError(f"path: no model at {exported if backend == 'numpy' else path}; train one with scripts/train_rl.py"
-                             + (" (scripts/export_policy.py writes the .npz)" if backend == "numpy" else ""))  # fmt: skip
+        path, exported, backend = locate_model(path, f"{algo}.zip", backend, "scripts/train_rl.py")
         self.metadata = model_metadata(path)
         self.k_nearest = int(self.metadata["k_nearest"])
         self.backend = backend

@@ -15,7 +15,7 @@ from __future__ import annotations
 from functools import lru_cache
 from pathlib import Path
 
-from .policy import MODELS_DIR, FeaturePolicyAgent, _load_model, model_metadata
+from .policy import FeaturePolicyAgent, _load_model, locate_model, model_metadata
 from .set_features import check_n_tokens, set_feature_size, set_features
 from .set_numpy import NumpySetPolicy
 
@@ -39,14 +39,7 @@ class SetRLAgent(FeaturePolicyAgent):
 
     def __init__(self, env, seed: int | None = None, path: str | Path | None = None, backend: str = "auto"):
         super().__init__(env, seed=seed)
-        if backend not in ("auto", "numpy", "sb3"):
-            raise ValueError(f"backend must be 'auto', 'numpy' or 'sb3', got {backend!r}")
-        path = Path(path) if path is not None else MODELS_DIR / "ppo_set.zip"
-        exported = path.with_suffix(".npz")
-        if backend == "auto":
-            backend = "numpy" if exported.exists() else "sb3"
-        if not (exported if backend == "numpy" else path).exists():
-            raise ValueError(f"path: no model at {exported if backend == 'numpy' else path}; train one with scripts/train_rl.py --observation set")
+        path, exported, backend = locate_model(path, "ppo_set.zip", backend, "scripts/train_rl.py --observation set")
         self.metadata = model_metadata(path)
         args = self.metadata["args"]
         if args.get("observation") != "set":

@@ -92,6 +92,14 @@ def distance_to_goal(ctg, x, y, goal_x, goal_y, goal_radius):
     return max(d, field[i, j], 0.0)
 
 
+def route_bends(ctg, x, y, goal_x, goal_y, goal_radius, tolerance=0.05):
+    """Whether the :class:`CostToGo` ``ctg``'s way from ``(x, y)`` to the goal's disc is more than
+    ``tolerance`` longer than the straight line: it bends round walls or resting discs (never
+    without a field)."""
+    straight = max(math.hypot(x - goal_x, y - goal_y) - goal_radius, 0.0)
+    return distance_to_goal(ctg, x, y, goal_x, goal_y, goal_radius) > (1.0 + tolerance) * straight + 1e-9
+
+
 @numba.njit(cache=True)
 def _blocked(x0, y0, cell, gx, gy, segments, centers, radii, slack):
     """Cells (gx, gy) whose centres lie deeper than ``slack`` inside a capsule row (reach in column

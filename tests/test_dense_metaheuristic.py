@@ -116,9 +116,12 @@ def test_same_seed_same_actions_in_a_dense_fast_scene(name, options):
 #: A wall of 12 touching resting discs between start and goal (issue 21's scene): the way bends.
 WALL_OF_DISCS = Scenario(bounds=(0, 0, 10, 10), start=(1, 1), goal=(9, 1),
                          obstacles=tuple(Obstacle(center=(3.0, 0.3 + 0.601 * i), radius=0.3) for i in range(12)))  # fmt: skip
-#: Resting discs off the straight line: a cost-to-go field, but the way does not bend.
+#: Resting discs off the straight line, and one disc moving far from it: the way does not bend.
 DISCS_ASIDE = Scenario(bounds=(0, 0, 10, 10), start=(1, 1), goal=(9, 1),
-                       obstacles=tuple(Obstacle(center=(2.0 + 1.5 * i, 6.0), radius=0.4) for i in range(4)))  # fmt: skip
+                       obstacles=tuple(Obstacle(center=(2.0 + 1.5 * i, 6.0), radius=0.4) for i in range(4))
+                       + (Obstacle(center=(5.0, 9.0), radius=0.3, velocity=(0.5, 0.0)),))  # fmt: skip
+#: The same resting discs alone: nothing moves.
+DISCS_ASIDE_AT_REST = Scenario(bounds=(0, 0, 10, 10), start=(1, 1), goal=(9, 1), obstacles=DISCS_ASIDE.obstacles[:4])
 
 
 def _replan_evaluations(name, seed=None, **make_kwargs):
@@ -136,11 +139,14 @@ def _replan_evaluations(name, seed=None, **make_kwargs):
 
 
 @pytest.mark.parametrize("name", ["pso-spacetime", "abc-spacetime"])
-def test_no_early_exit_where_the_way_bends_round_resting_discs(name):
-    """Behind a wall of resting discs every replan spends the whole budget; with resting discs off
-    the way, and among moving ones, the default early exit stops replans short (docs/results/walls_stall)."""
+def test_no_early_exit_where_the_way_bends_or_nothing_moves(name):
+    """Behind a wall of resting discs, and where nothing moves, every replan spends the whole budget;
+    with resting discs off the way and a disc moving, and among moving discs, the default early exit
+    stops replans short (docs/results/walls_stall)."""
     behind, budget, population = _replan_evaluations(name, scenario=WALL_OF_DISCS, delta_d=None)
     assert min(behind) >= budget - population  # the whole budget (ABC's last cycle may stop inside it)
+    at_rest, *_ = _replan_evaluations(name, scenario=DISCS_ASIDE_AT_REST, delta_d=None)
+    assert min(at_rest) >= budget - population
     aside, *_ = _replan_evaluations(name, scenario=DISCS_ASIDE, delta_d=None)
     assert min(aside) < budget // 2
     moving, *_ = _replan_evaluations(name, seed=heldout_seeds(6, 1)[0], scenario="random", delta_d=0.5)

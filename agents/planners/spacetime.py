@@ -275,9 +275,9 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     ``constraint`` defaults to ``"deb"`` and ``stall`` to 5 (with ``violation="first-contact"``: at
     30 obstacles and Δd 2 on validation episodes ABC went from 0.49 to 0.91 × the limit, PSO from
     0.71 to 0.80, no 8-obstacle cell worse; docs/results/dense_planners/ablation.md), except in a
-    replan whose way to the goal bends round walls or resting discs (the cost-to-go's route more than
-    5 % longer than the straight line), which runs its whole budget (docs/results/walls_stall: the
-    maze and static scenes gain; humans crossing open rooms keep the exit).
+    replan whose way to the goal bends round walls or resting discs, or where nothing moves
+    (:meth:`needs_whole_budget`), which runs its whole budget (docs/results/walls_stall: the maze and
+    static scenes gain; humans crossing open rooms keep the exit).
     """
 
     def __init__(self, env, seed: int | None = None, *, optimizer: str = "pso", horizon_steps: int = 10, margin: float = 0.005,
@@ -336,14 +336,22 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
             rows = np.vstack([search_seeds(problem, self.model.arena.box, k, self.search_seed), rows])
         return np.clip(rows, self._timed_lo, self._timed_hi)
 
+    def needs_whole_budget(self, problem: TimedScene) -> bool:
+        """No early exit where the way to the goal bends round walls or resting discs (the cost-to-go's
+        route > 5 % longer than the straight line: a contact-free best that has not improved for a few
+        iterations is no sign of convergence there; maze 18 -> 20 of 20), nor where walls or discs
+        stand and nothing moves (nothing to react to: the exit only cuts the path's refinement short).
+        Among moving discs in open rooms the exit stays (docs/results/walls_stall)."""
+        if problem.cost_to_go.field.size == 0:
+            return False
+        (x, y), (gx, gy) = problem.robot, problem.goal
+        return not problem.travel.any() or route_bends(problem.cost_to_go, x, y, gx, gy, self.facts.goal_radius)
+
     def plan(self, obs, memory):
         problem = self.timed_problem(obs, memory)
         robot, goal = problem.robot, problem.goal
         seeds = self.seed_paths(robot, goal, problem)
-        # no early exit where the way to the goal bends round walls or resting discs (> 5 % longer than
-        # the straight line): a contact-free best that has not improved for a few iterations is no sign
-        # of convergence there (maze: 18 -> 20 of 20); in open rooms the exit stays (docs/results/walls_stall)
-        stall = 0 if route_bends(problem.cost_to_go, robot[0], robot[1], goal[0], goal[1], self.facts.goal_radius) else None
+        stall = 0 if self.needs_whole_budget(problem) else None
         best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, seeds, stall=stall)
         if self.dense_budget > 0.0 and self.last_penalty > 0.0:  # no contact-free plan found: a dense scene
             best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, seeds, self.dense_budget, stall)

@@ -235,6 +235,24 @@ def doomed_when(probe: str, delta_d: float, episodes: int, n_obstacles: int, bac
         print(f"| {episode} | {len(actions)} | " + " | ".join(verdicts) + " |", flush=True)
 
 
+def search_outcomes(delta_d: float, episodes: int, n_obstacles: int) -> None:
+    """How shipped astar-spacetime's replans end: a plan kept, or its search's outcome."""
+    names = {0: "found", 1: "horizon", 2: "exhausted", 3: "budget"}
+    env = gym.make("DynamicObstacle-v0", scenario="random", delta_d=delta_d, n_obstacles=n_obstacles)
+    counts = dict.fromkeys(["kept", *names.values()], 0)
+    for seed in episode_seeds("validation", 0, episodes):
+        obs, _ = env.reset(seed=seed)
+        agent = agents.make("astar-spacetime", env, seed=seed)
+        while True:
+            agent.last_search = {}
+            action, _ = agent.predict(obs, deterministic=True)
+            counts[names[agent.last_search["outcome"]] if agent.last_search else "kept"] += 1
+            obs, _, terminated, truncated, _ = env.step(action)
+            if terminated or truncated:
+                break
+    print(f"astar-spacetime replans at Δd {delta_d:g}, {episodes} episodes: {counts}", flush=True)
+
+
 def report_run(probe: str, delta_d: float, rows: list[dict]) -> None:
     limit = limit_records(delta_d)
     wins = sum(r["success"] for r in rows)
@@ -278,7 +296,7 @@ def prediction_error(delta_d: float, episodes: int, n_obstacles: int, horizon: i
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("what", choices=("error", "run", "doomed"))
+    parser.add_argument("what", choices=("error", "run", "doomed", "outcomes"))
     parser.add_argument("--delta-d", default="4")
     parser.add_argument("--episodes", type=int, default=40)
     parser.add_argument("--n-obstacles", type=int, default=30)
@@ -296,6 +314,10 @@ def main() -> None:
             print(f"| {d:g} | mean | " + " | ".join(f"{v:.4f}" for v in mean) + " |")
             print(f"| {d:g} | p99 | " + " | ".join(f"{v:.3f}" for v in q) + " |")
             print(f"| {d:g} | max | " + " | ".join(f"{v:.3f}" for v in worst) + " |", flush=True)
+        return
+    if args.what == "outcomes":
+        for d in deltas:
+            search_outcomes(d, args.episodes, args.n_obstacles)
         return
     if args.what == "doomed":
         for probe in args.probes.split(","):

@@ -71,12 +71,12 @@ def _det(ax, ay, bx, by):
 
 
 @numba.njit(cache=True)
-def _obstacle_neighbours(x, y, obstacles, range_sq):
+def _obstacle_neighbours(x, y, obstacles, range_sq, order, dist_sq):
     """The edges within ``range_sq`` (squared distance to the segment) that the agent sees from their
-    outer side, nearest first (RVO2's k-d tree query and ``insertObstacleNeighbor``)."""
+    outer side, nearest first (RVO2's k-d tree query and ``insertObstacleNeighbor``), into ``order``
+    (with ``dist_sq``: scratch of one row per edge); returns their count."""
     point, nxt = obstacles.point, obstacles.next
     k = point.shape[0]
-    order, dist_sq = np.empty(k, np.int64), np.empty(k)
     count = 0
     for e in range(k):
         ax, ay = point[e, 0], point[e, 1]
@@ -98,7 +98,7 @@ def _obstacle_neighbours(x, y, obstacles, range_sq):
             order[i], dist_sq[i] = order[i - 1], dist_sq[i - 1]
             i -= 1
         order[i], dist_sq[i] = e, d
-    return order, count
+    return count
 
 
 @numba.njit(cache=True)

@@ -71,21 +71,28 @@ class HumanStatics(NamedTuple):
     routes: Routes
     graph: object  # the grid's scipy CSR graph, for the rows' Dijkstra
     goal_cells: np.ndarray  # (routed,) int64
+    # the compiled steps' arguments, built once per world, not per step (a tuple per call cost ~1 µs):
+    obstacle_fields: tuple  # tuple(obstacles)
+    routes_fields: tuple  # tuple(routes): its arrays are filled in place, so the tuple stays current
+    scratch_targets: np.ndarray  # (n_obstacles, 2): the routed step's targets, rows of ``idx`` written each step
+    missing: np.ndarray  # (n_obstacles,) int64: humans whose route row is not ready
 
     def targets(self, idx: np.ndarray, state: np.ndarray, goals: np.ndarray) -> np.ndarray:
         """``(n, 2)`` preferred-velocity targets of the humans ``idx`` (rows of others: their goals)."""
         targets = goals.copy()
-        missing = np.empty(len(idx), np.int64)
-        fields = tuple(self.routes)
-        n_missing = _route_targets_fields(fields, idx, state, goals, targets, missing)
+        n_missing = _route_targets_fields(self.routes_fields, idx, state, goals, targets, self.missing)
         if n_missing:  # the first loss of sight: run those humans' Dijkstra, then route again
-            from scipy.sparse.csgraph import dijkstra
-
-            rows = self.routes.row_of[missing[:n_missing]]
-            dist, pred = dijkstra(self.graph, directed=False, indices=self.goal_cells[rows], return_predecessors=True)
-            self.routes.dist[rows], self.routes.pred[rows], self.routes.ready[rows] = dist, pred, True
-            _route_targets_fields(fields, idx, state, goals, targets, missing)
+            self.fill_routes(n_missing)
+            _route_targets_fields(self.routes_fields, idx, state, goals, targets, self.missing)
         return targets
+
+    def fill_routes(self, n_missing: int) -> None:
+        """Run the Dijkstra of the first ``n_missing`` humans of ``missing`` (their first loss of sight)."""
+        from scipy.sparse.csgraph import dijkstra
+
+        rows = self.routes.row_of[self.missing[:n_missing]]
+        dist, pred = dijkstra(self.graph, directed=False, indices=self.goal_cells[rows], return_predecessors=True)
+        self.routes.dist[rows], self.routes.pred[rows], self.routes.ready[rows] = dist, pred, True
 
 
 class _Grid(NamedTuple):
@@ -190,7 +197,9 @@ def human_statics(scenario, goals: np.ndarray, routed: np.ndarray, clearance: fl
     dist, pred = np.empty((len(routed), n_cells)), np.empty((len(routed), n_cells), np.int32)
     routes = Routes(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.free, grid.nearest, dist, pred, row_of, np.zeros(len(routed), np.bool_),
                     grid.blocked_below)  # fmt: skip
-    return HumanStatics(orca_obstacles(scenario), scenario.static_segments, routes, grid.graph, goal_cells)
+    obstacles = orca_obstacles(scenario)
+    return HumanStatics(obstacles, scenario.static_segments, routes, grid.graph, goal_cells, tuple(obstacles), tuple(routes), goals.copy(),
+                        np.empty(len(goals), np.int64))  # fmt: skip
 
 
 @lru_cache(maxsize=4)

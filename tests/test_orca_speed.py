@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from pathplan_env.behaviours import ORCA, _NO_OBSTACLE_FIELDS, _orca_step_fields
+from pathplan_env.behaviours import _NO_OBSTACLE_FIELDS, ORCA, _orca_step_fields
 from pathplan_env.orca import ORCAAgentState, obstacle_vertices, orca_velocity_among
 
 

@@ -11,7 +11,10 @@ against pyrvo (RVO2's maintained binding) in ``tests/test_crowds.py``. RVO2 comp
 we in float64: the two agree to float32's precision.
 
 The kernel takes named records, as RVO2's ``Agent`` holds its fields: the deciding agent
-(:class:`ORCAAgentState`) and its constant parameters (:class:`ORCAParams`).
+(:class:`ORCAAgentState`) and its constant parameters (:class:`ORCAParams`). The functions that take
+records of arrays are inlined (``inline="always"``) into the env's step: a call passing them cost
+~0.17 µs in reference counts per agent; the linear programs stay calls (inlining them too saves
+another tenth but doubles the compile's extra time).
 """
 
 from __future__ import annotations
@@ -164,7 +167,7 @@ def orca_velocity_among(agent, skip, positions, velocities, radii, obstacles, pa
     return orca_velocity_among_in(agent, skip, positions, velocities, radii, obstacles, params, dt, work)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def orca_velocity_among_in(agent, skip, positions, velocities, radii, obstacles, params, dt, work):
     """:func:`orca_velocity_among` in the scratch arrays ``work`` (:class:`ORCAWork`)."""
     reach = params.time_horizon_obst * agent.max_speed + agent.radius
@@ -191,7 +194,7 @@ def orca_velocity_ordered(agent, skip, positions, velocities, radii, obstacles, 
     return _velocity(agent, skip, positions, velocities, radii, obstacles, obstacle_order, params, dt, work)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _velocity(agent, skip, positions, velocities, radii, obstacles, obstacle_order, params, dt, work):
     """:func:`orca_velocity_ordered` in the scratch arrays ``work`` (:class:`ORCAWork`, sized for
     ``positions`` and at least ``obstacle_order``): no allocation per agent."""

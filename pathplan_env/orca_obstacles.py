@@ -70,7 +70,7 @@ def _det(ax, ay, bx, by):
     return ax * by - ay * bx
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _obstacle_neighbours(x, y, obstacles, range_sq, order, dist_sq):
     """The edges within ``range_sq`` (squared distance to the segment) that the agent sees from their
     outer side, nearest first (RVO2's k-d tree query and ``insertObstacleNeighbor``), into ``order``
@@ -101,7 +101,7 @@ def _obstacle_neighbours(x, y, obstacles, range_sq, order, dist_sq):
     return count
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _leg(rx, ry, dist_sq, radius, left):
     """Unit direction of the left (or right) tangent from the agent to a disc of ``radius`` at ``r``."""
     leg = math.sqrt(dist_sq - radius * radius)
@@ -110,7 +110,7 @@ def _leg(rx, ry, dist_sq, radius, left):
     return (rx * leg + ry * radius) / dist_sq, (-rx * radius + ry * leg) / dist_sq
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _project(x, y, vx, vy, radius, inv_horizon, point, direction, o1, o2, llx, lly, rlx, rly, left_foreign, right_foreign, line):
     """The end of RVO2's obstacle case without collision: the velocity projected on the left or right
     cut-off circle, the cut-off line or a leg; writes ``line`` and returns 1, or 0 for a foreign leg."""
@@ -152,7 +152,7 @@ def _project(x, y, vx, vy, radius, inv_horizon, point, direction, o1, o2, llx, l
     return 1
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _obstacle_lines(agent, obstacles, order, inv_horizon, lines):
     """RVO2's obstacle ORCA lines of the edges ``order`` (neighbours, nearest first) into ``lines``
     (rows ``point_x, point_y, dir_x, dir_y``); returns their count. Follows

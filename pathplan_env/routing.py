@@ -190,9 +190,7 @@ def human_statics(scenario, goals: np.ndarray, routed: np.ndarray, clearance: fl
     """Everything the goal-directed obstacles ``routed`` (indices, goals ``goals[i]``) need; free cells
     keep ``clearance + ROUTE_MARGIN`` from the geometry."""
     grid = _grid(_geometry_key(scenario), float(clearance) + ROUTE_MARGIN, GRID_CELL)
-    goal_cells = grid.nearest[_cells_of(grid, goals[routed])]
-    row_of = np.full(len(goals), -1, np.int64)
-    row_of[routed] = np.arange(len(routed))
+    goal_cells, row_of = _goal_cells(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.nearest, goals, routed)
     n_cells = grid.rows * grid.cols
     dist, pred = np.empty((len(routed), n_cells)), np.empty((len(routed), n_cells), np.int32)
     routes = Routes(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.free, grid.nearest, dist, pred, row_of, np.zeros(len(routed), np.bool_),
@@ -236,6 +234,20 @@ def _cells_of(grid, points: np.ndarray) -> np.ndarray:
     j = np.minimum(np.maximum(((points[:, 0] - grid.x0) / grid.cell).astype(np.int64), 0), grid.cols - 1)
     i = np.minimum(np.maximum(((points[:, 1] - grid.y0) / grid.cell).astype(np.int64), 0), grid.rows - 1)
     return i * grid.cols + j
+
+
+@numba.njit(cache=True)
+def _goal_cells(x0, y0, cell, rows, cols, nearest, goals, routed):
+    """``(goal_cells, row_of)`` of :func:`human_statics`: the nearest free cell to each routed human's
+    goal (:func:`_cells_of`'s truncation and clamps, as ``_cell``) and each obstacle's row (-1: not
+    routed). Compiled: numpy's dozen calls on 20 goals were a third of building the statics."""
+    goal_cells, row_of = np.empty(routed.shape[0], np.int64), np.full(goals.shape[0], -1, np.int64)
+    for r in range(routed.shape[0]):
+        i = routed[r]
+        j = min(max(int((goals[i, 0] - x0) / cell), 0), cols - 1)
+        k = min(max(int((goals[i, 1] - y0) / cell), 0), rows - 1)
+        goal_cells[r], row_of[i] = nearest[k * cols + j], r
+    return goal_cells, row_of
 
 
 @numba.njit(cache=True)

@@ -48,3 +48,19 @@ def test_a_reset_builds_new_scratch():
     assert second.scratch_targets is not first.scratch_targets and second.missing is not first.missing
     assert second.routes_fields[7] is second.routes.dist  # the tuple holds this world's arrays, filled in place
     assert not second.routes.ready.any()  # no route carried over from the last episode
+
+
+def test_compiled_goal_cells_are_numpys():
+    """``routing._goal_cells`` against the numpy of before (``_cells_of``), goals outside the grid and on
+    cell edges included."""
+    from pathplan_env.routing import _cells_of, _goal_cells, _grid
+
+    rng = np.random.default_rng(5)
+    grid = _grid(((0.0, 0.0, 16.0, 6.0), (((0.0, 1.0), (16.0, 1.0)),), 0.1, ()), 0.35, 0.1)
+    goals = np.concatenate([rng.uniform(-1, 17, (300, 2)), np.round(rng.uniform(0, 16, (100, 2)), 1)])
+    routed = np.sort(rng.choice(len(goals), 250, replace=False)).astype(np.int64)
+    cells, row_of = _goal_cells(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.nearest, goals, routed)
+    expected_rows = np.full(len(goals), -1, np.int64)
+    expected_rows[routed] = np.arange(len(routed))
+    assert np.array_equal(cells, grid.nearest[_cells_of(grid, goals[routed])])
+    assert np.array_equal(row_of, expected_rows)

@@ -170,11 +170,11 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--steps", type=int, default=5000)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--delta-d", type=float, default=0.25)
-    parser.add_argument("--profile", action="store_true", help="also profile corridor-crowd with 20 humans")
+    parser.add_argument("--profile", action="store_true", help="also profile --preset (corridor-crowd with 20 humans by default)")
     parser.add_argument("--clock", choices=sorted(CLOCKS), default="wall", help="time with the wall clock or this thread's CPU time")
     parser.add_argument("--crowd-only", action="store_true", help="only corridor-crowd with 20 humans (its rate and its step and reset)")
     parser.add_argument("--against", metavar="CHECKOUT", help="compare with another checkout's package in this process (interleaved rounds)")
-    parser.add_argument("--preset", default="corridor-crowd", help="the family --against compares (default corridor-crowd, with --obstacles)")
+    parser.add_argument("--preset", default="corridor-crowd", help="the family --against compares and --profile profiles (default corridor-crowd)")
     parser.add_argument("--obstacles", default="20", help="its obstacle count, or 'own' for the family's default")
     return parser.parse_args(argv)
 
@@ -195,7 +195,7 @@ def main(argv=None) -> None:
     print(f"(load average (1 min) {os.getloadavg()[0]:.1f} after; {os.cpu_count()} cores)")
     print("\n" + "\n".join(cost_table(args.delta_d, rows)))
     if args.profile:
-        profile("corridor-crowd", 20, args.delta_d, args.steps)
+        profile(args.preset, None if args.obstacles == "own" else int(args.obstacles), args.delta_d, args.steps)
 
 
 if __name__ == "__main__":

@@ -32,7 +32,8 @@ from functools import cached_property
 import numba
 import numpy as np
 
-from .orca import NO_OBSTACLES, ORCAAgentState, ORCAObstacles, ORCAParams, orca_velocity_among, preferred_velocity
+from .orca import NO_OBSTACLES, ORCAAgentState, ORCAObstacles, ORCAParams, orca_velocity_among_in, orca_work, preferred_velocity
+from .routing import Routes, route_targets
 
 _NO_SEGMENTS = np.empty((0, 5))
 _NO_OBSTACLE_FIELDS = tuple(NO_OBSTACLES)
@@ -107,9 +108,16 @@ class ORCA:
         pad = self.radius_padding + self.safety_space
         if statics is None:
             _orca_step_fields(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, self._params_fields, pad, _NO_OBSTACLE_FIELDS)
-        else:
-            targets = statics.targets(idx, state, goals)
-            _orca_step_fields(idx, state, body_state, speeds, radii, targets, preferred, robot, dt, self._params_fields, pad, tuple(statics.obstacles))
+            return
+        # routes and ORCA in one compiled call (each call's arguments cost ~0.4 µs an array); it
+        # returns without steering when some human first loses sight of its goal: its route is
+        # computed (scipy's Dijkstra) and the call repeated, as statics.targets does
+        args = (idx, state, body_state, speeds, radii, goals, preferred, robot, dt, self._params_fields, pad, statics.obstacle_fields,
+                statics.routes_fields, statics.scratch_targets, statics.missing)  # fmt: skip
+        n_missing = _orca_routed_step_fields(*args)
+        if n_missing:
+            statics.fill_routes(n_missing)
+            _orca_routed_step_fields(*args)
 
 
 @dataclass(frozen=True)
@@ -221,11 +229,12 @@ def _orca_step(idx, state, body_state, speeds, radii, goals, preferred, robot, d
     by :func:`_write_velocities`."""
     positions, velocities, padded = _agents(state, radii, robot, pad)
     out = np.empty((idx.shape[0], 2))
+    work = orca_work(positions.shape[0], obstacles.point.shape[0])
     for k in range(idx.shape[0]):  # every agent decides from the same snapshot, as CrowdNav's humans do
         i = idx[k]
         px, py = preferred_velocity(state[i, 0], state[i, 1], goals[i, 0], goals[i, 1], preferred[i], SLOW_DOWN_TIME)
         agent = ORCAAgentState(state[i, 0], state[i, 1], state[i, 2], state[i, 3], padded[i], preferred[i], px, py)
-        out[k, 0], out[k, 1] = orca_velocity_among(agent, i, positions, velocities, padded, obstacles, params, dt)
+        out[k, 0], out[k, 1] = orca_velocity_among_in(agent, i, positions, velocities, padded, obstacles, params, dt, work)
     _write_velocities(idx, out, state, body_state, speeds)
 
 
@@ -235,6 +244,18 @@ def _orca_step_fields(idx, state, body_state, speeds, radii, goals, preferred, r
     numba types a NamedTuple argument in Python on every call (~5 µs each, a tenth of a crowd's
     step), a plain tuple in C."""
     _orca_step(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, ORCAParams(*params_fields), pad, ORCAObstacles(*obstacle_fields))
+
+
+@numba.njit(cache=True)
+def _orca_routed_step_fields(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, params_fields, pad, obstacle_fields, routes_fields,
+                             targets, missing):  # fmt: skip
+    """:func:`_orca_step_fields` toward each human's route target (``routing.route_targets``, into the
+    scratch ``targets``) around the walls; returns the count of humans in ``missing`` whose route is
+    not computed yet, without steering (0 when it steered)."""
+    n_missing = route_targets(Routes(*routes_fields), idx, state, goals, targets, missing)
+    if n_missing == 0:
+        _orca_step(idx, state, body_state, speeds, radii, targets, preferred, robot, dt, ORCAParams(*params_fields), pad, ORCAObstacles(*obstacle_fields))
+    return n_missing
 
 
 @numba.njit(cache=True)

@@ -11,7 +11,10 @@ against pyrvo (RVO2's maintained binding) in ``tests/test_crowds.py``. RVO2 comp
 we in float64: the two agree to float32's precision.
 
 The kernel takes named records, as RVO2's ``Agent`` holds its fields: the deciding agent
-(:class:`ORCAAgentState`) and its constant parameters (:class:`ORCAParams`).
+(:class:`ORCAAgentState`) and its constant parameters (:class:`ORCAParams`). The functions that take
+records of arrays are inlined (``inline="always"``) into the env's step: a call passing them cost
+~0.17 µs in reference counts per agent; the linear programs stay calls (inlining them too saves
+another tenth but doubles the compile's extra time).
 """
 
 from __future__ import annotations
@@ -45,6 +48,27 @@ class ORCAAgentState(NamedTuple):
     max_speed: float  # m/s: the chosen velocity stays within this circle
     pref_vx: float  # m/s: the preferred velocity
     pref_vy: float  # m/s
+
+
+class ORCAWork(NamedTuple):
+    """Scratch arrays of ORCA's calls, allocated once for a step's agents (:func:`orca_work`): the
+    kernel allocated seven arrays per agent, a third of its time in a crowd of 20."""
+
+    order: np.ndarray  # (m,) int64: the agent neighbours, nearest first
+    dist_sq: np.ndarray  # (m,) their squared distances
+    edges: np.ndarray  # (k,) int64: the obstacle edges within reach, nearest first
+    edge_dist_sq: np.ndarray  # (k,)
+    lines: np.ndarray  # (k + m + 1, 4): the ORCA lines (point, direction)
+    projected: np.ndarray  # (k + m + 1, 4): linearProgram3's projected lines
+    result: np.ndarray  # (2,)
+
+
+@numba.njit(cache=True)
+def orca_work(m, k):
+    """:class:`ORCAWork` for ``m`` agents among ``k`` obstacle edges."""
+    return ORCAWork(np.empty(m, np.int64), np.empty(m), np.empty(k, np.int64), np.empty(k), np.empty((k + m + 1, 4)), np.empty((k + m + 1, 4)),
+                    np.empty(2))  # fmt: skip
+
 
 @numba.njit(cache=True)
 def _linear_program1(lines, line_no, radius, opt_x, opt_y, direction_opt, result):
@@ -100,11 +124,11 @@ def _linear_program2(lines, n_lines, radius, opt_x, opt_y, direction_opt, result
 
 
 @numba.njit(cache=True)
-def _linear_program3(lines, n_lines, n_obstacle_lines, begin_line, radius, result):
+def _linear_program3(lines, n_lines, n_obstacle_lines, begin_line, radius, result, projected):
     """Infeasible case: the velocity that minimises the largest violation of the agents' lines
-    ``begin_line..``, keeping the obstacles' lines (the first ``n_obstacle_lines``) hard."""
+    ``begin_line..``, keeping the obstacles' lines (the first ``n_obstacle_lines``) hard
+    (``projected``: scratch rows, at least ``n_lines``)."""
     distance = 0.0
-    projected = np.empty((n_lines, 4))
     for i in range(begin_line, n_lines):
         if _det(lines[i, 2], lines[i, 3], lines[i, 0] - result[0], lines[i, 1] - result[1]) > distance:
             projected[:n_obstacle_lines] = lines[:n_obstacle_lines]
@@ -139,9 +163,16 @@ def orca_velocity(agent, skip, positions, velocities, radii, params, dt):
 @numba.njit(cache=True)
 def orca_velocity_among(agent, skip, positions, velocities, radii, obstacles, params, dt):
     """:func:`orca_velocity_ordered` with the obstacle edges within reach, nearest first (ties: by index)."""
+    work = orca_work(positions.shape[0], obstacles.point.shape[0])
+    return orca_velocity_among_in(agent, skip, positions, velocities, radii, obstacles, params, dt, work)
+
+
+@numba.njit(cache=True, inline="always")
+def orca_velocity_among_in(agent, skip, positions, velocities, radii, obstacles, params, dt, work):
+    """:func:`orca_velocity_among` in the scratch arrays ``work`` (:class:`ORCAWork`)."""
     reach = params.time_horizon_obst * agent.max_speed + agent.radius
-    order, count = _obstacle_neighbours(agent.x, agent.y, obstacles, reach * reach)
-    return orca_velocity_ordered(agent, skip, positions, velocities, radii, obstacles, order[:count], params, dt)
+    count = _obstacle_neighbours(agent.x, agent.y, obstacles, reach * reach, work.edges, work.edge_dist_sq)
+    return _velocity(agent, skip, positions, velocities, radii, obstacles, work.edges[:count], params, dt, work)
 
 
 @numba.njit(cache=True)
@@ -159,11 +190,18 @@ def orca_velocity_ordered(agent, skip, positions, velocities, radii, obstacles, 
     avoid it for ``time_horizon`` seconds, taking half the responsibility (the reciprocal ORCA
     assumption); when already overlapping, for one step of ``dt`` seconds. Returns ``(vx, vy)``.
     """
+    work = orca_work(positions.shape[0], obstacle_order.shape[0])
+    return _velocity(agent, skip, positions, velocities, radii, obstacles, obstacle_order, params, dt, work)
+
+
+@numba.njit(cache=True, inline="always")
+def _velocity(agent, skip, positions, velocities, radii, obstacles, obstacle_order, params, dt, work):
+    """:func:`orca_velocity_ordered` in the scratch arrays ``work`` (:class:`ORCAWork`, sized for
+    ``positions`` and at least ``obstacle_order``): no allocation per agent."""
     x, y, vx, vy, radius = agent.x, agent.y, agent.vx, agent.vy, agent.radius
     neighbor_dist, max_neighbors, time_horizon = params.neighbor_dist, params.max_neighbors, params.time_horizon
     m = positions.shape[0]
-    order = np.empty(m, np.int64)
-    dist_sq = np.empty(m)
+    order, dist_sq = work.order, work.dist_sq
     count = 0
     range_sq = neighbor_dist * neighbor_dist
     for j in range(m):  # insertion into the sorted neighbour list, as RVO2's insertAgentNeighbor
@@ -181,7 +219,7 @@ def orca_velocity_ordered(agent, skip, positions, velocities, radii, obstacles, 
         order[i], dist_sq[i] = j, d
         if count == max_neighbors:
             range_sq = dist_sq[count - 1]
-    lines = np.empty((obstacle_order.shape[0] + count + 1, 4))
+    lines = work.lines
     n_obst = 0
     if obstacle_order.shape[0] > 0:
         n_obst = _obstacle_lines(agent, obstacles, obstacle_order, 1.0 / params.time_horizon_obst, lines)
@@ -222,10 +260,10 @@ def orca_velocity_ordered(agent, skip, positions, velocities, radii, obstacles, 
         lines[n_obst + k, 0], lines[n_obst + k, 1] = vx + 0.5 * ux, vy + 0.5 * uy
         lines[n_obst + k, 2], lines[n_obst + k, 3] = dx, dy
     n_lines = n_obst + count
-    result = np.empty(2)
+    result = work.result
     fail = _linear_program2(lines, n_lines, agent.max_speed, agent.pref_vx, agent.pref_vy, False, result)
     if fail < n_lines:
-        _linear_program3(lines, n_lines, n_obst, fail, agent.max_speed, result)
+        _linear_program3(lines, n_lines, n_obst, fail, agent.max_speed, result, work.projected)
     return result[0], result[1]
 
 
@@ -241,5 +279,5 @@ def preferred_velocity(x, y, gx, gy, speed, slow_down_time):
     return dx / dist * s, dy / dist * s
 
 
-__all__ = ["NO_OBSTACLES", "ORCAAgentState", "ORCAObstacles", "ORCAParams", "obstacle_vertices", "orca_velocity", "orca_velocity_among",
-           "orca_velocity_ordered", "preferred_velocity"]
+__all__ = ["NO_OBSTACLES", "ORCAAgentState", "ORCAObstacles", "ORCAParams", "ORCAWork", "obstacle_vertices", "orca_velocity", "orca_velocity_among",
+           "orca_velocity_among_in", "orca_velocity_ordered", "orca_work", "preferred_velocity"]

@@ -70,13 +70,13 @@ def _det(ax, ay, bx, by):
     return ax * by - ay * bx
 
 
-@numba.njit(cache=True)
-def _obstacle_neighbours(x, y, obstacles, range_sq):
+@numba.njit(cache=True, inline="always")
+def _obstacle_neighbours(x, y, obstacles, range_sq, order, dist_sq):
     """The edges within ``range_sq`` (squared distance to the segment) that the agent sees from their
-    outer side, nearest first (RVO2's k-d tree query and ``insertObstacleNeighbor``)."""
+    outer side, nearest first (RVO2's k-d tree query and ``insertObstacleNeighbor``), into ``order``
+    (with ``dist_sq``: scratch of one row per edge); returns their count."""
     point, nxt = obstacles.point, obstacles.next
     k = point.shape[0]
-    order, dist_sq = np.empty(k, np.int64), np.empty(k)
     count = 0
     for e in range(k):
         ax, ay = point[e, 0], point[e, 1]
@@ -98,10 +98,10 @@ def _obstacle_neighbours(x, y, obstacles, range_sq):
             order[i], dist_sq[i] = order[i - 1], dist_sq[i - 1]
             i -= 1
         order[i], dist_sq[i] = e, d
-    return order, count
+    return count
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _leg(rx, ry, dist_sq, radius, left):
     """Unit direction of the left (or right) tangent from the agent to a disc of ``radius`` at ``r``."""
     leg = math.sqrt(dist_sq - radius * radius)
@@ -110,7 +110,7 @@ def _leg(rx, ry, dist_sq, radius, left):
     return (rx * leg + ry * radius) / dist_sq, (-rx * radius + ry * leg) / dist_sq
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _project(x, y, vx, vy, radius, inv_horizon, point, direction, o1, o2, llx, lly, rlx, rly, left_foreign, right_foreign, line):
     """The end of RVO2's obstacle case without collision: the velocity projected on the left or right
     cut-off circle, the cut-off line or a leg; writes ``line`` and returns 1, or 0 for a foreign leg."""
@@ -152,7 +152,7 @@ def _project(x, y, vx, vy, radius, inv_horizon, point, direction, o1, o2, llx, l
     return 1
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _obstacle_lines(agent, obstacles, order, inv_horizon, lines):
     """RVO2's obstacle ORCA lines of the edges ``order`` (neighbours, nearest first) into ``lines``
     (rows ``point_x, point_y, dir_x, dir_y``); returns their count. Follows

@@ -5,9 +5,13 @@ every few steps in these narrow scenes, so resets weigh); with ``--profile``, wh
 time goes.
 
     python scripts/bench_families.py [--steps 5000] [--repeats 3] [--profile] [--clock cpu] [--crowd-only]
+    python scripts/bench_families.py --against <checkout> [--preset corridor-crowd] [--clock cpu]
 
 ``--clock cpu`` times with this thread's CPU time (as ``bench_env.py``'s); ``--crowd-only`` prints
 the corridor-crowd rows alone (to compare two versions of the package: ``PYTHONPATH=<dir>``).
+``--against <checkout>`` compares two versions in one process: the other checkout's package, imported
+from a copy under another name, and this one take turns (``--repeats`` rounds of each, then
+CartPole-v1), so that a loaded machine's drift cancels in each round's ratio.
 
 Bouncing families at ``--delta-d``; the crowd family's humans at their own speeds. Target (issue 21):
 corridor-crowd with 20 humans >= 0.1x CartPole-v1 (robot-sf's profile: 1,718 steps/s with 17
@@ -18,8 +22,14 @@ from __future__ import annotations
 
 import argparse
 import cProfile
+import hashlib
+import importlib
 import os
 import pstats
+import shutil
+import statistics
+import sys
+import tempfile
 
 import bench_env
 import gymnasium as gym
@@ -109,14 +119,63 @@ def profile(preset: str, n: int | None, delta_d: float, steps: int, top: int = 1
     pstats.Stats(profiler).sort_stats("tottime").print_stats(top)
 
 
+def import_other(checkout: str) -> str:
+    """The package of another ``checkout`` imported as ``pathplan_before`` from a copy (one per version
+    of its sources, so numba's cache is kept); returns its env id (``Before-DynamicObstacle-v0``)."""
+    source = os.path.join(checkout, "pathplan_env")
+    digest = hashlib.sha256()
+    for d, _, files in sorted(os.walk(source)):
+        for f in sorted(files):
+            if f.endswith(".py"):
+                with open(os.path.join(d, f), "rb") as text:
+                    digest.update(text.read())
+    root = os.path.join(tempfile.gettempdir(), f"pathplan_before_{digest.hexdigest()[:12]}")
+    if not os.path.isdir(root):
+        shutil.copytree(source, os.path.join(root, "pathplan_before"), ignore=shutil.ignore_patterns("__pycache__"))
+        init = os.path.join(root, "pathplan_before", "__init__.py")
+        with open(init) as f:
+            text = f.read().replace('id="DynamicObstacle', 'id="Before-DynamicObstacle').replace('entry_point="pathplan_env.', 'entry_point="pathplan_before.')
+        with open(init, "w") as f:
+            f.write(text)
+    sys.path.insert(0, root)
+    importlib.import_module("pathplan_before")
+    return "Before-DynamicObstacle-v0"
+
+
+def against(checkout: str, preset: str, n: int | None, steps: int, rounds: int) -> None:
+    """Interleaved rounds of the other checkout's env and this one's (random actions, resets included),
+    each round followed by CartPole-v1: per round, each one's ratio to CartPole-v1 and after ÷ before."""
+    other = import_other(checkout)
+    envs = {name: gym.make(env_id, scenario=preset, n_obstacles=n, delta_d=None) for name, env_id in (("before", other), ("after", "DynamicObstacle-v0"))}
+    cartpole = gym.make("CartPole-v1")
+    for env in (*envs.values(), cartpole):
+        steps_per_second(env, min(steps, 2000))  # warm-up (numba cache load, allocator)
+    print(f"{preset} ({n if n is not None else 'own count'} obstacles): before = {checkout}, after = this checkout; {steps} random steps each")
+    print("| round | before steps/s | after steps/s | before ÷ CartPole | after ÷ CartPole | after time ÷ before time |\n|---:|---:|---:|---:|---:|---:|")
+    speedups, ratios = [], {"before": [], "after": []}
+    for r in range(rounds):
+        order = ("before", "after") if r % 2 == 0 else ("after", "before")
+        rate = {name: steps_per_second(envs[name], steps, seed=r) for name in order}
+        reference = steps_per_second(cartpole, steps, seed=r)
+        for name in rate:
+            ratios[name].append(rate[name] / reference)
+        speedups.append(rate["before"] / rate["after"])
+        print(f"| {r + 1} | {rate['before']:.0f} | {rate['after']:.0f} | {ratios['before'][-1]:.3f}x | {ratios['after'][-1]:.3f}x | {speedups[-1]:.3f} |")
+    med = statistics.median
+    print(f"| median | | | {med(ratios['before']):.3f}x | {med(ratios['after']):.3f}x | {med(speedups):.3f} |")
+
+
 def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--steps", type=int, default=5000)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--delta-d", type=float, default=0.25)
-    parser.add_argument("--profile", action="store_true", help="also profile corridor-crowd with 20 humans")
+    parser.add_argument("--profile", action="store_true", help="also profile --preset (corridor-crowd with 20 humans by default)")
     parser.add_argument("--clock", choices=sorted(CLOCKS), default="wall", help="time with the wall clock or this thread's CPU time")
     parser.add_argument("--crowd-only", action="store_true", help="only corridor-crowd with 20 humans (its rate and its step and reset)")
+    parser.add_argument("--against", metavar="CHECKOUT", help="compare with another checkout's package in this process (interleaved rounds)")
+    parser.add_argument("--preset", default="corridor-crowd", help="the family --against compares and --profile profiles (default corridor-crowd)")
+    parser.add_argument("--obstacles", default="20", help="its obstacle count, or 'own' for the family's default")
     return parser.parse_args(argv)
 
 
@@ -124,6 +183,10 @@ def main(argv=None) -> None:
     args = parse_args(argv)
     bench_env.clock = CLOCKS[args.clock]  # steps_per_second reads bench_env's
     print(f"pathplan_env from {os.path.dirname(pathplan_env.__file__)}; clock: {args.clock}; load average (1 min) {os.getloadavg()[0]:.1f}")
+    if args.against:
+        against(args.against, args.preset, None if args.obstacles == "own" else int(args.obstacles), args.steps, args.repeats)
+        print(f"(load average (1 min) {os.getloadavg()[0]:.1f} after; {os.cpu_count()} cores)")
+        return
     reference = gym.make("CartPole-v1")
     cartpole = best_of(lambda: reference, args.steps, args.repeats)
     print(f"CartPole-v1: {cartpole:10.0f} steps/s (reference; every ratio below is the median of {args.repeats} paired runs)")
@@ -132,7 +195,7 @@ def main(argv=None) -> None:
     print(f"(load average (1 min) {os.getloadavg()[0]:.1f} after; {os.cpu_count()} cores)")
     print("\n" + "\n".join(cost_table(args.delta_d, rows)))
     if args.profile:
-        profile("corridor-crowd", 20, args.delta_d, args.steps)
+        profile(args.preset, None if args.obstacles == "own" else int(args.obstacles), args.delta_d, args.steps)
 
 
 if __name__ == "__main__":

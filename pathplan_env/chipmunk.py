@@ -55,6 +55,25 @@ def space_remove(space: pymunk.Space, objects) -> None:
             del space._shapes[o]
 
 
+def add_shapes(space: pymunk.Space, shapes) -> None:
+    """:func:`space_add` for shapes alone, their bodies already in the space (a lent space's obstacles)."""
+    ref, c_space, book, set_ = weakref.ref(space), space._space, space._shapes, object.__setattr__
+    for shape in shapes:
+        set_(shape, "_space", ref)
+        book[shape] = None
+        add_shape(c_space, shape._shape)
+
+
+def remove_shapes(space: pymunk.Space, shapes) -> None:
+    """:func:`space_remove` for shapes alone, not kept in pymunk's ``_removed_shapes`` (which only its
+    own step, never called here, empties)."""
+    c_space, book, set_ = space._space, space._shapes, object.__setattr__
+    for shape in shapes:
+        set_(shape, "_space", _dead_ref)
+        remove_shape(c_space, shape._shape)
+        del book[shape]
+
+
 class BatchBuffer(pymunk.batch.Buffer):
     """``pymunk.batch.Buffer`` that frees its C arrays when collected (pymunk 7.3's never does: a new
     one per reset leaked 0.5 KiB each)."""

@@ -19,9 +19,11 @@ from .chipmunk import (
     READ_BODY,
     WRITE_BODY,
     BatchBuffer,
+    add_shapes,
     each_body,
     ffi,
     get_stamp,
+    remove_shapes,
     set_mass,
     set_radius,
     set_shape_counter,
@@ -98,14 +100,13 @@ class SpaceKeeper:
         its stamps only compare with each other (all renewed past :data:`STAMP_BUDGET`).
         """
         space = self.space
+        statics, segments = self.static_segments, scenario.static_segments
         if (space is None or moving != self._moving or scenario.bounds != self._walls_bounds or not self._walls
-                or self.static_segments.shape != scenario.static_segments.shape
-                or not np.array_equal(self.static_segments, scenario.static_segments)
+                or (statics.size or segments.size) and (statics.shape != segments.shape or not np.array_equal(statics, segments))
                 or get_stamp(space._space) + self._inserts > STAMP_BUDGET):  # fmt: skip
             return None
         shapes, c_space = self._objects[1::2], space._space
-        space_remove(space, shapes)
-        space._removed_shapes.clear()  # (what pymunk's own step would do: it keeps them for its callbacks)
+        remove_shapes(space, shapes)
         space_step(c_space, 1e-9)  # the bias velocity spent
         self._pymunk_state[:] = 0.0
         self._write_bodies()
@@ -127,7 +128,7 @@ class SpaceKeeper:
             if dynamic:
                 set_mass(objects[2 * i]._body, r * r)
             set_radius(objects[2 * i + 1]._shape, r)
-        space_add(self.space, objects[1::2])
+        add_shapes(self.space, objects[1::2])
 
     def _release_moving_obstacles(self) -> list:
         """Empty this world and hand over its moving obstacles' (body, shape) pairs for reuse.

@@ -15,6 +15,8 @@ _batch = pymunk.batch  # its ffi and lib
 space_step, each_body, set_mass, set_radius = _batch.lib.cpSpaceStep, _batch.lib.cpSpaceEachBody, _batch.lib.cpBodySetMass, _batch.lib.cpCircleShapeSetRadius
 add_body, add_shape = _batch.lib.cpSpaceAddBody, _batch.lib.cpSpaceAddShape
 remove_body, remove_shape = _batch.lib.cpSpaceRemoveBody, _batch.lib.cpSpaceRemoveShape
+set_shape_counter, set_time_step, set_slop = _batch.lib.cpSpaceSetShapeIDCounter, _batch.lib.cpSpaceSetCurrentTimeStep, _batch.lib.cpSpaceSetCollisionSlop
+get_stamp = _batch.lib.cpSpaceGetTimestamp
 READ_BODY = _batch.ffi.addressof(_batch.lib, "pmSpaceBodyGetIteratorFuncBatched")
 WRITE_BODY = _batch.ffi.addressof(_batch.lib, "pmSpaceBodySetIteratorFuncBatched")
 ffi = _batch.ffi
@@ -51,6 +53,25 @@ def space_remove(space: pymunk.Space, objects) -> None:
             space._removed_shapes[o] = None
             remove_shape(c_space, o._shape)
             del space._shapes[o]
+
+
+def add_shapes(space: pymunk.Space, shapes) -> None:
+    """:func:`space_add` for shapes alone, their bodies already in the space (a lent space's obstacles)."""
+    ref, c_space, book, set_ = weakref.ref(space), space._space, space._shapes, object.__setattr__
+    for shape in shapes:
+        set_(shape, "_space", ref)
+        book[shape] = None
+        add_shape(c_space, shape._shape)
+
+
+def remove_shapes(space: pymunk.Space, shapes) -> None:
+    """:func:`space_remove` for shapes alone, not kept in pymunk's ``_removed_shapes`` (which only its
+    own step, never called here, empties)."""
+    c_space, book, set_ = space._space, space._shapes, object.__setattr__
+    for shape in shapes:
+        set_(shape, "_space", _dead_ref)
+        remove_shape(c_space, shape._shape)
+        del book[shape]
 
 
 class BatchBuffer(pymunk.batch.Buffer):

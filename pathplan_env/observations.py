@@ -215,7 +215,12 @@ class StateObservation(ObservationType):
             self._new_block()
             i = 0
         self._rows_used = i + 1
-        _observation_row(self._block[i], self._template, x, y, vx, vy, world.obstacle_state, self.max_obstacles)
+        carried = self._carried
+        if len(carried) == 2:  # (a unicycle's heading and turn rate written by the same call: setting them from Python cost a twelfth of its step)
+            _observation_row_carrying(self._block, i, self._template, x, y, vx, vy, world.obstacle_state, self.max_obstacles,
+                                      getattr(world, carried[0]), getattr(world, carried[1]))  # fmt: skip
+        else:
+            _observation_row(self._block[i], self._template, x, y, vx, vy, world.obstacle_state, self.max_obstacles)
         position, velocity, goal, positions, velocities, radii, mask = self._entries
         obs = {
             "robot_position": position[i],
@@ -228,10 +233,11 @@ class StateObservation(ObservationType):
         }
         if self.max_static_segments:
             obs.update(self._static_entries())
-        if self._carried:
+        if carried:
             block = self._block
             for name, column, view in self._carried_entries:
-                block[i, column] = getattr(world, name)
+                if len(carried) != 2:
+                    block[i, column] = getattr(world, name)
                 obs[name] = view[i]
         return obs
 
@@ -288,6 +294,16 @@ def _observation_row(block, template, x, y, vx, vy, obstacle_state, n_max):
         block[at.obstacle_positions + 2 * i + 1] = obstacle_state[i, 1]
         block[at.obstacle_velocities + 2 * i] = obstacle_state[i, 2]
         block[at.obstacle_velocities + 2 * i + 1] = obstacle_state[i, 3]
+
+
+@numba.njit(cache=True)
+def _observation_row_carrying(block, i, template, x, y, vx, vy, obstacle_state, n_max, first, second):
+    """:func:`_observation_row` into ``block[i]``, then the two carried scalars ``first`` and ``second``
+    in the row's last two columns (float32, as a numpy assignment rounds them)."""
+    row = block[i]
+    _observation_row(row, template, x, y, vx, vy, obstacle_state, n_max)
+    size = row.shape[0]
+    row[size - 2], row[size - 1] = first, second
 
 
 #: Observation types by the name ``DynamicObstacleEnv(observation=...)`` takes.

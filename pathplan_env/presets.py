@@ -123,13 +123,14 @@ def sample_random_scenario(rng: np.random.Generator, n_obstacles: int = 8, delta
     lx, ly = xmin + margin, ymin + margin
     wx, wy = (xmax - margin) - lx, (ymax - margin) - ly
     while True:
-        (u0, u1), (u2, u3) = rng.random((2, 2)).tolist()
+        u0, u1, u2, u3 = rng.random(4).tolist()  # (the draws of rng.random((2, 2)), in the same order)
         sx, sy, gx, gy = lx + wx * u0, ly + wy * u1, lx + wx * u2, ly + wy * u3
         if math.hypot(sx - gx, sy - gy) >= RANDOM_MIN_START_GOAL:
             break
     r_low, r_high = RANDOM_RADIUS_RANGE
-    radii = r_low + (r_high - r_low) * rng.random(n)
-    unit = rng.random((n, _CANDIDATES, 2))
+    draws = rng.random(n + n * _CANDIDATES * 2)  # the radii's draws then the candidates', as two calls drew them (one call: a reset's tenth)
+    radii = r_low + (r_high - r_low) * draws[:n]
+    unit = draws[n:].reshape(n, _CANDIDATES, 2)
     centers, placed = _place_obstacles(unit, radii, xmin, ymin, xmax, ymax, sx, sy, gx, gy, r + RANDOM_START_CLEARANCE, RANDOM_OBSTACLE_GAP)
     if placed < n:
         raise ValueError(f"n_obstacles: could not place {n} obstacles in the random arena {bounds} (placed {placed})")

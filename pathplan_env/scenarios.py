@@ -81,12 +81,10 @@ class Obstacle:
     def _from_checked(cls, center: Vec2, radius: float, velocity: Vec2, goal: Vec2 | None = None, preferred_speed: float = 0.0) -> Obstacle:
         """Build from values that are already valid float tuples (sampling, ``with_delta_d``): no re-validation."""
         ob = object.__new__(cls)
-        object.__setattr__(ob, "center", center)
-        object.__setattr__(ob, "radius", radius)
-        object.__setattr__(ob, "velocity", velocity)
-        if goal is not None:  # (else the class defaults: no goal, no preferred speed)
-            object.__setattr__(ob, "goal", goal)
-            object.__setattr__(ob, "preferred_speed", preferred_speed)
+        if goal is None:  # (the class defaults: no goal, no preferred speed; the __dict__ written at once, as a frozen dataclass's setattr per field cost more)
+            ob.__dict__.update(center=center, radius=radius, velocity=velocity)
+        else:
+            ob.__dict__.update(center=center, radius=radius, velocity=velocity, goal=goal, preferred_speed=preferred_speed)
         return ob
 
 
@@ -190,9 +188,8 @@ class Scenario:
         values = {**_SCENARIO_DEFAULTS, **fields}  # (the instance's __dict__ written at once: a frozen dataclass's setattr per field cost more)
         if len(values) != len(_SCENARIO_DEFAULTS):
             raise TypeError(f"unknown Scenario fields {sorted(set(fields) - set(_SCENARIO_DEFAULTS))}")
-        for name, default in _SCENARIO_DEFAULTS.items():
-            if default is dataclasses.MISSING and name not in fields:
-                raise TypeError(f"Scenario field {name!r} is required")
+        if not _SCENARIO_REQUIRED.issubset(fields):
+            raise TypeError(f"Scenario fields {sorted(_SCENARIO_REQUIRED - set(fields))} are required")
         for a in arrays.values():
             a.flags.writeable = False
         values["_arrays"] = arrays
@@ -391,6 +388,7 @@ class Scenario:
 
 
 _SCENARIO_DEFAULTS = {f.name: f.default for f in dataclasses.fields(Scenario)}
+_SCENARIO_REQUIRED = frozenset(name for name, default in _SCENARIO_DEFAULTS.items() if default is dataclasses.MISSING)
 
 
 __all__ = ["MAX_COORDINATE", "MIN_LENGTH", "Obstacle", "Scenario", "check_delta_d", "check_n_obstacles"]

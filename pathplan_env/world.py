@@ -21,23 +21,22 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import pymunk
-import pymunk.batch
 
-from .chipmunk import READ_BODY, WRITE_BODY, BatchBuffer, each_body, ffi, set_mass, set_radius, space_add, space_remove, space_step
+from .chipmunk import READ_BODY, BatchBuffer, each_body, space_step
 from .geometry import NO_CONTACT
 from .routing import drivers_statics
 from .scenarios import Scenario
-from .statics import capsules_clearance, pymunk_segments, static_stop
+from .statics import capsules_clearance, static_stop
 from .substep_kernels import SPEED_TOLERANCE, _clearance, _finish_substep, _gap_until, restore_speeds  # noqa: F401 (SPEED_TOLERANCE: its old home)
 from .substeps import MAX_SUBSTEP_DISPLACEMENT, MAX_SUBSTEPS, SUBSTEP_SLACK, scenario_substeps, substeps_for  # noqa: F401 (their old home)
+from .world_space import SpaceKeeper
 
-_STATE_FIELDS = pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.VELOCITY
 _NO_ROBOT = np.empty(0)  # what humans see of an invisible robot
 
 
-class World:
-    """One episode's simulation: a new pymunk space built from a :class:`Scenario` at every reset.
+class World(SpaceKeeper):
+    """One episode's simulation, built from a :class:`Scenario` at every reset (its pymunk space new,
+    or the previous episode's lent whole: ``pathplan_env.world_space``).
 
     Obstacle state moves between pymunk and numpy in one batch call per substep
     (``pymunk.batch``), not one Python attribute access per body.
@@ -45,8 +44,10 @@ class World:
 
     def __init__(self, scenario: Scenario, recycle: World | None = None):
         """Build the world of ``scenario``; ``recycle`` (the previous episode's world, which is
-        emptied) lends its moving obstacles' pymunk bodies and shapes, since creating them was the
-        largest cost of a reset. The episode is the same bit for bit either way (tested)."""
+        emptied and unusable afterwards) lends its whole pymunk space if it fits the scenario (the
+        same arena, statics and moving obstacles), else its walls, statics and moving bodies where
+        they fit, since creating them was most of a reset. The episode is the same bit for bit
+        either way (tested)."""
         self.scenario = scenario
         self._diagonal = scenario.arena_diagonal  # the widest gap there is, read every step
         data = scenario.arrays()
@@ -67,52 +68,22 @@ class World:
         self.substeps = substeps_for(top_speeds, self.radii, scenario.dt)
         min_radius = min(self.radii.tolist()) if self.n_obstacles else 1.0
 
-        self.space = pymunk.Space()
-        # No overlap correction: Chipmunk's bias velocity pushes interpenetrating bodies apart farther
-        # than their speed allows (up to 1.24x a step's displacement, in ~6 % of obstacle steps).
-        # Without it every body moves exactly speed x dt a step (tested); the elastic impulses alone
-        # separate overlapping pairs.
-        self.space.collision_bias = 1.0
-        self.space.collision_slop = 1e-4 * min_radius  # default 0.1 m is a fifth of a small obstacle
-        walls = recycle._release_walls(scenario.bounds) if recycle is not None else None
-        self._walls = walls if walls is not None else self._make_walls(scenario.bounds, thickness=max(scenario.arena_diagonal, 1.0))
-        self._walls_bounds = scenario.bounds
-        space_add(self.space, self._walls)
         #: The scene's static geometry inside the arena as capsules, one row ``(x0, y0, x1, y1,
         #: half_thickness)`` each (a wall; a polygon's edges with half-thickness 0). The arena's own
         #: edges are not rows: they are ``scenario.bounds``. Read by sensors and planners.
         self.static_segments = scenario.static_segments
         self._has_statics = len(self.static_segments) > 0  # read every step: no walls, no cost
-        self._statics = ()
-        if self._has_statics:
-            # (before the state view below is attached: a body added later would make the batch read
-            # reallocate the array under the view)
-            statics = recycle._release_statics(self.static_segments) if recycle is not None else None
-            self._statics = statics if statics is not None else pymunk_segments(self.static_segments.tolist())
-            space_add(self.space, self._statics)
         # what goal-directed obstacles know of the walls: RVO2 obstacles, routes (routing.py)
         self._human_statics = drivers_statics(scenario, self._drivers) if self._drivers and self._has_statics else None
-        spare = recycle._release_moving_obstacles() if recycle is not None else []
-        objects, self._moving = [], []
-        for r, speed in zip(self.radii.tolist(), top_speeds.tolist()):  # a goal-directed obstacle is dynamic even at rest
-            if speed > 0 and spare:
-                body, shape = spare.pop()
-                set_mass(body._body, r * r)  # Body.mass's own C call, without its Python property layers
-                set_radius(shape._shape, r)  # Circle.unsafe_set_radius's own C call
-            else:
-                if speed > 0:
-                    body = pymunk.Body(mass=r * r, moment=math.inf)  # equal density; discs never spin
-                else:
-                    body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)  # a resting obstacle is immovable
-                shape = pymunk.Circle(body, r)
-                shape.elasticity = 1.0  # friction is 0 by default
-            objects += (body, shape)
-            self._moving.append(speed > 0)
-        self._objects = objects
-        space_add(self.space, objects)
+        moving = [speed > 0 for speed in top_speeds.tolist()]  # a goal-directed obstacle is dynamic even at rest
+        if recycle is not None and recycle.space is None:  # (a world that lent its space has nothing left)
+            recycle = None
+        lent = recycle._lend_space(scenario, moving) if recycle is not None else None
+        if lent is not None:
+            self._take_space(lent, min_radius)
+        else:
+            self._build_space(scenario, recycle, moving, min_radius)
         # positions and velocities in one batch write; the obstacles are the space's first bodies
-        self._buffer = BatchBuffer()
-        self._attach_state_view()
         self._pymunk_state[:, :2] = data["positions"]
         self._pymunk_state[:, 2:] = data["velocities"]
         self._write_bodies()
@@ -147,88 +118,6 @@ class World:
         for behaviour, idx, goals, preferred in self._drivers:
             behaviour.steer(idx, state, self._pymunk_state, self._speeds, self.radii, goals, preferred, robot, dt, self._human_statics)
         self._write_bodies()
-
-    def _release_moving_obstacles(self) -> list:
-        """Empty this world and hand over its moving obstacles' (body, shape) pairs for reuse.
-
-        A body must leave exactly as a new one arrives, or the next episode would depend on history:
-        - a contact leaves a bias velocity that Chipmunk spends in the next position update; a
-          step without shapes spends it;
-        - positions and velocities are zeroed (one batch write), so that the bodies enter the next
-          space's spatial index at the origin as new bodies do (the index's structure decides the
-          order of contacts, which decides the last bits of every bounce).
-        """
-        space_remove(self.space, self._objects[1::2])
-        space_step(self.space._space, 1e-9)  # (the walls left already, or stay for the old space's end)
-        self._pymunk_state[:] = 0.0
-        self._write_bodies()
-        space_remove(self.space, self._objects[0::2])
-        pairs = [(self._objects[2 * i], self._objects[2 * i + 1]) for i, moving in enumerate(self._moving) if moving]
-        self._objects, self._moving = [], []
-        return pairs
-
-    # -- construction helpers ------------------------------------------------------------------
-    def _make_walls(self, bounds, thickness: float) -> tuple:
-        """Four thick static walls whose inner faces are the arena's edges (no tunnelling through them),
-        on their own static body so that the next episode's world can take them over."""
-        xmin, ymin, xmax, ymax = bounds
-        h = thickness
-        return pymunk_segments([
-            (xmin - h, ymin - h, xmax + h, ymin - h, h),
-            (xmin - h, ymax + h, xmax + h, ymax + h, h),
-            (xmin - h, ymin - h, xmin - h, ymax + h, h),
-            (xmax + h, ymin - h, xmax + h, ymax + h, h),
-        ])  # fmt: skip
-
-    def _release_walls(self, bounds) -> tuple | None:
-        """Hand this world's walls to the next one if the arena is the same (building them was a
-        sixth of a reset)."""
-        if self._walls_bounds != tuple(bounds):
-            return None
-        space_remove(self.space, self._walls)
-        walls, self._walls = self._walls, ()
-        return walls
-
-    def _release_statics(self, segments: np.ndarray) -> tuple | None:
-        """Hand this world's wall and polygon segments to the next one if its geometry is the same
-        (a family's episodes share it: building them was a tenth of a crowd family's reset). Chipmunk
-        gives a shape a new id when it is added, so a recycled segment is a new one to the space."""
-        if not self._statics or self.static_segments.shape != segments.shape or not np.array_equal(self.static_segments, segments):
-            return None
-        space_remove(self.space, self._statics)
-        statics, self._statics = self._statics, ()
-        return statics
-
-    def _attach_state_view(self) -> None:
-        """Read the bodies once and keep a numpy view onto pymunk's batch array.
-
-        Later reads of the same bodies refill that array in place (it never needs to grow), so the
-        view stays valid. (``Buffer.set_float_buf`` would point pymunk at our own array instead, but
-        pymunk 7.3 may reallocate it while reading.)
-
-        The per-substep read calls the C iterator behind ``pymunk.batch.get_space_bodies`` with a
-        request struct built once here: the wrapper's per-call set-up cost more than the read itself.
-        """
-        self._request = ffi.new("pmBatchedData *")
-        self._request.fields = _STATE_FIELDS.value
-        self._request.floatArray = self._buffer._float_arr
-        self._request.intArray = self._buffer._int_arr
-        self._read_bodies()
-        array = self._buffer._float_arr
-        raw = np.frombuffer(pymunk.batch.ffi.buffer(array.arr, 8 * array.num), dtype=np.float64)
-        self._pymunk_state = raw[: 4 * self.n_obstacles].reshape(self.n_obstacles, 4)
-
-    def _read_bodies(self) -> None:
-        """``pymunk.batch.get_space_bodies`` into the view."""
-        self._buffer._float_arr.num = 0  # Buffer.clear() for the float array, the only one we use
-        each_body(self.space._space, READ_BODY, self._request)
-
-    def _write_bodies(self) -> None:
-        """``pymunk.batch.set_space_bodies`` from the view (it reads the array from its start)."""
-        array = self._buffer._float_arr
-        filled, array.num = array.num, 0
-        each_body(self.space._space, WRITE_BODY, self._request)
-        array.num = filled
 
     # -- stepping ------------------------------------------------------------------------------
     @property

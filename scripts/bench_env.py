@@ -5,11 +5,13 @@ so the ratio means something on a noisy shared machine where the raw rates do no
 splits the cost: a step without resets (the robot holds still), and a reset. A robot table sets the
 unicycle (``robot="unicycle"``, random (speed, turn rate) targets) beside the holonomic robot.
 
-    python scripts/bench_env.py [--steps 20000] [--repeats 3] [--robots-only] [--clock cpu]
+    python scripts/bench_env.py [--steps 20000] [--repeats 3] [--robots-only] [--clock cpu] [--episode-split]
 
 ``--clock cpu`` times both with this thread's CPU time instead of the wall clock: on a machine whose
 other jobs take the CPU away mid-run, the wall clock charges their time to whichever of the pair was
 running; CPU time charges each only its own (cache and memory contention remain, shared by both).
+``--episode-split`` prints only how many steps an episode lasts under random actions and the resets'
+share of the time, per robot (what the unicycle's ratio depends on: its episodes end sooner).
 """
 
 from __future__ import annotations
@@ -83,6 +85,30 @@ def cost_breakdown(n_obstacles: int, delta_d: float, repeats: int = 5) -> tuple[
     return 1e6 * min(steps() for _ in range(repeats)), 1e6 * min(resets() for _ in range(repeats))
 
 
+def episode_split(robot: str, n_obstacles: int, delta_d: float, steps: int, seed: int = 0) -> tuple[float, float, float, float]:
+    """``(steps per episode, µs per step, µs per reset, resets' share of the time)`` under random
+    actions through ``gym.make``, each call timed with the thread's CPU time (what a paired ratio
+    pays for: a robot whose episodes end sooner pays for more resets)."""
+    env = gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=n_obstacles, delta_d=delta_d, robot=robot)
+    steps_per_second(env, min(steps, 2000), seed=seed)  # warm-up
+    env.reset(seed=seed)
+    env.action_space.seed(seed)
+    actions = [env.action_space.sample() for _ in range(steps)]
+    step_time = reset_time = 0.0
+    episodes = 0
+    for action in actions:
+        start = time.thread_time()
+        _, _, terminated, truncated, _ = env.step(action)
+        step_time += time.thread_time() - start
+        if terminated or truncated:
+            start = time.thread_time()
+            env.reset()
+            reset_time += time.thread_time() - start
+            episodes += 1
+    episodes = max(episodes, 1)
+    return steps / episodes, 1e6 * step_time / steps, 1e6 * reset_time / episodes, reset_time / (step_time + reset_time)
+
+
 def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--steps", type=int, default=20000)
@@ -90,6 +116,7 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--delta-d", type=float, default=0.25)
     parser.add_argument("--robots-only", action="store_true", help="only the robot table (holonomic and unicycle, 5 and 20 obstacles)")
     parser.add_argument("--clock", choices=sorted(CLOCKS), default="wall", help="time with the wall clock or this thread's CPU time")
+    parser.add_argument("--episode-split", action="store_true", help="only how long episodes last and the resets' share (both robots, 5 obstacles)")
     return parser.parse_args(argv)
 
 
@@ -98,6 +125,14 @@ def main(argv=None) -> None:
     args = parse_args(argv)
     clock = CLOCKS[args.clock]
     print(f"pathplan_env from {os.path.dirname(pathplan_env.__file__)}; clock: {args.clock}")
+    if args.episode_split:
+        print("| robot | steps per episode | µs per step | µs per reset | resets' share |")
+        print("|---|---:|---:|---:|---:|")
+        for robot in ("holonomic", "unicycle"):
+            length, step_us, reset_us, share = episode_split(robot, 5, args.delta_d, args.steps)
+            print(f"| {robot} | {length:.1f} | {step_us:.1f} | {reset_us:.0f} | {share:.2f} |")
+        print(f"(CPU time of each call; load average over 1 min: {os.getloadavg()[0]:.1f}; {os.cpu_count()} cores)")
+        return
     load_before = os.getloadavg()[0]  # a shared machine's load: what the raw rates below depend on, the ratios far less
     reference = gym.make("CartPole-v1")
     cartpole = best_of(lambda: reference, args.steps, args.repeats)

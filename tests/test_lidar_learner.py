@@ -12,6 +12,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 import torch
+from rollouts import random_action_observations
 
 import pathplan_env  # noqa: F401
 from agents.rl.lidar_encoder import LidarConvExtractor
@@ -28,17 +29,6 @@ BINS, FRAMES = 90, 2
 
 def lidar_env(scenario="random", **kwargs):
     return gym.make("DynamicObstacle-v0", scenario=scenario, observation="lidar", **kwargs)
-
-
-def observations(env, seed, steps):
-    obs, _ = env.reset(seed=seed)
-    seen = [obs]
-    for _ in range(steps - 1):
-        obs, _, terminated, truncated, _ = env.step(env.action_space.sample())
-        if terminated or truncated:
-            break
-        seen.append(obs)
-    return seen
 
 
 @pytest.fixture(scope="module")
@@ -72,7 +62,7 @@ def test_the_scan_is_turned_into_the_goal_frame_and_min_pooled():
 
 def test_features_of_one_observation_equal_the_batched_path_and_remember_the_last_scan():
     env = lidar_env("doorway")
-    seen = observations(env, seed=3, steps=12)
+    seen = random_action_observations(env, seed=3, steps=12)
     facts = EnvFacts.of(env)
     batch = {k: np.stack([o[k] for o in seen]) for k in seen[0]}
     previous = np.concatenate([batch["lidar"][:1], batch["lidar"][:-1]])
@@ -118,7 +108,7 @@ def test_numpy_forward_equals_sb3_predict_and_exports_through_the_script(lidar_m
     model, path = lidar_model
     env = lidar_env("cluttered-room")
     stack = LidarFeatureStack(EnvFacts.of(env), BINS, FRAMES)
-    features = np.stack([stack(o) for o in observations(env, seed=5, steps=20)])
+    features = np.stack([stack(o) for o in random_action_observations(env, seed=5, steps=20)])
     exported = NumpyPolicy(export_policy(model, tmp_path / "policy.npz"))
     expected, _ = model.predict(features, deterministic=True)
     np.testing.assert_allclose(exported.predict(features), expected, atol=1e-5)

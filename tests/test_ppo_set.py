@@ -11,6 +11,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 import torch
+from rollouts import random_action_observations
 
 import agents
 import pathplan_env  # noqa: F401
@@ -28,14 +29,7 @@ N_TOKENS = 12
 
 def observations(n_obstacles, seed, steps=6, delta_d=0.5):
     env = gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=n_obstacles, delta_d=delta_d)
-    obs, _ = env.reset(seed=seed)
-    seen = [obs]
-    for _ in range(steps - 1):
-        obs, _, terminated, truncated, _ = env.step(env.action_space.sample())
-        if terminated or truncated:
-            break
-        seen.append(obs)
-    return env, seen
+    return env, random_action_observations(env, seed, steps)
 
 
 def feature_batch():

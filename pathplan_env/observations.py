@@ -216,7 +216,8 @@ class StateObservation(ObservationType):
             i = 0
         self._rows_used = i + 1
         carried = self._carried
-        if len(carried) == 2:  # (a unicycle's heading and turn rate written by the same call: setting them from Python cost a twelfth of its step)
+        in_kernel = len(carried) == 2
+        if in_kernel:  # (a unicycle's heading and turn rate written by the same call: setting them from Python cost a twelfth of its step)
             _observation_row_carrying(self._block, i, self._template, x, y, vx, vy, world.obstacle_state, self.max_obstacles,
                                       getattr(world, carried[0]), getattr(world, carried[1]))  # fmt: skip
         else:
@@ -236,7 +237,7 @@ class StateObservation(ObservationType):
         if carried:
             block = self._block
             for name, column, view in self._carried_entries:
-                if len(carried) != 2:
+                if not in_kernel:
                     block[i, column] = getattr(world, name)
                 obs[name] = view[i]
         return obs

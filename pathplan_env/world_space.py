@@ -10,6 +10,7 @@ and Chipmunk runs the episode exactly as in a new one (tested against new spaces
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 import pymunk
@@ -39,6 +40,21 @@ from .statics import pymunk_segments
 _STATE_FIELDS = pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.VELOCITY
 #: A lent space is renewed before Chipmunk's 32-bit stamps (one a step, one an insertion) near a wrap.
 STAMP_BUDGET = 2**31
+
+
+class LentSpace(NamedTuple):
+    """What a world lends the next one (:meth:`SpaceKeeper._lend_space`): its space and what it keeps of it."""
+
+    space: pymunk.Space
+    walls: tuple
+    walls_bounds: tuple
+    statics: tuple
+    objects: list  # body, shape, body, shape, ...
+    moving: list
+    buffer: BatchBuffer
+    request: object  # the batch read's request struct
+    state: np.ndarray  # the numpy view onto the buffer
+    inserts: int  # an upper bound on the shapes inserted so far
 
 
 class SpaceKeeper:
@@ -87,7 +103,7 @@ class SpaceKeeper:
         self._buffer = BatchBuffer()
         self._attach_state_view()
 
-    def _lend_space(self, scenario: Scenario, moving: list[bool]) -> tuple | None:
+    def _lend_space(self, scenario: Scenario, moving: list[bool]) -> LentSpace | None:
         """Empty this world and lend the next one its whole pymunk space, walls, statics and bodies
         kept in place, if they fit it: the same arena and statics, the same obstacles moving
         (``None`` otherwise: the next world builds its own). The world is unusable afterwards.
@@ -95,33 +111,30 @@ class SpaceKeeper:
         Chipmunk then runs the next episode exactly as in a new space (tested against new spaces):
         the obstacles' shapes leave (their contacts and spatial-index leaves with them) and return
         with the shape ids a new space gives them; the bodies spend their bias velocity and wait at
-        the origin with zero velocity (``_release_moving_obstacles``); the index's leaf table has the
+        the origin with zero velocity (:meth:`_park_bodies`); the index's leaf table has the
         size a new one grows to for the same count (it never shrank: the count never changed);
         its stamps only compare with each other (all renewed past :data:`STAMP_BUDGET`).
         """
         space = self.space
-        statics, segments = self.static_segments, scenario.static_segments
         if (space is None or moving != self._moving or scenario.bounds != self._walls_bounds or not self._walls
-                or (statics.size or segments.size) and (statics.shape != segments.shape or not np.array_equal(statics, segments))
-                or get_stamp(space._space) + self._inserts > STAMP_BUDGET):  # fmt: skip
+                or not self._same_statics(scenario.static_segments) or get_stamp(space._space) + self._inserts > STAMP_BUDGET):  # fmt: skip
             return None
         shapes, c_space = self._objects[1::2], space._space
         remove_shapes(space, shapes)
-        space_step(c_space, 1e-9)  # the bias velocity spent
-        self._pymunk_state[:] = 0.0
-        self._write_bodies()
+        self._park_bodies()
         set_time_step(c_space, 0.0)  # a new space's: no previous step to scale cached impulses by
         set_shape_counter(c_space, len(self._walls) - 1 + max(len(self._statics) - 1, 0))  # the ids after the static shapes'
-        lent = (space, self._walls, self._walls_bounds, self._statics, self._objects, self._moving, self._buffer, self._request,
-                self._pymunk_state, self._inserts + len(shapes))  # fmt: skip
+        lent = LentSpace(space, self._walls, self._walls_bounds, self._statics, self._objects, self._moving, self._buffer,
+                         self._request, self._pymunk_state, self._inserts + len(shapes))  # fmt: skip
         self.space, self._objects, self._moving, self._walls, self._statics = None, [], [], (), ()
         return lent
 
-    def _take_space(self, lent: tuple, min_radius: float) -> None:
+    def _take_space(self, lent: LentSpace, min_radius: float) -> None:
         """The previous world's space (:meth:`_lend_space`): this episode's radii and masses, the
         obstacles' shapes added back in order."""
-        (self.space, self._walls, self._walls_bounds, self._statics, self._objects, self._moving, self._buffer, self._request,
-         self._pymunk_state, self._inserts) = lent  # fmt: skip
+        self.space, self._walls, self._walls_bounds, self._statics = lent.space, lent.walls, lent.walls_bounds, lent.statics
+        self._objects, self._moving, self._buffer, self._request = lent.objects, lent.moving, lent.buffer, lent.request
+        self._pymunk_state, self._inserts = lent.state, lent.inserts
         c_space, objects = self.space._space, self._objects
         set_slop(c_space, 1e-4 * min_radius)  # (the collision bias stays 1.0: no overlap correction)
         for i, (r, dynamic) in enumerate(zip(self.radii.tolist(), self._moving)):
@@ -141,13 +154,23 @@ class SpaceKeeper:
           order of contacts, which decides the last bits of every bounce).
         """
         space_remove(self.space, self._objects[1::2])
-        space_step(self.space._space, 1e-9)  # (the walls left already, or stay for the old space's end)
-        self._pymunk_state[:] = 0.0
-        self._write_bodies()
+        self._park_bodies()  # (the walls left already, or stay for the old space's end)
         space_remove(self.space, self._objects[0::2])
         pairs = [(self._objects[2 * i], self._objects[2 * i + 1]) for i, moving in enumerate(self._moving) if moving]
         self._objects, self._moving = [], []
         return pairs
+
+    def _park_bodies(self) -> None:
+        """After the obstacles' shapes left: a step without them spends the bodies' bias velocity, and
+        the bodies wait at the origin, at rest, as new ones arrive."""
+        space_step(self.space._space, 1e-9)
+        self._pymunk_state[:] = 0.0
+        self._write_bodies()
+
+    def _same_statics(self, segments: np.ndarray) -> bool:
+        """Whether ``segments`` are this world's static segments (both empty included)."""
+        statics = self.static_segments
+        return (statics.size == 0 and segments.size == 0) or (statics.shape == segments.shape and np.array_equal(statics, segments))
 
     # -- construction helpers ------------------------------------------------------------------
     def _make_walls(self, bounds, thickness: float) -> tuple:
@@ -175,7 +198,7 @@ class SpaceKeeper:
         """Hand this world's wall and polygon segments to the next one if its geometry is the same
         (a family's episodes share it: building them was a tenth of a crowd family's reset). Chipmunk
         gives a shape a new id when it is added, so a recycled segment is a new one to the space."""
-        if not self._statics or self.static_segments.shape != segments.shape or not np.array_equal(self.static_segments, segments):
+        if not self._statics or not self._same_statics(segments):
             return None
         space_remove(self.space, self._statics)
         statics, self._statics = self._statics, ()

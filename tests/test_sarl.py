@@ -155,7 +155,8 @@ def test_bad_arguments_raise_naming_them(tmp_path):
         action_velocities(0.0)
     with pytest.raises(ValueError, match="hidden"):
         check_sizes({"mlp1": (0,)})
-    for bad in (dict(il_episodes=-1), dict(gamma=0.0), dict(batch_size=0), dict(epsilon_end=2.0), dict(budget_minutes=0), dict(seed=-1)):
+    for bad in (dict(il_episodes=-1), dict(gamma=0.0), dict(batch_size=0), dict(epsilon_end=2.0), dict(budget_minutes=0), dict(seed=-1),
+                dict(scenario="crowdnav-circle-crossing,nowhere"), dict(scenario="random,random")):  # fmt: skip
         with pytest.raises(ValueError, match=next(iter(bad))):
             SARLArgs(**bad)
 
@@ -169,6 +170,19 @@ def test_tiny_training_run(tmp_path):
     agent = agents.make("sarl", gym.make("DynamicObstacle-v0", **CROWDNAV), path=tmp_path / "run" / "best.npz")
     assert agent.network.layers["mlp1"][0][0].shape == (100, SELF_DIM + HUMAN_DIM)
     assert json.loads((tmp_path / "run" / "best.json").read_text())["imitation"]["episodes"] == 2
+
+
+def test_training_on_two_layouts_takes_turns_and_validates_each(tmp_path):
+    from agents.rl.training.sarl_train import SARLArgs, train
+
+    both = "crowdnav-circle-crossing,crowdnav-square-crossing"
+    args = SARLArgs(scenario=both, il_episodes=2, il_epochs=1, rl_episodes=2, train_batches=2, val_every=2, val_episodes=2,
+                    out=str(tmp_path / "run"), ship=False)  # fmt: skip
+    meta = train(args, command="test")
+    row = meta["validation_curve"][-1]
+    per_layout = [row["success_crowdnav-circle-crossing"], row["success_crowdnav-square-crossing"]]
+    assert row["success"] == pytest.approx(np.mean(per_layout))
+    assert meta["imitation"]["episodes"] == 2
 
 
 SHIPPED = MODELS_DIR / "sarl_crowdnav.npz"

@@ -32,6 +32,7 @@ import numpy as np
 
 import agents as registry
 import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
+from pathplan_env import PRESETS
 from pathplan_env.splits import training_seed_base, validation_seeds
 from pathplan_env.wrappers import EnvFacts
 
@@ -49,6 +50,8 @@ class SARLArgs:
     setting: str = "crowdnav"
     """agents.rl.sarl_settings name (joint-state features, reward) and the shipped model's: agents/models/sarl_<setting>.npz"""
     scenario: str = "crowdnav-circle-crossing"
+    """preset name, or comma-separated names: episodes take turns among them (imitation, RL), and validation
+    plays ``val_episodes`` in each (CrowdNav trains a model per layout; one model here can cover both)"""
     delta_d: float = 0.8333333333333334
     """CrowdNav's 1 m/s humans (the crowdnav suite's value)"""
     curriculum_max: float = 0.0
@@ -104,6 +107,8 @@ class SARLArgs:
             if not 0 <= getattr(self, name) <= 1:
                 raise ValueError(f"{name} must be in [0, 1], got {getattr(self, name)!r}")
         training_seed_base(self.seed)  # a ValueError naming seed
+        if any(name not in PRESETS for name in self.scenarios) or len(set(self.scenarios)) != len(self.scenarios):
+            raise ValueError(f"scenario must be preset names (pathplan_env.PRESETS), comma-separated, none repeated, got {self.scenario!r}")
         get_setting(self.setting)  # a ValueError naming setting
         for name in ("delta_d", "curriculum_max"):
             value = getattr(self, name)
@@ -117,6 +122,10 @@ class SARLArgs:
             values = None
         if not values or any(not 0 <= v < float("inf") for v in values):
             raise ValueError(f"val_delta_d must be comma-separated Δd >= 0 (or empty), got {self.val_delta_d!r}")
+
+    @property
+    def scenarios(self) -> list[str]:
+        return [name.strip() for name in self.scenario.split(",")]
 
     @property
     def validation_delta_d(self) -> list[float]:
@@ -177,6 +186,12 @@ def move(obs: dict, facts: EnvFacts, velocities: np.ndarray, k: int) -> np.ndarr
     return facts.arena.waypoint_to_action(obs["robot_position"] + velocities[k] * facts.dt)
 
 
+def greedy(facts: EnvFacts, values, gamma: float, setting: SARLSetting):
+    """The greedy lookahead as ``act(obs) -> env action`` in the env of ``facts``."""
+    velocities, gamma_bar = action_velocities(facts.robot_speed), discount(gamma, facts)
+    return lambda o: move(o, facts, velocities, best_action(o, facts, velocities, values, gamma_bar, setting.reward, setting.features))
+
+
 def _values(model):
     """The model's current weights as a numpy value function (twice as fast as torch on 81 rows; the shipped agent's own forward)."""
     return SARLNumpy(model.export()).values
@@ -193,25 +208,26 @@ def _fit(model, optimizer, batch) -> float:
     return loss.item()
 
 
-def validate(env, model, args: SARLArgs) -> dict:
-    """Greedy episodes on the validation split at every ``val_delta_d``: success, collision and timeout rates
-    (means over the Δd), mean navigation time of successes, and with several Δd each one's success."""
-    facts = EnvFacts.of(env)
+def validate(envs: dict, model, args: SARLArgs) -> dict:
+    """Greedy episodes on the validation split in every scenario (``envs``: name -> env) at every
+    ``val_delta_d``: success, collision and timeout rates (means over them), mean navigation time of
+    successes, and with several scenarios or Δd each one's success."""
     setting = get_setting(args.setting)
-    velocities, gamma_bar, values = action_velocities(facts.robot_speed), discount(args.gamma, facts), _values(model)
     several = len(args.validation_delta_d) > 1
-    ends, times, per_delta_d = [], [], {}
-    for delta_d in args.validation_delta_d:
-        for seed in validation_seeds(0, args.val_episodes):
-            act = lambda o: move(o, facts, velocities, best_action(o, facts, velocities, values, gamma_bar, setting.reward, setting.features))
-            _, _, info = play(env, seed, act, setting, delta_d if several or args.curriculum_max else None)
-            ends.append("success" if info["is_success"] else "collision" if info["collision"] else "timeout")
-            if info["is_success"]:
-                times.append(float(info["time"]))
-        per_delta_d[f"success_{delta_d:g}"] = ends[-args.val_episodes :].count("success") / args.val_episodes
+    ends, times, per_cell = [], [], {}
+    for name, env in envs.items():
+        act = greedy(EnvFacts.of(env), _values(model), args.gamma, setting)
+        for delta_d in args.validation_delta_d:
+            for seed in validation_seeds(0, args.val_episodes):
+                _, _, info = play(env, seed, act, setting, delta_d if several or args.curriculum_max else None)
+                ends.append("success" if info["is_success"] else "collision" if info["collision"] else "timeout")
+                if info["is_success"]:
+                    times.append(float(info["time"]))
+            label = "_".join(([name] if len(envs) > 1 else []) + ([f"{delta_d:g}"] if several else []))
+            per_cell[f"success_{label}"] = ends[-args.val_episodes :].count("success") / args.val_episodes
     n = len(ends)
     return {"success": ends.count("success") / n, "collision": ends.count("collision") / n, "timeout": ends.count("timeout") / n,
-            "navigation_time": float(np.mean(times)) if times else None, **(per_delta_d if several else {})}  # fmt: skip
+            "navigation_time": float(np.mean(times)) if times else None, **(per_cell if len(per_cell) > 1 else {})}  # fmt: skip
 
 
 def curriculum_delta_d(args: SARLArgs, rng: np.random.Generator, rl_episode: int) -> float | None:
@@ -235,24 +251,31 @@ def train(args: SARLArgs, command: str = "") -> dict:
     rng = np.random.default_rng(args.seed)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    env = gym.make("DynamicObstacle-v0", scenario=args.scenario, delta_d=args.delta_d)
+    envs = {name: gym.make("DynamicObstacle-v0", scenario=name, delta_d=args.delta_d) for name in args.scenarios}
+    env_of = lambda episode: envs[args.scenarios[episode % len(envs)]]  # episodes take turns among the scenarios
+    env = env_of(0)
     facts = EnvFacts.of(env)
+    for name, other in envs.items():  # one action set and discount for all: the robot must be the same
+        if (EnvFacts.of(other).robot_speed, EnvFacts.of(other).dt) != (facts.robot_speed, facts.dt):
+            raise ValueError(f"scenario: {name}'s robot speed or dt differs from {args.scenarios[0]}'s; train on one robot at a time")
     setting = get_setting(args.setting)
     velocities, gamma_bar = action_velocities(facts.robot_speed), discount(args.gamma, facts)
-    width = env.observation_space["obstacle_mask"].shape[0]
+    width = max(e.observation_space["obstacle_mask"].shape[0] for e in envs.values())
     memory = Memory(args.capacity, width, setting.features.dims)
     model = SARLValue(dims=setting.features.dims)
     seed = training_seed_base(args.seed)
     log = lambda msg: print(f"[{time.perf_counter() - start:7.1f} s] {msg}", flush=True)
 
     # 1. imitation: discounted CrowdNav returns of the teacher's episodes (at most a quarter of the budget)
-    teacher = registry.make(args.teacher, env, seed=seed, **args.teacher_kwargs)
+    teachers = {id(e): registry.make(args.teacher, e, seed=seed, **args.teacher_kwargs) for e in envs.values()}
     il_played, il_success = 0, 0
-    for _ in range(args.il_episodes):
+    for il_episode in range(args.il_episodes):
         if time.perf_counter() - start > 0.25 * budget:
             break
+        teacher = teachers[id(env_of(il_episode))]
         teacher.reset()
-        states, rewards, info = play(env, seed, lambda o: teacher.predict(o, deterministic=True)[0], setting, curriculum_delta_d(args, rng, 0))
+        states, rewards, info = play(env_of(il_episode), seed, lambda o, teacher=teacher: teacher.predict(o, deterministic=True)[0], setting,
+                                     curriculum_delta_d(args, rng, 0))  # fmt: skip
         seed += 1
         il_played, il_success = il_played + 1, il_success + bool(info["is_success"])
         ret = 0.0
@@ -271,7 +294,7 @@ def train(args: SARLArgs, command: str = "") -> dict:
         if epoch % 10 == 9 or epoch == args.il_epochs - 1:
             log(f"imitation epoch {epoch + 1}: loss {np.mean(losses):.5f}")
     begin = time.perf_counter()
-    curve = [{"rl_episode": 0, "seconds": round(begin - start, 1), **validate(env, model, args)}]
+    curve = [{"rl_episode": 0, "seconds": round(begin - start, 1), **validate(envs, model, args)}]
     val_cost = time.perf_counter() - begin  # how long one validation takes: the budget keeps room for the last
     log(f"validation after imitation: {curve[-1]}")
     best = dict(curve[-1])
@@ -290,12 +313,13 @@ def train(args: SARLArgs, command: str = "") -> dict:
             break
         epsilon = args.epsilon_end + (args.epsilon_start - args.epsilon_end) * max(0.0, 1 - (episode - 1) / args.epsilon_decay)
 
-        def act(o, epsilon=epsilon, values=values):
-            k = int(rng.integers(N_ACTIONS)) if rng.random() < epsilon else best_action(o, facts, velocities, values, gamma_bar, setting.reward,
-                                                                                          setting.features)  # fmt: skip
-            return move(o, facts, velocities, k)
+        episode_facts = EnvFacts.of(env_of(episode))
+        episode_greedy = greedy(episode_facts, values, args.gamma, setting)
 
-        states, rewards, info = play(env, seed, act, setting, curriculum_delta_d(args, rng, episode))
+        def act(o, epsilon=epsilon, greedy_act=episode_greedy, facts=episode_facts):
+            return move(o, facts, velocities, int(rng.integers(N_ACTIONS))) if rng.random() < epsilon else greedy_act(o)
+
+        states, rewards, info = play(env_of(episode), seed, act, setting, curriculum_delta_d(args, rng, episode))
         seed += 1
         following = np.zeros(len(states), np.float32)  # V_target(s_{t+1}); the last step is terminal (or a timeout, as CrowdNav)
         for t in range(len(states) - 1):
@@ -310,7 +334,7 @@ def train(args: SARLArgs, command: str = "") -> dict:
             target_values = _values(target)
         if episode % args.val_every == 0:
             begin = time.perf_counter()
-            row = {"rl_episode": episode, "seconds": round(time.perf_counter() - start, 1), "epsilon": round(epsilon, 3), **validate(env, model, args)}
+            row = {"rl_episode": episode, "seconds": round(time.perf_counter() - start, 1), "epsilon": round(epsilon, 3), **validate(envs, model, args)}
             val_cost = time.perf_counter() - begin
             curve.append(row)
             log(f"validation: {row}")
@@ -356,8 +380,11 @@ def _plot(curve: list, path: Path, args: SARLArgs) -> Path:
     fig, ax = plt.subplots(figsize=(6, 3.5))
     ax.plot(x, [row["success"] for row in curve], marker="o", ms=3, label="success")
     ax.plot(x, [row["collision"] for row in curve], marker="x", ms=3, label="collision")
-    for key in [k for k in curve[0] if k.startswith("success_")]:  # one line per validation Δd
-        ax.plot(x, [row[key] for row in curve], lw=1, ls="--", label=f"success, Δd {key.split('_', 1)[1]}")
+    several_delta_d = len(args.validation_delta_d) > 1
+    for key in [k for k in curve[0] if k.startswith("success_")]:  # one line per validation scenario or Δd
+        cell = key.split("_", 1)[1]
+        label = f"success, Δd {cell}" if several_delta_d and len(args.scenarios) == 1 else f"success, {cell}"
+        ax.plot(x, [row[key] for row in curve], lw=1, ls="--", label=label)
     ax.set(xlabel="RL episodes (0: after imitation)", ylabel=f"rate on {args.val_episodes} validation episodes", ylim=(0, 1.02),
            title=f"SARL on {args.scenario}" + (f" (Δd curriculum to {args.curriculum_max:g})" if args.curriculum_max else ""))  # fmt: skip
     ax.legend()

@@ -9,6 +9,9 @@
 SB3 does not fit: its algorithms learn a policy or Q(s, a) from the env's transitions, while SARL
 learns V(s) and picks actions by a model-based lookahead over predicted next states.
 
+Several layouts (``--scenario crowdnav-circle-crossing,crowdnav-square-crossing``): episodes take turns among
+them, the robot the same in each; validation scores each and selects on their mean.
+
 A Δd curriculum (``curriculum_max`` > 0, for bouncing obstacles): every episode draws its Δd
 uniformly from [0, d_max], d_max rising linearly from ``delta_d`` to ``curriculum_max`` over the first
 ``curriculum_episodes`` RL episodes (the imitation episodes draw from [0, ``curriculum_max``]).
@@ -20,11 +23,7 @@ kept. A wall-clock budget stops the run; torch uses one thread.
 
 from __future__ import annotations
 
-import dataclasses
-import json
-import shutil
 import time
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import gymnasium as gym
@@ -32,104 +31,15 @@ import numpy as np
 
 import agents as registry
 import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
-from pathplan_env import PRESETS
 from pathplan_env.splits import training_seed_base, validation_seeds
 from pathplan_env.wrappers import EnvFacts
 
 from ...provenance import versions
-from ..policy import MODELS_DIR
 from ..sarl_lookahead import CROWDNAV_REWARD, N_ACTIONS, CrowdNavReward, action_velocities, best_action, discount, observed_joint_state
 from ..sarl_numpy import HUMAN_DIM, SELF_DIM, SARLNumpy
 from ..sarl_settings import SETTINGS, SARLSetting, get_setting
-
-RESULTS_DIR = MODELS_DIR.parents[1] / "docs" / "results" / "sarl"
-
-
-@dataclass
-class SARLArgs:
-    setting: str = "crowdnav"
-    """agents.rl.sarl_settings name (joint-state features, reward) and the shipped model's: agents/models/sarl_<setting>.npz"""
-    scenario: str = "crowdnav-circle-crossing"
-    """preset name, or comma-separated names: episodes take turns among them (imitation, RL), and validation
-    plays ``val_episodes`` in each (CrowdNav trains a model per layout; one model here can cover both)"""
-    delta_d: float = 0.8333333333333334
-    """CrowdNav's 1 m/s humans (the crowdnav suite's value)"""
-    curriculum_max: float = 0.0
-    """0: every episode at delta_d; else each draws Δd from [0, d_max], d_max rising from delta_d to this"""
-    curriculum_episodes: int = 1500
-    """RL episodes over which d_max rises"""
-    val_delta_d: str = ""
-    """comma-separated Δd of the validation episodes (val_episodes at each); empty: delta_d"""
-    seed: int = 0
-    """the run's training seeds (pathplan_env.splits.training_seed_base) and torch's seed"""
-    teacher: str = "orca"
-    teacher_kwargs: dict = field(default_factory=lambda: {"safety_space": 0.15})
-    il_episodes: int = 1000
-    il_epochs: int = 20
-    """CrowdNav: 50; the loss levels off by 10 here"""
-    il_lr: float = 0.01
-    rl_episodes: int = 10000
-    rl_lr: float = 0.001
-    gamma: float = 0.9
-    """discount per second at the robot's speed (CrowdNav's; per step gamma ** (dt · v_pref))"""
-    batch_size: int = 100
-    train_batches: int = 50
-    """SGD minibatches after every RL episode (CrowdNav: 100)"""
-    capacity: int = 100_000
-    target_update: int = 50
-    epsilon_start: float = 0.5
-    epsilon_end: float = 0.1
-    epsilon_decay: int = 2000
-    """RL episodes over which epsilon falls linearly"""
-    val_every: int = 250
-    val_episodes: int = 100
-    budget_minutes: float = 58.0
-    """wall clock for the whole run (demonstrations, imitation, RL, validations)"""
-    out: str = "runs/sarl_crowdnav"
-    ship: bool = True
-    """copy the best model to agents/models/ and its curve to docs/results/sarl/"""
-
-    def __post_init__(self):
-        for name in ("il_episodes", "il_epochs", "rl_episodes", "train_batches"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, int) or value < 0:
-                raise ValueError(f"{name} must be an int >= 0, got {value!r}")
-        for name in ("batch_size", "capacity", "target_update", "epsilon_decay", "val_every", "val_episodes", "curriculum_episodes"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-                raise ValueError(f"{name} must be an int >= 1, got {value!r}")
-        for name in ("il_lr", "rl_lr", "budget_minutes"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"{name} must be positive, got {getattr(self, name)!r}")
-        if not 0 < self.gamma <= 1:
-            raise ValueError(f"gamma must be in (0, 1], got {self.gamma!r}")
-        for name in ("epsilon_start", "epsilon_end"):
-            if not 0 <= getattr(self, name) <= 1:
-                raise ValueError(f"{name} must be in [0, 1], got {getattr(self, name)!r}")
-        training_seed_base(self.seed)  # a ValueError naming seed
-        if any(name not in PRESETS for name in self.scenarios) or len(set(self.scenarios)) != len(self.scenarios):
-            raise ValueError(f"scenario must be preset names (pathplan_env.PRESETS), comma-separated, none repeated, got {self.scenario!r}")
-        get_setting(self.setting)  # a ValueError naming setting
-        for name in ("delta_d", "curriculum_max"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 <= value < float("inf"):
-                raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
-        if self.curriculum_max and self.curriculum_max < self.delta_d:
-            raise ValueError(f"curriculum_max must be 0 or >= delta_d ({self.delta_d}), got {self.curriculum_max!r}")
-        try:
-            values = self.validation_delta_d
-        except ValueError:
-            values = None
-        if not values or any(not 0 <= v < float("inf") for v in values):
-            raise ValueError(f"val_delta_d must be comma-separated Δd >= 0 (or empty), got {self.val_delta_d!r}")
-
-    @property
-    def scenarios(self) -> list[str]:
-        return [name.strip() for name in self.scenario.split(",")]
-
-    @property
-    def validation_delta_d(self) -> list[float]:
-        return [float(v) for v in self.val_delta_d.split(",")] if self.val_delta_d.strip() else [float(self.delta_d)]
+from .sarl_config import SARLArgs
+from .sarl_outputs import finish
 
 
 class Memory:
@@ -345,50 +255,3 @@ def train(args: SARLArgs, command: str = "") -> dict:
     seconds = time.perf_counter() - start
     log(f"done: {episode} RL episodes, best {best}, wall time {seconds / 60:.1f} min")
     return finish(args, command, out, curve, best, seconds, episode, il_played, il_success, provenance)
-
-
-def finish(args, command, out: Path, curve: list, best: dict, seconds: float, rl_episodes: int, il_played: int, il_success: int,
-           provenance: dict) -> dict:  # fmt: skip
-    """The sidecar, the learning curve and (``ship``) the copies into agents/models/ and docs/results/sarl/."""
-    import torch
-
-    meta = {
-        "algo": "sarl", "command": command, "args": dataclasses.asdict(args), "wall_seconds": round(seconds, 1),
-        "imitation": {"episodes": il_played, "teacher_success": round(il_success / max(il_played, 1), 4)},
-        "rl_episodes": rl_episodes, "validation_curve": curve, "best": best,
-        "git_commit": provenance.pop("git_commit", "") or "unknown", "versions": {**provenance, "torch": torch.__version__},
-    }  # fmt: skip
-    figure = _plot(curve, out / "learning_curve.png", args)
-    meta["figures"] = [f"docs/results/sarl/learning_curve_{args.setting}.png"]
-    (out / "best.json").write_text(json.dumps(meta, indent=1))
-    if args.ship:
-        MODELS_DIR.mkdir(exist_ok=True)
-        RESULTS_DIR.mkdir(parents=True, exist_ok=True)
-        shutil.copy(out / "best.npz", MODELS_DIR / f"sarl_{args.setting}.npz")
-        (MODELS_DIR / f"sarl_{args.setting}.json").write_text(json.dumps(meta, indent=1))
-        shutil.copy(figure, RESULTS_DIR / f"learning_curve_{args.setting}.png")
-    return meta
-
-
-def _plot(curve: list, path: Path, args: SARLArgs) -> Path:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    x = [row["rl_episode"] for row in curve]
-    fig, ax = plt.subplots(figsize=(6, 3.5))
-    ax.plot(x, [row["success"] for row in curve], marker="o", ms=3, label="success")
-    ax.plot(x, [row["collision"] for row in curve], marker="x", ms=3, label="collision")
-    several_delta_d = len(args.validation_delta_d) > 1
-    for key in [k for k in curve[0] if k.startswith("success_")]:  # one line per validation scenario or Δd
-        cell = key.split("_", 1)[1]
-        label = f"success, Δd {cell}" if several_delta_d and len(args.scenarios) == 1 else f"success, {cell}"
-        ax.plot(x, [row[key] for row in curve], lw=1, ls="--", label=label)
-    ax.set(xlabel="RL episodes (0: after imitation)", ylabel=f"rate on {args.val_episodes} validation episodes", ylim=(0, 1.02),
-           title=f"SARL on {args.scenario}" + (f" (Δd curriculum to {args.curriculum_max:g})" if args.curriculum_max else ""))  # fmt: skip
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path

@@ -47,7 +47,8 @@ def test_readme_command_parses(script, arguments):
     for name in ("agents", "agent"):
         for agent in str(getattr(parsed, name, "") or "").split(","):
             assert not agent or own.search(agent) or agent in agents.available(), (script, agent)
-    for scenario in str(getattr(parsed, "scenarios", getattr(parsed, "scenario", "")) or "").split(","):
+    scenarios = getattr(parsed, "scenarios", getattr(parsed, "scenario", "")) or ""
+    for scenario in scenarios if isinstance(scenarios, list) else str(scenarios).split(","):
         assert not scenario or own.search(scenario) or scenario in pathplan_env.PRESETS, (script, scenario)
 
 

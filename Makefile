@@ -47,8 +47,9 @@ bench: $(CORE)
 train: $(FULL)  ## retrain the shipped PPO policy (~35 min on 2 cores) and copy it to agents/models/
 	$(PY) scripts/train_rl.py --total-timesteps 4000000 --seed 0 --out runs/ppo --ship best
 
-train-sarl: $(FULL)  ## retrain SARL on CrowdNav's circle crossing (<= 58 min wall clock) and copy it to agents/models/sarl_crowdnav.npz
-	nice -n 5 $(PY) scripts/train_sarl.py --seed 0 --budget-minutes 58 --out runs/sarl_crowdnav
+train-sarl: $(FULL)  ## retrain SARL on CrowdNav's circle and square crossings, taking turns (<= 58 min wall clock) -> agents/models/sarl_crowdnav.npz
+	$(PY) scripts/train_sarl.py --scenario crowdnav-circle-crossing,crowdnav-square-crossing --seed 0 --budget-minutes 58 \
+		--epsilon-decay 4000 --val-every 500 --out runs/sarl_crowdnav
 
 train-sarl-random: $(FULL)  ## retrain SARL on random scenes, 8 bouncing obstacles, a Δd curriculum to 1.25 (<= 58 min) -> agents/models/sarl_random.npz
 	nice -n 5 $(PY) scripts/train_sarl.py --setting random --scenario random --delta-d 0.25 --curriculum-max 1.25 \

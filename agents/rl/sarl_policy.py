@@ -9,6 +9,7 @@ from the simulator), the network :mod:`agents.rl.sarl_numpy`:
     agent = agents.make("sarl", env)                       # agents/models/sarl_crowdnav.npz
     agent = agents.make("sarl", env, path="runs/sarl/best.npz")
     agent = agents.make("sarl-random", gym.make("DynamicObstacle-v0", scenario="random", delta_d=1))  # sarl_random.npz
+    agent = agents.make("sarl-square", gym.make("DynamicObstacle-v0", scenario="crowdnav-square-crossing"))  # sarl_crowdnav_square.npz
 """
 
 from __future__ import annotations
@@ -31,8 +32,9 @@ DEFAULT_SETTING = "crowdnav"
 class SARLAgent(Agent):
     """A trained SARL value network acting by one-step lookahead (greedy: ``deterministic`` changes nothing).
 
-    :param path: the model's ``.npz`` (default ``agents/models/sarl_<setting>.npz``); its ``.json``
+    :param path: the model's ``.npz`` (default ``agents/models/<model>.npz``); its ``.json``
         sidecar, when present, gives ``gamma`` and the setting it was trained in.
+    :param model: a shipped model's name in ``agents/models/`` (default ``sarl_<setting>``), used without ``path``.
     :param gamma: the discount per second of travel at the robot's speed (default: the sidecar's, else 0.9).
     :param setting: ``agents.rl.sarl_settings`` name: the joint state's features and the reward (default:
         the sidecar's, else ``crowdnav``).
@@ -43,11 +45,11 @@ class SARLAgent(Agent):
     name = "sarl"
 
     def __init__(self, env, seed: int | None = None, path: str | Path | None = None, gamma: float | None = None,
-                 setting: str | None = None):  # fmt: skip
+                 setting: str | None = None, model: str | None = None):  # fmt: skip
         super().__init__(env, seed=seed)
         if setting is not None:
             get_setting(setting)  # a ValueError naming setting, before the path's
-        path = Path(path) if path is not None else MODELS_DIR / f"sarl_{setting or DEFAULT_SETTING}.npz"
+        path = Path(path) if path is not None else MODELS_DIR / f"{model or 'sarl_' + (setting or DEFAULT_SETTING)}.npz"
         if not path.exists():
             raise ValueError(f"path: no model at {path}; train one with scripts/train_sarl.py")
         sidecar = path.with_suffix(".json")

@@ -3,6 +3,7 @@ every field is a flag of ``scripts/train_sarl.py``."""
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 
 from pathplan_env import PRESETS
@@ -54,6 +55,8 @@ class SARLArgs:
     out: str = "runs/sarl_crowdnav"
     ship: bool = True
     """copy the best model to agents/models/ and its curve to docs/results/sarl/"""
+    model_name: str = ""
+    """the shipped files' name: agents/models/<model_name>.npz (empty: sarl_<setting>, the agent's default)"""
 
     def __post_init__(self):
         for name in ("il_episodes", "il_epochs", "rl_episodes", "train_batches"):
@@ -73,6 +76,8 @@ class SARLArgs:
             if not 0 <= getattr(self, name) <= 1:
                 raise ValueError(f"{name} must be in [0, 1], got {getattr(self, name)!r}")
         training_seed_base(self.seed)  # a ValueError naming seed
+        if self.model_name and not re.fullmatch(r"[A-Za-z0-9_.-]+", self.model_name):
+            raise ValueError(f"model_name must be a file stem (letters, digits, _ . -), got {self.model_name!r}")
         if any(name not in PRESETS for name in self.scenarios) or len(set(self.scenarios)) != len(self.scenarios):
             raise ValueError(f"scenario must be preset names (pathplan_env.PRESETS), comma-separated, none repeated, got {self.scenario!r}")
         get_setting(self.setting)  # a ValueError naming setting
@@ -88,6 +93,10 @@ class SARLArgs:
             values = None
         if not values or any(not 0 <= v < float("inf") for v in values):
             raise ValueError(f"val_delta_d must be comma-separated Δd >= 0 (or empty), got {self.val_delta_d!r}")
+
+    @property
+    def shipped_name(self) -> str:
+        return self.model_name or f"sarl_{self.setting}"
 
     @property
     def scenarios(self) -> list[str]:

@@ -323,13 +323,17 @@ def timed_path_cost(x, scene):
         last = traj[horizon_steps * n]
         rest = 0.0
         # the walls the rest's straight pieces cut pay Eq. 4 only without a cost-to-go: with one, the
-        # rest costs at least the way around them (charging both held the planners at local minima)
-        rest_statics = statics if scene.cost_to_go.field.size == 0 else statics[:0]
+        # rest costs at least the way around them (charging both held the planners at local minima).
+        # Nor do the obstacles they pass there: those pieces cut through walls, so they are not the way
+        # the robot will go, and charging the discs on them (Eq. 4, 100 per metre of depth) put the
+        # waypoints through walls, off the humans' corridor, and held the robot still behind them
+        # (maze-crowd, docs/results/maps_first_look)
+        rest_statics, rest_obstacles = (statics, n_obs) if scene.cost_to_go.field.size == 0 else (statics[:0], 0)
         ax, ay = px, py
         for s in range(seg + 1, k + 2):
             bx, by = pts[s, 0], pts[s, 1]
             rest += math.sqrt((bx - ax) * (bx - ax) + (by - ay) * (by - ay))
-            for o in range(n_obs):
+            for o in range(rest_obstacles):
                 r = contact_radii[o] + robot_radius
                 d2 = _segment_origin_distance_sq(ax - last[o, 0], ay - last[o, 1], bx - last[o, 0], by - last[o, 1])
                 if d2 < r * r:

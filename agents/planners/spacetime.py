@@ -27,7 +27,7 @@ from pathplan_env.geometry import segment_segment_distance
 from pathplan_env.wrappers import EnvFacts
 
 from ..base import Agent, real_obstacles, real_static_segments
-from .costtogo import CostToGo, observed_cost_to_go, route, route_bends, waypoints_on
+from .costtogo import CostToGo, observed_cost_to_go, route, route_among, route_bends, waypoints_on
 from .metaheuristic import MetaheuristicAgent
 from .objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, TimedScene, walk_along
 from .prediction import predict_among, substeps_for
@@ -245,6 +245,8 @@ class SpacetimeAStarAgent(Agent):
         return (distance - segments[:, 4] - self.facts.robot_radius).min(axis=(1, 2))
 
 
+CROWD_CELL = 0.05
+
 #: What the space-time optimisers' penalty measures (:data:`agents.planners.objective.FIRST_CONTACT`).
 VIOLATIONS = {"contacts": CONTACTS, "first-contact": FIRST_CONTACT}
 
@@ -282,7 +284,9 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
 
     def __init__(self, env, seed: int | None = None, *, optimizer: str = "pso", horizon_steps: int = 10, margin: float = 0.005,
                  n_dodges: int = 8, dodge_steps: float = 2.0, prediction: str = "physics", violation: str = "first-contact",
-                 search_expansions: int = 0, dense_budget: float = 0.0, **kwargs):  # fmt: skip
+                 search_expansions: int = 0, dense_budget: float = 0.0, crowd_route: bool = False, route_speeds=(1.0,), **kwargs):  # fmt: skip
+        self.crowd_route = bool(crowd_route)
+        self.route_speeds = tuple(float(v) for v in route_speeds)
         if not (0.0 <= dense_budget <= 100.0):
             raise ValueError(f"dense_budget must be in [0, 100], got {dense_budget!r}")
         self.dense_budget = float(dense_budget)
@@ -326,7 +330,13 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         rows = [np.concatenate([self.straight_line(robot, goal), np.ones(k + 1)])]
         if problem is not None and problem.cost_to_go.field.size:
             around = waypoints_on(route(problem.cost_to_go, robot, goal, 0.5 * self.facts.robot_radius), k)
-            rows.insert(0, np.concatenate([around.ravel(), np.ones(k + 1)]))
+            for speed in self.route_speeds[::-1]:
+                rows.insert(0, np.concatenate([around.ravel(), np.full(k + 1, speed)]))
+            if self.crowd_route and problem.travel.any():
+                among = route_among(goal, self.facts.goal_radius, self.model.arena.box, problem.statics, self.facts.robot_radius,
+                                    problem.trajectory[0, :, :2], problem.contact_radii, robot, 2.0 * CROWD_CELL)  # fmt: skip
+                if among is not None:
+                    rows.insert(0, np.concatenate([waypoints_on(among, k).ravel(), np.ones(k + 1)]))
         for angle in 2 * np.pi * np.arange(self.n_dodges) / self.n_dodges:
             w1 = np.clip(robot + self.dodge_steps * self.step_length * np.array([np.cos(angle), np.sin(angle)]), self.search_lo[:2], self.search_hi[:2])
             rest = w1 + np.arange(1, k)[:, None] / k * (goal - w1)

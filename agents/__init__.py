@@ -39,6 +39,10 @@ for _optimizer in ("pso", "abc"):
     register(f"{_optimizer}-predictive", partial(MetaheuristicAgent, optimizer=_optimizer, variant="paper", predictive=True))
 register("pso-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="pso"))
 register("abc-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="abc", population=40))  # 20 food sources
+# for crowds that steer, as astar-crowd: a cone of three predicted futures per human and a wider margin
+# (tuned on maze-crowd and corridor-crowd validation episodes: docs/results/maps_first_look/README.md)
+register("pso-crowd", partial(SpacetimeMetaheuristicAgent, optimizer="pso", prediction="cone", margin=0.15))
+register("abc-crowd", partial(SpacetimeMetaheuristicAgent, optimizer="abc", population=40, prediction="cone", margin=0.15))
 # the unicycle (robot="unicycle"): the dynamic window approach, and any waypoint planner driven by pure pursuit
 register("dwa", DWAAgent)
 register("astar-unicycle", UnicycleAStarAgent)  # space-time A* over the unicycle's own moves (agents.planners.unicycle_search)

@@ -207,26 +207,6 @@ def route(ctg: CostToGo, start, goal, tolerance: float) -> np.ndarray:
     return np.asarray(shapely.LineString(points).simplify(tolerance).coords)
 
 
-def route_among(goal, goal_radius: float, box, segments: np.ndarray, robot_radius: float, centers: np.ndarray, radii: np.ndarray,
-                start, cell: float) -> np.ndarray | None:  # fmt: skip
-    """The way from ``start`` to the goal around the walls *and* the discs ``centers`` / ``radii`` (their
-    contact radii, the robot's added here) where they stand now: :func:`route` on a coarse
-    :func:`cost_to_go` (``cell`` m) whose shapes are grown by the grid's slack, so that its blocked cells
-    cover the shapes instead of lying inside them (a way for a seed, not a lower bound). None when the
-    discs and walls leave no way from ``start``."""
-    slack = cell * math.sqrt(0.5) + cell
-    grown = np.asarray(segments, np.float64).reshape(-1, 5).copy()
-    grown[:, 4] += slack
-    field = cost_to_go(goal, goal_radius, box, grown, robot_radius, centers, np.asarray(radii, np.float64) + slack, cell)
-    if field.field.size == 0:
-        return None
-    i = min(max(int((start[0] - field.x0) / field.cell), 0), field.field.shape[0] - 1)
-    j = min(max(int((start[1] - field.y0) / field.cell), 0), field.field.shape[1] - 1)
-    if not np.isfinite(field.field[i, j]):
-        return None
-    return route(field, start, goal, 0.5 * robot_radius)
-
-
 def waypoints_on(path: np.ndarray, k: int) -> np.ndarray:
     """``k`` intermediate waypoints (k, 2) for a path robot -> w1 -> ... -> wk -> goal that follows
     the polyline ``path``: its first ``k`` corners, then points spread evenly along its last leg."""

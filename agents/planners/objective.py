@@ -259,7 +259,9 @@ def timed_path_cost(x, scene):
     plus ``penalty_weight`` times the depth). The rest of the path counts as at least the static
     cost-to-go (``cost_to_go``) from where the horizon leaves the robot, so that a path past the
     horizon straight through a wall is not the cheap one; without walls that is the straight line,
-    never longer than the path's own rest, and the cost is the one it always was.
+    never longer than the path's own rest, and the cost is the one it always was. With a cost-to-go
+    field (walls, or obstacles at rest) the rest's straight pieces pay Eq. 4 neither on the capsules
+    nor on the obstacles: they may cut walls, so they are not the way the robot will go.
     """
     traj, n, robot_radius, contact_radii = scene.trajectory, scene.substeps, scene.robot_radius, scene.contact_radii
     robot, goal, goal_radius, reach = scene.robot, scene.goal, scene.goal_radius, scene.reach

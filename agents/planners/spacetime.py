@@ -27,7 +27,7 @@ from pathplan_env.geometry import segment_segment_distance
 from pathplan_env.wrappers import EnvFacts
 
 from ..base import Agent, real_obstacles, real_static_segments
-from .costtogo import CostToGo, observed_cost_to_go, route, route_among, route_bends, waypoints_on
+from .costtogo import CostToGo, observed_cost_to_go, route, route_bends, waypoints_on
 from .metaheuristic import MetaheuristicAgent
 from .objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, TimedScene, walk_along
 from .prediction import predict_among, substeps_for
@@ -245,8 +245,6 @@ class SpacetimeAStarAgent(Agent):
         return (distance - segments[:, 4] - self.facts.robot_radius).min(axis=(1, 2))
 
 
-CROWD_CELL = 0.05
-
 #: What the space-time optimisers' penalty measures (:data:`agents.planners.objective.FIRST_CONTACT`).
 VIOLATIONS = {"contacts": CONTACTS, "first-contact": FIRST_CONTACT}
 
@@ -257,8 +255,9 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     A candidate is the ``k`` waypoints of the paper's planners plus a speed for each of the ``k + 1``
     segments (a fraction of the top speed: the robot may slow down or wait). Its cost is the
     predicted arrival time (as metres at top speed) plus the paper's penalty on every predicted
-    contact within ``horizon_steps`` and on the rest of the path against the obstacles where the
-    prediction leaves them (:func:`agents.planners.objective.timed_path_cost`). Each replan warm-starts from
+    contact within ``horizon_steps`` and, in open scenes, on the rest of the path against the obstacles
+    where the prediction leaves them (with walls the rest costs the static cost-to-go:
+    :func:`agents.planners.objective.timed_path_cost`). Each replan warm-starts from
     the previous best and the straight line at top speed; the robot flies the first step of the best.
 
     :param horizon_steps: steps of predicted obstacle motion checked step by step.
@@ -268,7 +267,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         seeds the population too (:mod:`agents.planners.spacetime_seed`); the population still optimises.
     :param dense_budget: when positive, a replan whose best still touches an obstacle runs again,
         from that best, with this many times the iterations: the budget grows where the scene is dense.
-    :param prediction: :class:`SpacetimeModel`'s obstacle prediction.
+    :param prediction, cone_degrees: :class:`SpacetimeModel`'s obstacle prediction.
     :param violation: what the penalty measures (:data:`VIOLATIONS`): ``"contacts"`` (Eq. 4 and the
         feasibility offset for every obstacle touched within the horizon) or ``"first-contact"`` (how
         early the first predicted contact comes first, then Eq. 4: the plan that stays free longest wins
@@ -284,9 +283,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
 
     def __init__(self, env, seed: int | None = None, *, optimizer: str = "pso", horizon_steps: int = 10, margin: float = 0.005,
                  n_dodges: int = 8, dodge_steps: float = 2.0, prediction: str = "physics", violation: str = "first-contact",
-                 search_expansions: int = 0, dense_budget: float = 0.0, crowd_route: bool = False, route_speeds=(1.0,), **kwargs):  # fmt: skip
-        self.crowd_route = bool(crowd_route)
-        self.route_speeds = tuple(float(v) for v in route_speeds)
+                 search_expansions: int = 0, dense_budget: float = 0.0, cone_degrees: float = 20.0, **kwargs):  # fmt: skip
         if not (0.0 <= dense_budget <= 100.0):
             raise ValueError(f"dense_budget must be in [0, 100], got {dense_budget!r}")
         self.dense_budget = float(dense_budget)
@@ -303,7 +300,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         kwargs.setdefault("stall", 5)
         self.n_dodges, self.dodge_steps = int(n_dodges), float(dodge_steps)
         super().__init__(env, seed, optimizer=optimizer, variant="paper", predictive=True, **kwargs)
-        self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction)
+        self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees)
         speeds = self.n_waypoints + 1
         self._timed_lo = np.concatenate([self.search_lo, np.zeros(speeds)])
         self._timed_hi = np.concatenate([self.search_hi, np.ones(speeds)])
@@ -330,13 +327,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         rows = [np.concatenate([self.straight_line(robot, goal), np.ones(k + 1)])]
         if problem is not None and problem.cost_to_go.field.size:
             around = waypoints_on(route(problem.cost_to_go, robot, goal, 0.5 * self.facts.robot_radius), k)
-            for speed in self.route_speeds[::-1]:
-                rows.insert(0, np.concatenate([around.ravel(), np.full(k + 1, speed)]))
-            if self.crowd_route and problem.travel.any():
-                among = route_among(goal, self.facts.goal_radius, self.model.arena.box, problem.statics, self.facts.robot_radius,
-                                    problem.trajectory[0, :, :2], problem.contact_radii, robot, 2.0 * CROWD_CELL)  # fmt: skip
-                if among is not None:
-                    rows.insert(0, np.concatenate([waypoints_on(among, k).ravel(), np.ones(k + 1)]))
+            rows.insert(0, np.concatenate([around.ravel(), np.ones(k + 1)]))
         for angle in 2 * np.pi * np.arange(self.n_dodges) / self.n_dodges:
             w1 = np.clip(robot + self.dodge_steps * self.step_length * np.array([np.cos(angle), np.sin(angle)]), self.search_lo[:2], self.search_hi[:2])
             rest = w1 + np.arange(1, k)[:, None] / k * (goal - w1)

@@ -81,6 +81,8 @@ class TimedScene(NamedTuple):
     cost_to_go: CostToGo = STRAIGHT_LINE  # the rest of the path past the horizon (:mod:`agents.planners.costtogo`)
     violation: int = CONTACTS  # what the penalty measures: ``CONTACTS`` or ``FIRST_CONTACT``
     offset: float = INFEASIBLE  # added once per touched obstacle (``CONTACTS``) or once (``FIRST_CONTACT``)
+    # with a cost-to-go field, whether the rest's straight pieces past the horizon pay Eq. 4 on the obstacles
+    rest_obstacles: bool = True
 
 
 class OptimizerResult(NamedTuple):
@@ -260,8 +262,7 @@ def timed_path_cost(x, scene):
     cost-to-go (``cost_to_go``) from where the horizon leaves the robot, so that a path past the
     horizon straight through a wall is not the cheap one; without walls that is the straight line,
     never longer than the path's own rest, and the cost is the one it always was. With a cost-to-go
-    field (walls, or obstacles at rest) the rest's straight pieces pay Eq. 4 neither on the capsules
-    nor on the obstacles: they may cut walls, so they are not the way the robot will go.
+    field and ``rest_obstacles=False`` the rest's straight pieces pay Eq. 4 on the obstacles neither.
     """
     traj, n, robot_radius, contact_radii = scene.trajectory, scene.substeps, scene.robot_radius, scene.contact_radii
     robot, goal, goal_radius, reach = scene.robot, scene.goal, scene.goal_radius, scene.reach
@@ -326,11 +327,13 @@ def timed_path_cost(x, scene):
         rest = 0.0
         # the walls the rest's straight pieces cut pay Eq. 4 only without a cost-to-go: with one, the
         # rest costs at least the way around them (charging both held the planners at local minima).
-        # Nor do the obstacles they pass there: those pieces cut through walls, so they are not the way
-        # the robot will go, and charging the discs on them (Eq. 4, 100 per metre of depth) put the
-        # waypoints through walls, off the humans' corridor, and held the robot still behind them
-        # (maze-crowd, docs/results/maps_first_look)
-        rest_statics, rest_obstacles = (statics, n_obs) if scene.cost_to_go.field.size == 0 else (statics[:0], 0)
+        # ``rest_obstacles=False`` leaves the obstacles they pass there unpaid too: those pieces may cut
+        # walls, and charging the slow humans on them (Eq. 4, 100 per metre of depth) held the robot
+        # behind them in maze-crowd; among fast ones the charge is a useful look further ahead
+        # (docs/results/maps_first_look/README.md)
+        field = scene.cost_to_go.field.size > 0
+        rest_statics = statics[:0] if field else statics
+        rest_obstacles = 0 if field and not scene.rest_obstacles else n_obs
         ax, ay = px, py
         for s in range(seg + 1, k + 2):
             bx, by = pts[s, 0], pts[s, 1]

@@ -126,6 +126,11 @@ class SpacetimeAStarAgent(Agent):
     :param keep_plan_steps: the previous plan is flown on, without a search, while the new
         prediction finds all of it free of contact and it still runs this many steps (or to the goal).
     :param prediction, cone_degrees: :class:`SpacetimeModel`'s obstacle prediction.
+    :param rest_obstacles: in a scene with walls (a cost-to-go), whether the rest of the path past the
+        horizon pays Eq. 4 on the obstacles its straight pieces pass where the prediction leaves them
+        (:attr:`~agents.planners.objective.TimedScene.rest_obstacles`; always so without walls). Off
+        in ``pso-crowd`` / ``abc-crowd``: those pieces may cut walls, and the charge held the robot behind
+        slow humans in maze-crowd.
     :param escape_trapped: when every plan is predicted to end in contact before the horizon,
         fly the :meth:`escape` move instead of the plan that survives longest (always done when no
         move at all is free).
@@ -255,9 +260,8 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     A candidate is the ``k`` waypoints of the paper's planners plus a speed for each of the ``k + 1``
     segments (a fraction of the top speed: the robot may slow down or wait). Its cost is the
     predicted arrival time (as metres at top speed) plus the paper's penalty on every predicted
-    contact within ``horizon_steps`` and, in open scenes, on the rest of the path against the obstacles
-    where the prediction leaves them (with walls the rest costs the static cost-to-go:
-    :func:`agents.planners.objective.timed_path_cost`). Each replan warm-starts from
+    contact within ``horizon_steps`` and on the rest of the path against the obstacles where the
+    prediction leaves them (:func:`agents.planners.objective.timed_path_cost`). Each replan warm-starts from
     the previous best and the straight line at top speed; the robot flies the first step of the best.
 
     :param horizon_steps: steps of predicted obstacle motion checked step by step.
@@ -268,6 +272,11 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     :param dense_budget: when positive, a replan whose best still touches an obstacle runs again,
         from that best, with this many times the iterations: the budget grows where the scene is dense.
     :param prediction, cone_degrees: :class:`SpacetimeModel`'s obstacle prediction.
+    :param rest_obstacles: in a scene with walls (a cost-to-go), whether the rest of the path past the
+        horizon pays Eq. 4 on the obstacles its straight pieces pass where the prediction leaves them
+        (:attr:`~agents.planners.objective.TimedScene.rest_obstacles`; always so without walls). Off
+        in ``pso-crowd`` / ``abc-crowd``: those pieces may cut walls, and the charge held the robot behind
+        slow humans in maze-crowd.
     :param violation: what the penalty measures (:data:`VIOLATIONS`): ``"contacts"`` (Eq. 4 and the
         feasibility offset for every obstacle touched within the horizon) or ``"first-contact"`` (how
         early the first predicted contact comes first, then Eq. 4: the plan that stays free longest wins
@@ -283,7 +292,11 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
 
     def __init__(self, env, seed: int | None = None, *, optimizer: str = "pso", horizon_steps: int = 10, margin: float = 0.005,
                  n_dodges: int = 8, dodge_steps: float = 2.0, prediction: str = "physics", violation: str = "first-contact",
-                 search_expansions: int = 0, dense_budget: float = 0.0, cone_degrees: float = 20.0, **kwargs):  # fmt: skip
+                 search_expansions: int = 0, dense_budget: float = 0.0, cone_degrees: float = 20.0,
+                 rest_obstacles: bool = True, **kwargs):  # fmt: skip
+        if not isinstance(rest_obstacles, (bool, np.bool_)):
+            raise ValueError(f"rest_obstacles must be True or False, got {rest_obstacles!r}")
+        self.rest_obstacles = bool(rest_obstacles)
         if not (0.0 <= dense_budget <= 100.0):
             raise ValueError(f"dense_budget must be in [0, 100], got {dense_budget!r}")
         self.dense_budget = float(dense_budget)
@@ -316,7 +329,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         f = self.facts
         return TimedScene(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.step_length,
                           self.model.horizon_steps, self.penalty_weight, travel, segments, ctg, self.violation,
-                          0.0 if self.constraint == "adaptive" else INFEASIBLE)  # fmt: skip
+                          0.0 if self.constraint == "adaptive" else INFEASIBLE, self.rest_obstacles)  # fmt: skip
 
     def seed_paths(self, robot: np.ndarray, goal: np.ndarray, problem: TimedScene | None = None) -> np.ndarray:
         """Warm-start candidates at top speed: the straight line, then a first waypoint

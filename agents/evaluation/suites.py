@@ -14,7 +14,7 @@ SUITES = {
     # 1 m/s (Δd = 1 m/s x 0.25 s / 0.3 m = 5/6), robot invisible and visible
     "crowdnav": dict(
         agents="straight,velocity-obstacle,orca,pso,abc,pso-predictive,abc-predictive,astar-spacetime,pso-spacetime,abc-spacetime,"
-        "astar-crowd,ppo",
+        "astar-crowd,pso-crowd,abc-crowd,ppo",
         scenarios="crowdnav-circle-crossing,crowdnav-square-crossing,crowdnav-circle-crossing-visible,crowdnav-square-crossing-visible",
         delta_d="0.8333333333333334",
         episodes=500,
@@ -22,7 +22,7 @@ SUITES = {
     # walls and maps (issue 21): every family with bouncing obstacles and with ORCA humans
     "maps": dict(
         agents="straight,velocity-obstacle,orca,oracle-static,pso,abc,pso-predictive,abc-predictive,astar-spacetime,"
-        "pso-spacetime,abc-spacetime,astar-crowd,ppo",
+        "pso-spacetime,abc-spacetime,astar-crowd,pso-crowd,abc-crowd,ppo",
         scenarios="corridor,doorway,intersection,cluttered-room,maze,corridor-crowd,doorway-crowd,intersection-crowd,"
         "cluttered-room-crowd,maze-crowd",
         delta_d="0.25,0.5,1",

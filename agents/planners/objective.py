@@ -81,6 +81,8 @@ class TimedScene(NamedTuple):
     cost_to_go: CostToGo = STRAIGHT_LINE  # the rest of the path past the horizon (:mod:`agents.planners.costtogo`)
     violation: int = CONTACTS  # what the penalty measures: ``CONTACTS`` or ``FIRST_CONTACT``
     offset: float = INFEASIBLE  # added once per touched obstacle (``CONTACTS``) or once (``FIRST_CONTACT``)
+    # with a cost-to-go field, whether the rest's straight pieces past the horizon pay Eq. 4 on the obstacles
+    rest_obstacles: bool = True
 
 
 class OptimizerResult(NamedTuple):
@@ -259,7 +261,8 @@ def timed_path_cost(x, scene):
     plus ``penalty_weight`` times the depth). The rest of the path counts as at least the static
     cost-to-go (``cost_to_go``) from where the horizon leaves the robot, so that a path past the
     horizon straight through a wall is not the cheap one; without walls that is the straight line,
-    never longer than the path's own rest, and the cost is the one it always was.
+    never longer than the path's own rest, and the cost is the one it always was. With a cost-to-go
+    field and ``rest_obstacles=False`` the rest's straight pieces pay Eq. 4 on the obstacles neither.
     """
     traj, n, robot_radius, contact_radii = scene.trajectory, scene.substeps, scene.robot_radius, scene.contact_radii
     robot, goal, goal_radius, reach = scene.robot, scene.goal, scene.goal_radius, scene.reach
@@ -323,13 +326,19 @@ def timed_path_cost(x, scene):
         last = traj[horizon_steps * n]
         rest = 0.0
         # the walls the rest's straight pieces cut pay Eq. 4 only without a cost-to-go: with one, the
-        # rest costs at least the way around them (charging both held the planners at local minima)
-        rest_statics = statics if scene.cost_to_go.field.size == 0 else statics[:0]
+        # rest costs at least the way around them (charging both held the planners at local minima).
+        # ``rest_obstacles=False`` leaves the obstacles they pass there unpaid too: those pieces may cut
+        # walls, and charging the slow humans on them (Eq. 4, 100 per metre of depth) held the robot
+        # behind them in maze-crowd; among fast ones the charge is a useful look further ahead
+        # (docs/results/maps_first_look/README.md)
+        field = scene.cost_to_go.field.size > 0
+        rest_statics = statics[:0] if field else statics
+        rest_obstacles = 0 if field and not scene.rest_obstacles else n_obs
         ax, ay = px, py
         for s in range(seg + 1, k + 2):
             bx, by = pts[s, 0], pts[s, 1]
             rest += math.sqrt((bx - ax) * (bx - ax) + (by - ay) * (by - ay))
-            for o in range(n_obs):
+            for o in range(rest_obstacles):
                 r = contact_radii[o] + robot_radius
                 d2 = _segment_origin_distance_sq(ax - last[o, 0], ay - last[o, 1], bx - last[o, 0], by - last[o, 1])
                 if d2 < r * r:

@@ -126,6 +126,11 @@ class SpacetimeAStarAgent(Agent):
     :param keep_plan_steps: the previous plan is flown on, without a search, while the new
         prediction finds all of it free of contact and it still runs this many steps (or to the goal).
     :param prediction, cone_degrees: :class:`SpacetimeModel`'s obstacle prediction.
+    :param rest_obstacles: in a scene with walls (a cost-to-go), whether the rest of the path past the
+        horizon pays Eq. 4 on the obstacles its straight pieces pass where the prediction leaves them
+        (:attr:`~agents.planners.objective.TimedScene.rest_obstacles`; always so without walls). Off
+        in ``pso-crowd`` / ``abc-crowd``: those pieces may cut walls, and the charge held the robot behind
+        slow humans in maze-crowd.
     :param escape_trapped: when every plan is predicted to end in contact before the horizon,
         fly the :meth:`escape` move instead of the plan that survives longest (always done when no
         move at all is free).
@@ -266,7 +271,12 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         seeds the population too (:mod:`agents.planners.spacetime_seed`); the population still optimises.
     :param dense_budget: when positive, a replan whose best still touches an obstacle runs again,
         from that best, with this many times the iterations: the budget grows where the scene is dense.
-    :param prediction: :class:`SpacetimeModel`'s obstacle prediction.
+    :param prediction, cone_degrees: :class:`SpacetimeModel`'s obstacle prediction.
+    :param rest_obstacles: in a scene with walls (a cost-to-go), whether the rest of the path past the
+        horizon pays Eq. 4 on the obstacles its straight pieces pass where the prediction leaves them
+        (:attr:`~agents.planners.objective.TimedScene.rest_obstacles`; always so without walls). Off
+        in ``pso-crowd`` / ``abc-crowd``: those pieces may cut walls, and the charge held the robot behind
+        slow humans in maze-crowd.
     :param violation: what the penalty measures (:data:`VIOLATIONS`): ``"contacts"`` (Eq. 4 and the
         feasibility offset for every obstacle touched within the horizon) or ``"first-contact"`` (how
         early the first predicted contact comes first, then Eq. 4: the plan that stays free longest wins
@@ -282,7 +292,11 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
 
     def __init__(self, env, seed: int | None = None, *, optimizer: str = "pso", horizon_steps: int = 10, margin: float = 0.005,
                  n_dodges: int = 8, dodge_steps: float = 2.0, prediction: str = "physics", violation: str = "first-contact",
-                 search_expansions: int = 0, dense_budget: float = 0.0, **kwargs):  # fmt: skip
+                 search_expansions: int = 0, dense_budget: float = 0.0, cone_degrees: float = 20.0,
+                 rest_obstacles: bool = True, **kwargs):  # fmt: skip
+        if not isinstance(rest_obstacles, (bool, np.bool_)):
+            raise ValueError(f"rest_obstacles must be True or False, got {rest_obstacles!r}")
+        self.rest_obstacles = bool(rest_obstacles)
         if not (0.0 <= dense_budget <= 100.0):
             raise ValueError(f"dense_budget must be in [0, 100], got {dense_budget!r}")
         self.dense_budget = float(dense_budget)
@@ -299,7 +313,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         kwargs.setdefault("stall", 5)
         self.n_dodges, self.dodge_steps = int(n_dodges), float(dodge_steps)
         super().__init__(env, seed, optimizer=optimizer, variant="paper", predictive=True, **kwargs)
-        self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction)
+        self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees)
         speeds = self.n_waypoints + 1
         self._timed_lo = np.concatenate([self.search_lo, np.zeros(speeds)])
         self._timed_hi = np.concatenate([self.search_hi, np.ones(speeds)])
@@ -315,7 +329,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         f = self.facts
         return TimedScene(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.step_length,
                           self.model.horizon_steps, self.penalty_weight, travel, segments, ctg, self.violation,
-                          0.0 if self.constraint == "adaptive" else INFEASIBLE)  # fmt: skip
+                          0.0 if self.constraint == "adaptive" else INFEASIBLE, self.rest_obstacles)  # fmt: skip
 
     def seed_paths(self, robot: np.ndarray, goal: np.ndarray, problem: TimedScene | None = None) -> np.ndarray:
         """Warm-start candidates at top speed: the straight line, then a first waypoint

@@ -5,7 +5,8 @@ success rate) and each planner's success ÷ limit, each on the episodes both it 
     PYTHONPATH=. python docs/results/maps_first_look/targets.py docs/results/maps_first_look/bouncing docs/results/maps_first_look/crowd
 
 Targets: the best planner >= 0.97x the limit in every bouncing family and >= 0.95x in every crowd
-family at Δd <= 1; pso-spacetime and abc-spacetime >= 0.90x.
+family at Δd <= 1; pso-spacetime and abc-spacetime >= 0.90x (and, where they ran, their crowd
+variants pso-crowd and abc-crowd: "-crowd ok").
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ from collections import defaultdict
 from pathlib import Path
 
 LIMIT = "oracle-clairvoyant"
-PLANNERS = ("astar-spacetime", "pso-spacetime", "abc-spacetime", "astar-crowd")
+PLANNERS = ("astar-spacetime", "pso-spacetime", "abc-spacetime", "astar-crowd", "pso-crowd", "abc-crowd")
 
 
 def load(run: Path) -> list[dict]:
@@ -50,6 +51,9 @@ def table(records: list[dict]) -> list[str]:
         met = best is not None and best >= (0.95 if crowd else 0.97)
         meta = all(ratios[p] is not None and ratios[p] >= 0.90 for p in ("pso-spacetime", "abc-spacetime"))
         verdict = ("best ok" if met else "best FAILS") + ", " + ("pso/abc ok" if meta else "pso/abc FAIL")
+        if ratios["pso-crowd"] is not None or ratios["abc-crowd"] is not None:  # the crowd variants, where they ran
+            crowd_meta = all(ratios[p] is not None and ratios[p] >= 0.90 for p in ("pso-crowd", "abc-crowd"))
+            verdict += ", " + ("-crowd ok" if crowd_meta else "-crowd FAIL")
         best_text = "" if best is None else f"{best:.2f}"
         cols = " | ".join("" if ratios[p] is None else f"{ratios[p]:.2f}" + (f" (n={counts[p]})" if counts[p] < len(limits) else "") for p in PLANNERS)
         lines.append(f"| {scenario} | {delta_d:g} | {len(limits)} | {limit:.2f} | {cols} | {best_text} | {verdict} |")

@@ -10,7 +10,7 @@ FULL   := $(VENV)/.installed-full
 #   make test TORCH_INDEX=https://download.pytorch.org/whl/cpu
 TORCH_INDEX ?=
 
-.PHONY: demo test bench reproduce train train-sarl train-sarl-square train-sarl-random clean venv
+.PHONY: demo test bench reproduce train train-sarl train-sarl-crossings train-sarl-random clean venv
 
 $(CORE): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -50,9 +50,9 @@ train: $(FULL)  ## retrain the shipped PPO policy (~35 min on 2 cores) and copy 
 train-sarl: $(FULL)  ## retrain SARL on CrowdNav's circle crossing (<= 58 min wall clock) -> agents/models/sarl_crowdnav.npz
 	$(PY) scripts/train_sarl.py --seed 0 --budget-minutes 58 --epsilon-decay 4000 --val-every 500 --out runs/sarl_crowdnav
 
-train-sarl-square: $(FULL)  ## retrain SARL on CrowdNav's square crossing (<= 58 min) -> agents/models/sarl_crowdnav_square.npz
-	$(PY) scripts/train_sarl.py --scenario crowdnav-square-crossing --seed 0 --budget-minutes 58 --epsilon-decay 4000 --val-every 500 \
-		--model-name sarl_crowdnav_square --out runs/sarl_crowdnav_square
+train-sarl-crossings: $(FULL)  ## retrain SARL on CrowdNav's circle and square crossings, taking turns (<= 58 min) -> agents/models/sarl_crowdnav_crossings.npz
+	$(PY) scripts/train_sarl.py --scenario crowdnav-circle-crossing,crowdnav-square-crossing --seed 0 --budget-minutes 58 \
+		--epsilon-decay 4000 --val-every 500 --model-name sarl_crowdnav_crossings --out runs/sarl_crowdnav_crossings
 
 train-sarl-random: $(FULL)  ## retrain SARL on random scenes, 8 bouncing obstacles, a Δd curriculum to 1.25 (<= 58 min) -> agents/models/sarl_random.npz
 	nice -n 5 $(PY) scripts/train_sarl.py --setting random --scenario random --delta-d 0.25 --curriculum-max 1.25 \

@@ -29,7 +29,7 @@ register("ppo-lidar", LidarRLAgent)  # the shipped lidar PPO (1-D conv encoder):
 register("ppo-set", SetRLAgent)  # the set-encoder PPO (attention over every obstacle); with path=: a train_rl.py --observation set model
 register("sarl", SARLAgent)  # value network with attention + one-step lookahead on predicted humans (agents/models/sarl_crowdnav.npz)
 register("sarl-random", partial(SARLAgent, setting="random"))  # the same trained on random scenes, bouncing obstacles (sarl_random.npz)
-register("sarl-square", partial(SARLAgent, model="sarl_crowdnav_square"))  # the same trained on CrowdNav's square crossing (sarl_crowdnav_square.npz)
+register("sarl-crossings", partial(SARLAgent, model="sarl_crowdnav_crossings"))  # the same trained on CrowdNav's circle and square crossings by turns
 register("sb3", SB3Agent)  # any SB3 model file as it comes, path= required (agents.rl.sb3_model)
 register("astar-spacetime", SpacetimeAStarAgent)
 # for crowds that steer: a cone of predicted futures, a wider margin, and an escape when every plan ends in contact

@@ -16,7 +16,7 @@ from pathplan_env import Obstacle, Scenario
 
 # sb3 needs a model path; the unicycle's agents need a unicycle (tests/test_unicycle.py drives them); the learned
 # agents are held to what they were trained for (tests/test_rl.py, test_sarl.py, ...), not static paper cases
-LEARNED = ("ppo", "ppo-lidar", "ppo-set", "sarl", "sarl-random", "sarl-square", "sb3")
+LEARNED = ("ppo", "ppo-lidar", "ppo-set", "sarl", "sarl-random", "sarl-crossings", "sb3")
 PLANNERS = [name for name in agents.available() if name not in ("straight", *LEARNED, *agents.UNICYCLE_AGENTS)]
 
 

@@ -9,7 +9,7 @@ from the simulator), the network :mod:`agents.rl.sarl_numpy`:
     agent = agents.make("sarl", env)                       # agents/models/sarl_crowdnav.npz
     agent = agents.make("sarl", env, path="runs/sarl/best.npz")
     agent = agents.make("sarl-random", gym.make("DynamicObstacle-v0", scenario="random", delta_d=1))  # sarl_random.npz
-    agent = agents.make("sarl-square", gym.make("DynamicObstacle-v0", scenario="crowdnav-square-crossing"))  # sarl_crowdnav_square.npz
+    agent = agents.make("sarl-crossings", gym.make("DynamicObstacle-v0", scenario="crowdnav-square-crossing"))  # sarl_crowdnav_crossings.npz
 """
 
 from __future__ import annotations

@@ -126,11 +126,6 @@ class SpacetimeAStarAgent(Agent):
     :param keep_plan_steps: the previous plan is flown on, without a search, while the new
         prediction finds all of it free of contact and it still runs this many steps (or to the goal).
     :param prediction, cone_degrees: :class:`SpacetimeModel`'s obstacle prediction.
-    :param rest_obstacles: in a scene with walls (a cost-to-go), whether the rest of the path past the
-        horizon pays Eq. 4 on the obstacles its straight pieces pass where the prediction leaves them
-        (:attr:`~agents.planners.objective.TimedScene.rest_obstacles`; always so without walls). Off
-        in ``pso-crowd`` / ``abc-crowd``: those pieces may cut walls, and the charge held the robot behind
-        slow humans in maze-crowd.
     :param escape_trapped: when every plan is predicted to end in contact before the horizon,
         fly the :meth:`escape` move instead of the plan that survives longest (always done when no
         move at all is free).

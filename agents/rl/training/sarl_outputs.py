@@ -26,14 +26,15 @@ def finish(args: SARLArgs, command: str, out: Path, curve: list, best: dict, sec
         "git_commit": provenance.pop("git_commit", "") or "unknown", "versions": {**provenance, "torch": torch.__version__},
     }  # fmt: skip
     figure = plot_curve(curve, out / "learning_curve.png", args)
-    meta["figures"] = [f"docs/results/sarl/learning_curve_{args.shipped_name.removeprefix('sarl_')}.png"]
+    curve_name = f"learning_curve_{args.shipped_name.removeprefix('sarl_')}.png"  # learning_curve_crowdnav.png for sarl_crowdnav
+    meta["figures"] = [f"docs/results/sarl/{curve_name}"]
     (out / "best.json").write_text(json.dumps(meta, indent=1))
     if args.ship:
         MODELS_DIR.mkdir(exist_ok=True)
         RESULTS_DIR.mkdir(parents=True, exist_ok=True)
         shutil.copy(out / "best.npz", MODELS_DIR / f"{args.shipped_name}.npz")
         (MODELS_DIR / f"{args.shipped_name}.json").write_text(json.dumps(meta, indent=1))
-        shutil.copy(figure, RESULTS_DIR / f"learning_curve_{args.shipped_name.removeprefix('sarl_')}.png")
+        shutil.copy(figure, RESULTS_DIR / curve_name)
     return meta
 
 

@@ -162,11 +162,12 @@ def train(args: SARLArgs, command: str = "") -> dict:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     envs = {name: gym.make("DynamicObstacle-v0", scenario=name, delta_d=args.delta_d) for name in args.scenarios}
-    env_of = lambda episode: envs[args.scenarios[episode % len(envs)]]  # episodes take turns among the scenarios
-    env = env_of(0)
+    scenario_of = lambda episode: args.scenarios[episode % len(envs)]  # episodes take turns among the scenarios
+    env = envs[scenario_of(0)]
     facts = EnvFacts.of(env)
     for name, other in envs.items():  # one action set and discount for all: the robot must be the same
-        if (EnvFacts.of(other).robot_speed, EnvFacts.of(other).dt) != (facts.robot_speed, facts.dt):
+        other_facts = EnvFacts.of(other)
+        if (other_facts.robot_speed, other_facts.dt) != (facts.robot_speed, facts.dt):
             raise ValueError(f"scenario: {name}'s robot speed or dt differs from {args.scenarios[0]}'s; train on one robot at a time")
     setting = get_setting(args.setting)
     velocities, gamma_bar = action_velocities(facts.robot_speed), discount(args.gamma, facts)
@@ -177,14 +178,14 @@ def train(args: SARLArgs, command: str = "") -> dict:
     log = lambda msg: print(f"[{time.perf_counter() - start:7.1f} s] {msg}", flush=True)
 
     # 1. imitation: discounted CrowdNav returns of the teacher's episodes (at most a quarter of the budget)
-    teachers = {id(e): registry.make(args.teacher, e, seed=seed, **args.teacher_kwargs) for e in envs.values()}
+    teachers = {name: registry.make(args.teacher, e, seed=seed, **args.teacher_kwargs) for name, e in envs.items()}
     il_played, il_success = 0, 0
     for il_episode in range(args.il_episodes):
         if time.perf_counter() - start > 0.25 * budget:
             break
-        teacher = teachers[id(env_of(il_episode))]
+        teacher = teachers[scenario_of(il_episode)]
         teacher.reset()
-        states, rewards, info = play(env_of(il_episode), seed, lambda o, teacher=teacher: teacher.predict(o, deterministic=True)[0], setting,
+        states, rewards, info = play(envs[scenario_of(il_episode)], seed, lambda o, teacher=teacher: teacher.predict(o, deterministic=True)[0], setting,
                                      curriculum_delta_d(args, rng, 0))  # fmt: skip
         seed += 1
         il_played, il_success = il_played + 1, il_success + bool(info["is_success"])
@@ -223,13 +224,14 @@ def train(args: SARLArgs, command: str = "") -> dict:
             break
         epsilon = args.epsilon_end + (args.epsilon_start - args.epsilon_end) * max(0.0, 1 - (episode - 1) / args.epsilon_decay)
 
-        episode_facts = EnvFacts.of(env_of(episode))
+        episode_env = envs[scenario_of(episode)]
+        episode_facts = EnvFacts.of(episode_env)
         episode_greedy = greedy(episode_facts, values, args.gamma, setting)
 
         def act(o, epsilon=epsilon, greedy_act=episode_greedy, facts=episode_facts):
             return move(o, facts, velocities, int(rng.integers(N_ACTIONS))) if rng.random() < epsilon else greedy_act(o)
 
-        states, rewards, info = play(env_of(episode), seed, act, setting, curriculum_delta_d(args, rng, episode))
+        states, rewards, info = play(episode_env, seed, act, setting, curriculum_delta_d(args, rng, episode))
         seed += 1
         following = np.zeros(len(states), np.float32)  # V_target(s_{t+1}); the last step is terminal (or a timeout, as CrowdNav)
         for t in range(len(states) - 1):

@@ -42,10 +42,13 @@ register("pso-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="pso"))
 register("abc-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="abc", population=40))  # 20 food sources
 # for crowds that steer: a 5 % margin (a human who swerves walks into a plan that grazes it) and, with walls,
 # no Eq. 4 on the humans the rest of the path past the horizon passes (its pieces may cut walls: the charge
-# held the robot behind slow humans in the maze); astar-crowd's cone of futures did no better on validation
+# held the robot behind slow humans in the maze), but the cost-to-go from where the horizon leaves the robot
+# goes round the humans where the prediction leaves them (without it the swarm waited behind a human in a
+# maze doorway that astar-spacetime walked round); astar-crowd's cone of futures did no better on validation
 # and held the robot back in the maze's corridors (docs/results/maps_first_look/README.md)
-register("pso-crowd", partial(SpacetimeMetaheuristicAgent, optimizer="pso", margin=0.05, rest_obstacles=False))
-register("abc-crowd", partial(SpacetimeMetaheuristicAgent, optimizer="abc", population=40, margin=0.05, rest_obstacles=False))
+register("pso-crowd", partial(SpacetimeMetaheuristicAgent, optimizer="pso", margin=0.05, rest_obstacles=False, obstacle_field=True))
+register("abc-crowd", partial(SpacetimeMetaheuristicAgent, optimizer="abc", population=40, margin=0.05, rest_obstacles=False,
+                              obstacle_field=True))  # fmt: skip
 # the unicycle (robot="unicycle"): the dynamic window approach, and any waypoint planner driven by pure pursuit
 register("dwa", DWAAgent)
 register("astar-unicycle", UnicycleAStarAgent)  # space-time A* over the unicycle's own moves (agents.planners.unicycle_search)

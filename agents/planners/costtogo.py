@@ -235,3 +235,22 @@ def observed_cost_to_go(obs: dict, facts, memory: dict) -> tuple[np.ndarray, Cos
         memory["cost_to_go_key"] = key
         memory["cost_to_go"] = cost_to_go(goal, facts.goal_radius, facts.arena.box, segments, facts.robot_radius, centers[still], radii[still])
     return segments, memory["cost_to_go"]
+
+
+def around_obstacles(static: CostToGo, goal, goal_radius: float, box, segments: np.ndarray, robot_radius: float,
+                     centers: np.ndarray, radii: np.ndarray) -> CostToGo:  # fmt: skip
+    """The static cost-to-go ``static`` (made by :func:`cost_to_go` for this goal, box and ``segments``)
+    with the discs ``centers`` / ``radii`` (their own radii) standing where they are: the way round them
+    where there is one. A place the discs cut off from the goal costs more than any place they leave
+    a way from (the largest finite value of the new field plus its static cost-to-go: they will move
+    on); the static field stands where the discs leave the goal no way at all or without walls."""
+    if static.field.size == 0 or len(radii) == 0:
+        return static
+    blocked = cost_to_go(goal, goal_radius, box, segments, robot_radius, centers, radii, static.cell)
+    if blocked.field.shape != static.field.shape:  # the goal's cells are all covered: no field to speak of
+        return static
+    finite = np.isfinite(blocked.field)
+    if not finite.any():
+        return static
+    field = np.where(finite, blocked.field, blocked.field[finite].max() + static.field)
+    return static._replace(field=np.ascontiguousarray(field))

@@ -83,6 +83,8 @@ class TimedScene(NamedTuple):
     offset: float = INFEASIBLE  # added once per touched obstacle (``CONTACTS``) or once (``FIRST_CONTACT``)
     # with a cost-to-go field, whether the rest's straight pieces past the horizon pay Eq. 4 on the obstacles
     rest_obstacles: bool = True
+    # weight of the running cost: the mean cost-to-go at the end of each step within the horizon (0: none)
+    progress_weight: float = 0.0
 
 
 class OptimizerResult(NamedTuple):
@@ -263,6 +265,13 @@ def timed_path_cost(x, scene):
     horizon straight through a wall is not the cheap one; without walls that is the straight line,
     never longer than the path's own rest, and the cost is the one it always was. With a cost-to-go
     field and ``rest_obstacles=False`` the rest's straight pieces pay Eq. 4 on the obstacles neither.
+
+    ``progress_weight`` > 0 adds a running cost, an MPC's stage cost: that weight times the mean, over the
+    horizon's steps, of the cost-to-go where each step ends (0 from the goal on). The arrival alone ties
+    every plan that ends the horizon at the same place, however it gets there: where a human blocks the
+    way within the horizon, a plan that wanders and one that closes in and waits cost the same, and the
+    robot flew the first step of whichever the swarm returned (maze-crowd: it dithered in place for tens
+    of steps). The running cost prefers the plan that closes in first.
     """
     traj, n, robot_radius, contact_radii = scene.trajectory, scene.substeps, scene.robot_radius, scene.contact_radii
     robot, goal, goal_radius, reach = scene.robot, scene.goal, scene.goal_radius, scene.reach
@@ -286,6 +295,7 @@ def timed_path_cost(x, scene):
     # ranked by the first contact, a plan needs no steps past it: its Eq. 4 and arrival only break ties
     stop_at_contact = scene.violation == FIRST_CONTACT
     contact = False
+    running = 0.0  # the sum of the cost-to-go where each step ends (``progress_weight``)
     for step in range(horizon_steps):
         nseg, qx, qy = walk_along(pts, seg, px, py, x[2 * k + seg] * reach)
         dx, dy = qx - px, qy - py
@@ -318,6 +328,10 @@ def timed_path_cost(x, scene):
         if goal_t <= 1.0:
             arrival = step + goal_t
             break
+        if scene.progress_weight > 0.0:
+            step_to_go = distance_to_goal(scene.cost_to_go, qx, qy, goal[0], goal[1], goal_radius)
+            if step_to_go < math.inf:  # inf only inside a wall: a wall contact, which the penalty ranks
+                running += step_to_go
         seg, px, py = nseg, qx, qy
         if stop_at_contact and (contact or wall_touch >= 0.0):
             break
@@ -354,6 +368,8 @@ def timed_path_cost(x, scene):
         if touched[o] and not near[o]:
             detour += TWO_PI * (contact_radii[o] + robot_radius) + penalty_weight * depth[o]
     penalty = _contact_penalty(scene, near, first_touch, depth, wall_touch, wall_depth)
+    if scene.progress_weight > 0.0:
+        detour += scene.progress_weight * running / horizon_steps
     return arrival * reach + detour + penalty, penalty
 
 

@@ -27,7 +27,7 @@ from pathplan_env.geometry import segment_segment_distance
 from pathplan_env.wrappers import EnvFacts
 
 from ..base import Agent, real_obstacles, real_static_segments
-from .costtogo import CostToGo, observed_cost_to_go, route, route_bends, waypoints_on
+from .costtogo import CostToGo, around_obstacles, observed_cost_to_go, route, route_bends, waypoints_on
 from .metaheuristic import MetaheuristicAgent
 from .objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, TimedScene, walk_along
 from .prediction import predict_among, substeps_for
@@ -272,6 +272,13 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         (:attr:`~agents.planners.objective.TimedScene.rest_obstacles`; always so without walls). Off
         in ``pso-crowd`` / ``abc-crowd``: those pieces may cut walls, and the charge held the robot behind
         slow humans in maze-crowd.
+    :param obstacle_field: in a scene with walls, the cost-to-go past the horizon goes round the obstacles
+        where the prediction leaves them (:func:`agents.planners.costtogo.around_obstacles`, recomputed every
+        replan: ~7 ms on the maze). On in ``pso-crowd`` / ``abc-crowd``: with the static field alone a plan
+        that waits behind a human standing in a maze doorway cost as little as one that walks round it.
+    :param progress_weight: weight of the running cost, the mean cost-to-go where each step within the
+        horizon ends (:attr:`~agents.planners.objective.TimedScene.progress_weight`; 0: none): among plans that
+        end the horizon equally far on, it prefers the one that closes in first, not one that wanders.
     :param violation: what the penalty measures (:data:`VIOLATIONS`): ``"contacts"`` (Eq. 4 and the
         feasibility offset for every obstacle touched within the horizon) or ``"first-contact"`` (how
         early the first predicted contact comes first, then Eq. 4: the plan that stays free longest wins
@@ -288,7 +295,13 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     def __init__(self, env, seed: int | None = None, *, optimizer: str = "pso", horizon_steps: int = 10, margin: float = 0.005,
                  n_dodges: int = 8, dodge_steps: float = 2.0, prediction: str = "physics", violation: str = "first-contact",
                  search_expansions: int = 0, dense_budget: float = 0.0, cone_degrees: float = 20.0,
-                 rest_obstacles: bool = True, **kwargs):  # fmt: skip
+                 rest_obstacles: bool = True, progress_weight: float = 0.0, obstacle_field: bool = False, **kwargs):  # fmt: skip
+        if not isinstance(obstacle_field, (bool, np.bool_)):
+            raise ValueError(f"obstacle_field must be True or False, got {obstacle_field!r}")
+        self.obstacle_field = bool(obstacle_field)
+        if not (isinstance(progress_weight, (int, float, np.number)) and np.isfinite(progress_weight) and progress_weight >= 0.0):
+            raise ValueError(f"progress_weight must be a finite number >= 0, got {progress_weight!r}")
+        self.progress_weight = float(progress_weight)
         if not isinstance(rest_obstacles, (bool, np.bool_)):
             raise ValueError(f"rest_obstacles must be True or False, got {rest_obstacles!r}")
         self.rest_obstacles = bool(rest_obstacles)
@@ -318,13 +331,17 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         with the scene's walls and the static cost-to-go (kept in ``memory`` while the statics stay)."""
         segments, ctg = self.model.statics(obs, {} if memory is None else memory)
         trajectory, n, radii, robot, goal = self.model.predict_scene(obs)
+        if self.obstacle_field and ctg.field.size:  # the rest goes round the obstacles where the prediction leaves them
+            own = np.resize(real_obstacles(obs)[2], len(radii))  # their own radii (the cone repeats them)
+            ctg = around_obstacles(ctg, goal, self.facts.goal_radius, self.model.arena.box, segments, self.facts.robot_radius,
+                                   trajectory[self.model.horizon_steps * n, :, :2], own)  # fmt: skip
         # each obstacle's path length in each step: pairs farther apart than both can travel are skipped
         moves = np.hypot(*np.diff(trajectory[:, :, :2], axis=0).transpose(2, 0, 1))
         travel = np.ascontiguousarray(moves.reshape(self.model.horizon_steps, n, -1).sum(axis=1))
         f = self.facts
         return TimedScene(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.step_length,
                           self.model.horizon_steps, self.penalty_weight, travel, segments, ctg, self.violation,
-                          0.0 if self.constraint == "adaptive" else INFEASIBLE, self.rest_obstacles)  # fmt: skip
+                          0.0 if self.constraint == "adaptive" else INFEASIBLE, self.rest_obstacles, self.progress_weight)  # fmt: skip
 
     def seed_paths(self, robot: np.ndarray, goal: np.ndarray, problem: TimedScene | None = None) -> np.ndarray:
         """Warm-start candidates at top speed: the straight line, then a first waypoint

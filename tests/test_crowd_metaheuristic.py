@@ -74,7 +74,9 @@ def test_the_field_goes_round_an_obstacle_standing_where_the_prediction_leaves_i
     """Behind a disc in the corridor the way to the goal is longer round it than the static field says; past
     it nothing changes, and nowhere is it shorter; a disc that closes the corridor leaves the cells behind it
     dearer than any the goal can be reached from, and finite (it will move on)."""
-    d = lambda f, x, y: distance_to_goal(f, x, y, 9.0, 1.0, 0.1)  # noqa: E731
+    def d(f, x, y):
+        return distance_to_goal(f, x, y, 9.0, 1.0, 0.1)
+
     static, around = _corridor_field(0.4)  # a way past it on either side
     assert d(around, 4.5, 1.0) > d(static, 4.5, 1.0) + 0.15 and d(around, 4.0, 1.0) > d(static, 4.0, 1.0) + 0.08
     assert d(around, 6.5, 1.0) == d(static, 6.5, 1.0)  # past it

@@ -208,6 +208,16 @@ def _wall_contact(px, py, qx, qy, robot_radius, statics, reach, goal_t, step, to
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
+def _running_to_go(scene, x, y):
+    """The running cost's term for a step that ends at ``(x, y)``: its cost-to-go (0 without
+    ``progress_weight``, and inside a wall, where it is inf: a wall contact, which the penalty ranks)."""
+    if scene.progress_weight <= 0.0:
+        return 0.0
+    to_go = distance_to_goal(scene.cost_to_go, x, y, scene.goal[0], scene.goal[1], scene.goal_radius)
+    return to_go if to_go < math.inf else 0.0
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
 def _contact_penalty(scene, near, first_touch, depth, wall_touch, wall_depth):
     """The constraint: the penalty of the contacts within the horizon, as ``scene.violation`` measures it.
 
@@ -328,10 +338,7 @@ def timed_path_cost(x, scene):
         if goal_t <= 1.0:
             arrival = step + goal_t
             break
-        if scene.progress_weight > 0.0:
-            step_to_go = distance_to_goal(scene.cost_to_go, qx, qy, goal[0], goal[1], goal_radius)
-            if step_to_go < math.inf:  # inf only inside a wall: a wall contact, which the penalty ranks
-                running += step_to_go
+        running += _running_to_go(scene, qx, qy)
         seg, px, py = nseg, qx, qy
         if stop_at_contact and (contact or wall_touch >= 0.0):
             break
@@ -368,8 +375,7 @@ def timed_path_cost(x, scene):
         if touched[o] and not near[o]:
             detour += TWO_PI * (contact_radii[o] + robot_radius) + penalty_weight * depth[o]
     penalty = _contact_penalty(scene, near, first_touch, depth, wall_touch, wall_depth)
-    if scene.progress_weight > 0.0:
-        detour += scene.progress_weight * running / horizon_steps
+    detour += scene.progress_weight * running / horizon_steps  # 0.0 without a running cost
     return arrival * reach + detour + penalty, penalty
 
 

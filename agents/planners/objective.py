@@ -276,12 +276,9 @@ def timed_path_cost(x, scene):
     never longer than the path's own rest, and the cost is the one it always was. With a cost-to-go
     field and ``rest_obstacles=False`` the rest's straight pieces pay Eq. 4 on the obstacles neither.
 
-    ``progress_weight`` > 0 adds a running cost, an MPC's stage cost: that weight times the mean, over the
-    horizon's steps, of the cost-to-go where each step ends (0 from the goal on). The arrival alone ties
-    every plan that ends the horizon at the same place, however it gets there: where a human blocks the
-    way within the horizon, a plan that wanders and one that closes in and waits cost the same, and the
-    robot flew the first step of whichever the swarm returned (maze-crowd: it dithered in place for tens
-    of steps). The running cost prefers the plan that closes in first.
+    ``progress_weight`` > 0 adds a running cost (an MPC's stage cost): that weight times the mean cost-to-go
+    where each step of the horizon ends (0 from the goal on). The arrival alone ties every plan that ends
+    the horizon at the same place, one that wanders as one that closes in and waits.
     """
     traj, n, robot_radius, contact_radii = scene.trajectory, scene.substeps, scene.robot_radius, scene.contact_radii
     robot, goal, goal_radius, reach = scene.robot, scene.goal, scene.goal_radius, scene.reach

@@ -67,3 +67,30 @@ def test_tiny_run_validates_the_averaged_weights_beside_the_trained_ones(tmp_pat
     agent = agents.make("sarl", gym.make("DynamicObstacle-v0", **CROWDNAV), path=tmp_path / "run" / "best.npz")
     assert agent.network.layers["mlp1"][0][0].shape == (100, SELF_DIM + HUMAN_DIM)
     assert json.loads((tmp_path / "run" / "best.json").read_text())["args"]["ema_decay"] == 0.5
+
+
+def test_goal_velocity_option_scores_every_move_with_the_same_velocity_features():
+    from agents.rl.sarl_lookahead import best_action, lookahead
+
+    env = gym.make("DynamicObstacle-v0", **CROWDNAV)
+    obs, _ = env.reset(seed=5)
+    obs = env.step(env.unwrapped.arena.waypoint_to_action(obs["robot_position"] + np.array([0.1, 0.2])))[0]
+    agent = agents.make("sarl", env, velocity="goal")
+    seen = []
+
+    def values(self_state, humans, mask):
+        seen.append(self_state.copy())
+        return agent.network.values(self_state, humans, mask)
+
+    k = best_action(obs, agent.facts, agent.velocities, values, agent.gamma_bar, velocity_features=(1.0, 0.0))
+    assert np.all(seen[0][:, 3] == 1.0) and np.all(seen[0][:, 4] == 0.0)
+    self_state, humans, rewards = lookahead(obs, agent.facts, agent.velocities)
+    self_state[:, 3:5] = (1.0, 0.0)
+    expected = np.argmax(rewards + agent.gamma_bar * agent.network.values(self_state, humans, np.ones(humans.shape[:2], np.float32)))
+    assert k == expected
+    assert np.allclose(
+        agent.predict(obs, deterministic=True)[0], env.unwrapped.arena.waypoint_to_action(obs["robot_position"] + agent.velocities[k] * agent.facts.dt)
+    )
+    assert agents.make("sarl", env).velocity_features is None  # the default: CrowdNav's, the move's own velocity
+    with pytest.raises(ValueError, match="velocity"):
+        agents.make("sarl", env, velocity="fast")

@@ -186,8 +186,15 @@ def discount(gamma: float, facts: EnvFacts) -> float:
 
 
 def best_action(obs: dict, facts: EnvFacts, velocities: np.ndarray, values, gamma_bar: float,
-                reward: CrowdNavReward = CROWDNAV_REWARD, features: SARLFeatures = CROWDNAV_FEATURES) -> int:  # fmt: skip
-    """The index of the move maximising reward + ``gamma_bar`` · value (``values(self_state, humans, mask)``), one batched call."""
+                reward: CrowdNavReward = CROWDNAV_REWARD, features: SARLFeatures = CROWDNAV_FEATURES,
+                velocity_features: tuple[float, float] | None = None) -> int:  # fmt: skip
+    """The index of the move maximising reward + ``gamma_bar`` · value (``values(self_state, humans, mask)``), one batched call.
+
+    ``velocity_features``: if given, every move's next state shows the robot's velocity as this (goal frame,
+    in robot speeds; ``(1, 0)``: full speed at the goal) instead of the move's own, so that the value's
+    dependence on the robot's velocity cannot rank the moves (``docs/results/sarl/time_gap.md``)."""
     self_state, humans, rewards = lookahead(obs, facts, velocities, reward, features)
+    if velocity_features is not None:
+        self_state[:, 3:5] = velocity_features
     mask = np.ones(humans.shape[:2], np.float32)
     return int(np.argmax(rewards + gamma_bar * np.asarray(values(self_state, humans, mask), np.float64)))

@@ -44,6 +44,12 @@ class SARLArgs:
     """SGD minibatches after every RL episode (CrowdNav: 100)"""
     capacity: int = 100_000
     target_update: int = 50
+    drop_timeouts: bool = False
+    """keep only the episodes that end at the goal or in a collision in the replay memory, imitation's and RL's
+    (CrowdNav's explorer rule); False: every episode, a timeout's last step taken as terminal"""
+    ema_decay: float = 0.0
+    """0: off; else an exponential moving average of the weights (this factor on the old average, updated after
+    every RL episode's minibatches) is validated beside the trained weights, and the better on validation is kept"""
     epsilon_start: float = 0.5
     epsilon_end: float = 0.1
     epsilon_decay: int = 2000
@@ -72,6 +78,8 @@ class SARLArgs:
                 raise ValueError(f"{name} must be positive, got {getattr(self, name)!r}")
         if not 0 < self.gamma <= 1:
             raise ValueError(f"gamma must be in (0, 1], got {self.gamma!r}")
+        if isinstance(self.ema_decay, bool) or not isinstance(self.ema_decay, (int, float)) or not 0 <= self.ema_decay < 1:
+            raise ValueError(f"ema_decay must be in [0, 1), got {self.ema_decay!r}")
         for name in ("epsilon_start", "epsilon_end"):
             if not 0 <= getattr(self, name) <= 1:
                 raise ValueError(f"{name} must be in [0, 1], got {getattr(self, name)!r}")

@@ -16,13 +16,19 @@ A Δd curriculum (``curriculum_max`` > 0, for bouncing obstacles): every episode
 uniformly from [0, d_max], d_max rising linearly from ``delta_d`` to ``curriculum_max`` over the first
 ``curriculum_episodes`` RL episodes (the imitation episodes draw from [0, ``curriculum_max``]).
 
+With ``drop_timeouts`` only episodes ending at the goal or in a collision enter the memory (CrowdNav's
+explorer). With ``ema_decay`` an exponential moving average of the weights is validated beside them
+(SGD at a constant rate leaves the weights jittering by more than the few thousandths of value that
+separate the five speeds of one heading: ``docs/results/sarl/time_gap.md``).
+
 Model selection: greedy validation episodes (``pathplan_env.splits.validation_seeds``) at every Δd
 of ``val_delta_d`` every ``val_every`` RL episodes; the best (mean success, then navigation time) is
-kept. A wall-clock budget stops the run; torch uses one thread.
+kept (the averaged weights too, when they are better). A wall-clock budget stops the run; torch uses one thread.
 """
 
 from __future__ import annotations
 
+import copy
 import time
 from pathlib import Path
 
@@ -140,6 +146,85 @@ def validate(envs: dict, model, args: SARLArgs) -> dict:
             "navigation_time": float(np.mean(times)) if times else None, **(per_cell if len(per_cell) > 1 else {})}  # fmt: skip
 
 
+def kept(info: dict, args: SARLArgs) -> bool:
+    """Whether a finished episode goes to the replay memory: with ``drop_timeouts`` only a success or a collision (CrowdNav's rule)."""
+    return not args.drop_timeouts or bool(info["is_success"] or info["collision"])
+
+
+def next_values(values, states: list) -> np.ndarray:
+    """``values`` of ``states[1:]`` in one batched call (humans padded, masked), a 0 for the last: ``V(s_{t+1})`` per step."""
+    following = np.zeros(len(states), np.float32)
+    if len(states) > 1:
+        width = max(1, max(h.shape[1] for _, h in states[1:]))
+        self_state = np.concatenate([s for s, _ in states[1:]])
+        humans = np.zeros((len(states) - 1, width, states[1][1].shape[2]), np.float32)
+        mask = np.zeros((len(states) - 1, width), np.float32)
+        for i, (_, h) in enumerate(states[1:]):
+            humans[i, : h.shape[1]], mask[i, : h.shape[1]] = h[0], 1.0
+        following[:-1] = values(self_state, humans, mask)
+    return following
+
+
+def remember_returns(memory: Memory, states: list, rewards: list, gamma_bar: float) -> None:
+    """An imitation episode's states into ``memory``, each with its discounted CrowdNav return."""
+    ret = 0.0
+    for (s, h), r in zip(reversed(states), reversed(rewards)):
+        ret = r + gamma_bar * ret
+        memory.add(s, h, ret)
+
+
+def averaged_copy(model, decay: float):
+    """A copy of ``model`` to hold its weights' moving average, or ``None`` when ``decay`` is 0 (off)."""
+    if not decay:
+        return None
+    return copy.deepcopy(model)
+
+
+def update_average(average, model, decay: float) -> None:
+    """``average`` <- ``decay`` · ``average`` + (1 - ``decay``) · ``model``, weight by weight (nothing if ``average`` is None)."""
+    if average is None:
+        return
+    import torch
+
+    with torch.no_grad():
+        for mean, weight in zip(average.parameters(), model.parameters()):
+            mean.lerp_(weight, 1.0 - decay)
+
+
+def select(best: dict, candidates: list, path: Path) -> dict:
+    """The best of ``best`` and the validated ``candidates`` (``(row, weights)``) by :func:`score`; a better one's weights saved to ``path``."""
+    for row, weights in candidates:
+        if score(row) > score(best):
+            best = row
+            np.savez(path, **weights.export())
+    return best
+
+
+def remember(memory: Memory, states: list, rewards: list, target_values, gamma_bar: float) -> None:
+    """An RL episode's states into ``memory``, targets ``r + gamma_bar · V_target(s_{t+1})``; the last step is
+    terminal (or a timeout, as CrowdNav)."""
+    following = next_values(target_values, states)
+    for t, (st, r) in enumerate(zip(states, rewards)):
+        memory.add(st[0], st[1], r + gamma_bar * following[t] if t < len(states) - 1 else r)
+
+
+def validate_both(envs: dict, model, average, args: SARLArgs, row: dict) -> list:
+    """Validates ``model`` into ``row`` and, if given, the averaged weights ``average`` on the same episodes (as
+    ``ema_*`` keys of ``row``); returns the candidates for selection, ``(row, weights)`` each."""
+    row.update(validate(envs, model, args))
+    candidates = [(dict(row), model)]
+    if average is not None:
+        averaged = validate(envs, average, args)
+        row.update({f"ema_{k}": v for k, v in averaged.items()})
+        candidates.append(({**row, **averaged, "weights": "ema"}, average))
+    return candidates
+
+
+def score(row: dict) -> tuple:
+    """Model selection's key: success, then the shorter navigation time."""
+    return row["success"], -(row["navigation_time"] or 1e9)
+
+
 def curriculum_delta_d(args: SARLArgs, rng: np.random.Generator, rl_episode: int) -> float | None:
     """The Δd of RL episode ``rl_episode`` (0: an imitation episode); ``None``: the env's own (no curriculum)."""
     if not args.curriculum_max:
@@ -189,10 +274,8 @@ def train(args: SARLArgs, command: str = "") -> dict:
                                      curriculum_delta_d(args, rng, 0))  # fmt: skip
         seed += 1
         il_played, il_success = il_played + 1, il_success + bool(info["is_success"])
-        ret = 0.0
-        for (s, h), r in zip(reversed(states), reversed(rewards)):
-            ret = r + gamma_bar * ret
-            memory.add(s, h, ret)
+        if kept(info, args):
+            remember_returns(memory, states, rewards, gamma_bar)
     log(f"imitation: {il_played} {args.teacher} episodes, success {il_success / max(il_played, 1):.3f}, {memory.size} states")
     optimizer = torch.optim.SGD(model.parameters(), lr=args.il_lr, momentum=0.9)
     for epoch in range(args.il_epochs if memory.size else 0):
@@ -215,6 +298,7 @@ def train(args: SARLArgs, command: str = "") -> dict:
     # 2. RL: epsilon-greedy lookahead, replay memory, target network
     target = SARLValue(dims=setting.features.dims)
     target.load_state_dict(model.state_dict())
+    average = averaged_copy(model, args.ema_decay)
     optimizer = torch.optim.SGD(model.parameters(), lr=args.rl_lr, momentum=0.9)
     values, target_values = _values(model), _values(target)
     episode = 0
@@ -233,26 +317,23 @@ def train(args: SARLArgs, command: str = "") -> dict:
 
         states, rewards, info = play(episode_env, seed, act, setting, curriculum_delta_d(args, rng, episode))
         seed += 1
-        following = np.zeros(len(states), np.float32)  # V_target(s_{t+1}); the last step is terminal (or a timeout, as CrowdNav)
-        for t in range(len(states) - 1):
-            following[t] = target_values(*states[t + 1], np.ones(states[t + 1][1].shape[:2], np.float32))[0]
-        for t, (st, r) in enumerate(zip(states, rewards)):
-            memory.add(st[0], st[1], r + gamma_bar * following[t] if t < len(states) - 1 else r)
+        if kept(info, args):
+            remember(memory, states, rewards, target_values, gamma_bar)
         for _ in range(args.train_batches):
             _fit(model, optimizer, memory.sample(rng, args.batch_size))
         values = _values(model)
+        update_average(average, model, args.ema_decay)
         if episode % args.target_update == 0:
             target.load_state_dict(model.state_dict())
             target_values = _values(target)
         if episode % args.val_every == 0:
             begin = time.perf_counter()
-            row = {"rl_episode": episode, "seconds": round(time.perf_counter() - start, 1), "epsilon": round(epsilon, 3), **validate(envs, model, args)}
+            row = {"rl_episode": episode, "seconds": round(time.perf_counter() - start, 1), "epsilon": round(epsilon, 3)}
+            candidates = validate_both(envs, model, average, args, row)
             val_cost = time.perf_counter() - begin
             curve.append(row)
             log(f"validation: {row}")
-            if (row["success"], -(row["navigation_time"] or 1e9)) > (best["success"], -(best["navigation_time"] or 1e9)):
-                best = dict(row)
-                np.savez(out / "best.npz", **model.export())
+            best = select(best, candidates, out / "best.npz")
     np.savez(out / "final.npz", **model.export())
     seconds = time.perf_counter() - start
     log(f"done: {episode} RL episodes, best {best}, wall time {seconds / 60:.1f} min")

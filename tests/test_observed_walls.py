@@ -3,10 +3,13 @@
 rounding's bound, contains the exact capsule, so a plan clear of the observed walls is clear of the
 env's (issue 21: pso-crowd cleared the float32 walls by 2.5e-7 m and overlapped the exact ones)."""
 
+import hashlib
+
 import gymnasium as gym
 import numpy as np
 import pytest
 
+import agents
 import pathplan_env  # noqa: F401  (registers the env)
 from agents.base import covering_rows, real_static_segments
 
@@ -59,3 +62,26 @@ def test_nothing_changes_without_walls():
     assert real_static_segments(obs, covering=True).shape == (0, 5)
     assert covering_rows(obs, np.zeros((0, 5))).shape == (0, 5)
     env.close()
+
+
+def _actions_digest(name: str) -> str:
+    env = gym.make("DynamicObstacle-v0", delta_d=1.0)
+    agent, digest = agents.make(name, env, seed=0), hashlib.sha256()
+    obs, _ = env.reset(seed=0)
+    for _ in range(20):
+        action, _ = agent.predict(obs, deterministic=True)
+        digest.update(np.asarray(action).tobytes())
+        obs, _, terminated, truncated, _ = env.step(action)
+        if terminated or truncated:
+            break
+    env.close()
+    return digest.hexdigest()
+
+
+@pytest.mark.parametrize("name, digest", [
+    ("pso-crowd", "19613e45cc38b01b46766d87faa2eadf696efe1c2732a32b6ec8daa06aa57a0b"),
+    ("oracle-static", "d29c713115c7e67f06df3c1dd663d0eb0753e784e461f3ef518214f210777c67"),
+])  # fmt: skip
+def test_wall_free_episodes_keep_their_actions(name, digest):
+    """The default scene's actions as before the covering rows (digests taken on e878c33)."""
+    assert _actions_digest(name) == digest

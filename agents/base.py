@@ -24,18 +24,38 @@ def real_obstacles(obs: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray, 
 _NO_SEGMENTS = np.zeros((0, 5))
 
 
-def real_static_segments(obs: dict[str, np.ndarray]) -> np.ndarray:
+def real_static_segments(obs: dict[str, np.ndarray], covering: bool = False) -> np.ndarray:
     """The scene's walls and polygon edges as ``(M, 5)`` float64 capsule rows ``(x0, y0, x1, y1,
     half_thickness)`` (``World.static_segments``' layout), from the observation's ``static_segments``
     and ``static_mask``; none when the observation has no such entries (a scene without geometry).
 
     The honest channel for the map: the env's "state" (and "visible-state") observation carries the
     static geometry whenever the env's scene has any, so an agent knows the walls as a robot knows
-    its map, without reading the simulator."""
+    its map, without reading the simulator.
+
+    ``covering``: each row's half-thickness grows by the rounding's bound (:func:`covering_rows`), so that the observed
+    capsule contains the env's own (float64) one; what a planner's contact test must read (an
+    optimiser settles on its constraint's boundary, and the float32 walls are off by ~6e-7 m at 10 m)."""
     if "static_segments" not in obs:
         return _NO_SEGMENTS
     mask = np.asarray(obs["static_mask"]) > 0
-    return np.ascontiguousarray(np.asarray(obs["static_segments"])[mask], dtype=np.float64)
+    rows = np.ascontiguousarray(np.asarray(obs["static_segments"])[mask], dtype=np.float64)
+    return covering_rows(obs, rows) if covering else rows
+
+
+def covering_rows(obs: dict[str, np.ndarray], rows: np.ndarray) -> np.ndarray:
+    """A copy of the observed wall rows ``rows`` with each half-thickness grown by how far the row may
+    be from the env's exact one, plus the step's own rounding (the observation and the action are float32)."""
+    if len(rows) == 0:
+        return rows
+    eps = float(np.finfo(np.asarray(obs["static_segments"]).dtype).eps)  # 2 half-ulps: 2^-23 for float32
+    robot = float(np.hypot(*np.asarray(obs.get("robot_position", (0.0, 0.0)), np.float64)))
+    ends = np.maximum(np.hypot(rows[:, 0], rows[:, 1]), np.hypot(rows[:, 2], rows[:, 3]))
+    # each of the wall's ends, the observed robot and the float32 action's waypoint moves by <= one
+    # half-ulp of its magnitude (<= scale), the half-thickness by one of its own: 2 eps covers all four
+    covered = np.array(rows, np.float64)
+    covered[:, 4] += eps * (2.0 * np.maximum(ends, robot) + rows[:, 4])
+    return covered
 
 
 def point_along(path: np.ndarray, distance: float) -> np.ndarray:

@@ -30,7 +30,7 @@ class StaticOracleAgent(Agent):
         # never plan around a disc the robot or the goal is already inside: shrink it to fit
         for point in (robot, goal):
             inflated = np.minimum(inflated, np.hypot(*(centers - point).T) - 1e-6)
-        capsules = real_static_segments(obs).copy()
+        capsules = real_static_segments(obs, covering=True)  # walls covering the env's exact (float64) ones
         capsules[:, 4] += self.facts.robot_radius + self.margin
         for point in (robot, goal):  # as the discs: never plan around a wall the robot or goal is inside
             capsules[:, 4] = np.minimum(capsules[:, 4], _segment_distances(point, capsules) - 1e-6)

@@ -104,7 +104,7 @@ class MetaheuristicAgent(Agent):
         """The objective's problem; the scene's walls and polygon edges (from the observation) are
         capsules inflated as the discs are, so that a path cutting into one pays Eq. 4 too."""
         centers, velocities, radii = real_obstacles(obs)
-        capsules = real_static_segments(obs).copy()
+        capsules = real_static_segments(obs, covering=True)  # walls covering the env's exact (float64) ones
         capsules[:, 4] += self.facts.robot_radius + self.margin
         return Scene(
             robot=np.asarray(obs["robot_position"], np.float64),

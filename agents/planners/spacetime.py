@@ -26,7 +26,7 @@ import numpy as np
 from pathplan_env.geometry import segment_segment_distance
 from pathplan_env.wrappers import EnvFacts
 
-from ..base import Agent, real_obstacles, real_static_segments
+from ..base import Agent, covering_rows, real_obstacles, real_static_segments
 from .costtogo import CostToGo, around_obstacles, observed_cost_to_go, route, route_bends, waypoints_on
 from .metaheuristic import MetaheuristicAgent
 from .objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, TimedScene, walk_along
@@ -62,7 +62,8 @@ class SpacetimeModel:
 
     def statics(self, obs, memory: dict) -> tuple[np.ndarray, CostToGo]:
         """The scene's walls and the static cost-to-go (:func:`agents.planners.costtogo.observed_cost_to_go`)."""
-        return observed_cost_to_go(obs, self.facts, memory)
+        segments, ctg = observed_cost_to_go(obs, self.facts, memory)
+        return covering_rows(obs, segments), ctg  # the contact tests' walls cover the env's exact (float64) ones
 
     def predict_scene(self, obs):
         """``(trajectory, substeps, contact_radii, robot, goal)`` for one observation."""

@@ -81,6 +81,10 @@ def action_velocities(speed: float) -> np.ndarray:
     return np.vstack([np.zeros((1, 2)), (speeds[:, None, None] * unit[None]).reshape(-1, 2)])
 
 
+#: The robot's velocity in :func:`joint_state`'s ``self_state`` (goal frame, in robot speeds): its columns 3 and 4.
+SELF_VELOCITY = slice(3, 5)
+
+
 def joint_state(robot_pos, robot_vel, goal, human_pos, human_vel, human_radii, facts: EnvFacts, future=None, walls: bool = False):
     """The value network's input for B robot states among N humans.
 
@@ -195,6 +199,6 @@ def best_action(obs: dict, facts: EnvFacts, velocities: np.ndarray, values, gamm
     dependence on the robot's velocity cannot rank the moves (``docs/results/sarl/time_gap.md``)."""
     self_state, humans, rewards = lookahead(obs, facts, velocities, reward, features)
     if velocity_features is not None:
-        self_state[:, 3:5] = velocity_features
+        self_state[:, SELF_VELOCITY] = velocity_features
     mask = np.ones(humans.shape[:2], np.float32)
     return int(np.argmax(rewards + gamma_bar * np.asarray(values(self_state, humans, mask), np.float64)))

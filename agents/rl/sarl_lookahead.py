@@ -53,6 +53,9 @@ class SARLFeatures(NamedTuple):
     """steps after the next one at which each human's predicted relative position (2 features each) is added"""
     walls: bool = False
     """add the robot's free distance to the arena's edges along its goal frame's +x, -x, +y, -y (capped at one length)"""
+    robot_velocity: bool = True
+    """False: the robot's own velocity columns are always 0. For a holonomic robot the humans do not see, that velocity
+    is worth nothing, yet a value trained with it ranks moves by it (``docs/results/sarl/time_gap.md``)"""
 
     @property
     def dims(self) -> tuple[int, int]:
@@ -65,7 +68,7 @@ def check_features(features: SARLFeatures) -> SARLFeatures:
     horizons = tuple(features.horizons)
     if any(isinstance(h, bool) or not isinstance(h, (int, np.integer)) or h < 1 for h in horizons) or list(horizons) != sorted(set(horizons)):
         raise ValueError(f"features.horizons must be increasing ints >= 1, got {features.horizons!r}")
-    return SARLFeatures(tuple(int(h) for h in horizons), bool(features.walls))
+    return SARLFeatures(tuple(int(h) for h in horizons), bool(features.walls), bool(features.robot_velocity))
 
 
 CROWDNAV_FEATURES = SARLFeatures()
@@ -85,14 +88,16 @@ def action_velocities(speed: float) -> np.ndarray:
 SELF_VELOCITY = slice(3, 5)
 
 
-def joint_state(robot_pos, robot_vel, goal, human_pos, human_vel, human_radii, facts: EnvFacts, future=None, walls: bool = False):
+def joint_state(robot_pos, robot_vel, goal, human_pos, human_vel, human_radii, facts: EnvFacts, future=None, walls: bool = False,
+                robot_velocity: bool = True):  # fmt: skip
     """The value network's input for B robot states among N humans.
 
     ``robot_pos``, ``robot_vel`` (B, 2), ``goal`` (2,); ``human_pos``, ``human_vel`` (B, N, 2) or
     (N, 2); ``human_radii`` (N,). Returns ``self_state`` (B, 5: distance to goal, preferred speed,
     radius, velocity; + 4 free distances to the arena's edges with ``walls``) and ``humans`` (B, N, 7:
     relative position, velocity, radius, centre distance, radius sum; + 2 per step of ``future``
-    (N, K, 2), the predicted positions further ahead, relative), float32, in each robot state's goal frame."""
+    (N, K, 2), the predicted positions further ahead, relative), float32, in each robot state's goal frame;
+    without ``robot_velocity`` the self state's velocity columns are 0."""
     length, speed = facts.robot_speed * 1.0, facts.robot_speed
     to_goal = np.asarray(goal, np.float64) - robot_pos
     dist = np.hypot(to_goal[:, 0], to_goal[:, 1])
@@ -104,7 +109,7 @@ def joint_state(robot_pos, robot_vel, goal, human_pos, human_vel, human_radii, f
         return np.stack([v[..., 0] * c + v[..., 1] * s, v[..., 1] * c - v[..., 0] * s], axis=-1)
 
     b = len(robot_pos)
-    rv = rotate(robot_vel) / speed
+    rv = rotate(robot_vel) / speed if robot_velocity else np.zeros((len(robot_pos), 2))
     self_state = np.column_stack([dist / length, np.ones(b), np.full(b, facts.robot_radius / length), rv])
     n = len(human_radii)
     rel = np.broadcast_to(human_pos, (b, n, 2)) - robot_pos[:, None, :]
@@ -128,7 +133,7 @@ def observed_joint_state(obs: dict, facts: EnvFacts, features: SARLFeatures = CR
     pos, vel, _, _, radii, ahead = predict_humans(obs, facts, tuple(h - 1 for h in features.horizons))
     robot = np.asarray(obs["robot_position"], np.float64)[None]
     return joint_state(robot, np.asarray(obs["robot_velocity"], np.float64)[None], np.asarray(obs["goal"], np.float64), pos, vel, radii, facts,
-                       ahead[:, 1:], features.walls)  # fmt: skip
+                       ahead[:, 1:], features.walls, features.robot_velocity)  # fmt: skip
 
 
 def predict_humans(obs: dict, facts: EnvFacts, horizons: tuple[int, ...] = ()):
@@ -154,7 +159,10 @@ def lookahead(obs: dict, facts: EnvFacts, velocities: np.ndarray, reward: CrowdN
     model = StepModel(facts.dt, facts.robot_radius, facts.robot_speed, facts.goal_radius, (xmin, ymin), (xmax, ymax), *reward, features.walls)
     robot, goal = (np.asarray(obs[k], np.float64) for k in ("robot_position", "goal"))
     future = np.ascontiguousarray(ahead[:, 1:])
-    return lookahead_kernel(robot, goal, np.asarray(velocities, np.float64), pos, next_pos, next_vel, radii, future, model)
+    self_state, humans, rewards = lookahead_kernel(robot, goal, np.asarray(velocities, np.float64), pos, next_pos, next_vel, radii, future, model)
+    if not features.robot_velocity:
+        self_state[:, SELF_VELOCITY] = 0.0
+    return self_state, humans, rewards
 
 
 def lookahead_numpy(obs: dict, facts: EnvFacts, velocities: np.ndarray, reward: CrowdNavReward = CROWDNAV_REWARD,
@@ -165,7 +173,7 @@ def lookahead_numpy(obs: dict, facts: EnvFacts, velocities: np.ndarray, reward: 
     pos, _, next_pos, next_vel, radii, ahead = predict_humans(obs, facts, features.horizons)
     xmin, ymin, xmax, ymax = facts.arena.robot_box
     nxt = np.clip(robot + velocities * facts.dt, [xmin, ymin], [xmax, ymax])
-    self_state, humans = joint_state(nxt, velocities, goal, next_pos, next_vel, radii, facts, ahead[:, 1:], features.walls)
+    self_state, humans = joint_state(nxt, velocities, goal, next_pos, next_vel, radii, facts, ahead[:, 1:], features.walls, features.robot_velocity)
     # the smallest gap over the step: both move straight from now to the predicted next state
     d0 = (pos - robot)[None]
     d1 = next_pos[None] - nxt[:, None, :]

@@ -5,7 +5,8 @@
 off each other; the joint state adds each obstacle's predicted relative position 3 and 6 steps after
 the next one (bounce-aware, from the observation alone) and the robot's free distance to the arena's
 edges (the robot cannot leave the arena: the env clips its waypoints to the box, so the edges trap
-it), with CrowdNav's reward. A model's sidecar names its setting (``args.setting``).
+it), with CrowdNav's reward. ``crowdnav-no-robot-velocity``: CrowdNav's, the robot's own velocity
+columns always 0 (it is worth nothing to a holonomic robot the humans do not see). A model's sidecar names its setting (``args.setting``).
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ class SARLSetting(NamedTuple):
 
 SETTINGS = {
     "crowdnav": SARLSetting(CROWDNAV_FEATURES, CROWDNAV_REWARD),
+    "crowdnav-no-robot-velocity": SARLSetting(check_features(SARLFeatures(robot_velocity=False)), CROWDNAV_REWARD),
     "random": SARLSetting(check_features(SARLFeatures(horizons=(3, 6), walls=True)), CROWDNAV_REWARD),
 }
 

@@ -347,3 +347,25 @@ def test_random_model_holds_its_claim_on_other_held_out_seeds():
         agent = agents.make("sarl-random", env)
         rate = np.mean([agents.rollout(agent, env, seed)["is_success"] for seed in heldout_seeds(7, n)])
         assert rate >= claim - margin, (delta_d, rate, claim, margin)
+
+
+def test_setting_without_robot_velocity_zeroes_only_those_columns():
+    # the value trained without the robot's own velocity sees 0 there, in the lookahead (compiled and numpy) and in the
+    # observed state it is trained on; every other feature is CrowdNav's
+    env = gym.make("DynamicObstacle-v0", **CROWDNAV)
+    facts = EnvFacts.of(env)
+    velocities = action_velocities(facts.robot_speed)
+    blind, full = get_setting("crowdnav-no-robot-velocity"), get_setting("crowdnav")
+    assert blind.features.dims == full.features.dims and not blind.features.robot_velocity
+    obs, _ = env.reset(seed=5)
+    for _ in range(3):  # moving diagonally: its observed velocity is not 0
+        obs, *_ = env.step(env.unwrapped.arena.waypoint_to_action(obs["robot_position"] + [0.2, 0.2]))
+    with_velocity = lookahead(obs, facts, velocities, full.reward, full.features)
+    for without in (lookahead(obs, facts, velocities, blind.reward, blind.features),
+                    lookahead_numpy(obs, facts, velocities, blind.reward, blind.features)):  # fmt: skip
+        assert (without[0][:, 3:5] == 0).all() and np.abs(with_velocity[0][:, 3:5]).max() > 0.5
+        np.testing.assert_allclose(without[0][:, :3], with_velocity[0][:, :3], atol=1e-5)
+        np.testing.assert_allclose(without[1], with_velocity[1], atol=1e-5)
+        np.testing.assert_array_equal(without[2], with_velocity[2])
+    observed_self, _ = observed_joint_state(obs, facts, blind.features)
+    assert (observed_self[0, 3:5] == 0).all() and np.abs(observed_joint_state(obs, facts, full.features)[0][0, 3:5]).max() > 0.1

@@ -153,6 +153,8 @@ def test_bad_arguments_raise_naming_them(tmp_path):
     model = _random_model(tmp_path / "m.npz")
     with pytest.raises(ValueError, match="gamma"):
         agents.make("sarl", env, path=model, gamma=1.5)
+    with pytest.raises(ValueError, match="velocity"):  # nothing to substitute where the value never sees the robot's velocity
+        agents.make("sarl", env, path=model, setting="crowdnav-no-robot-velocity", velocity="goal")
     with pytest.raises(ValueError, match="speed"):
         action_velocities(0.0)
     with pytest.raises(ValueError, match="hidden"):

@@ -45,7 +45,8 @@ class SARLAgent(Agent):
         value should not depend on it, and the learned dependence otherwise picks slow moves; validation:
         0.99 at 11.19 s against 11.62 s, ``docs/results/sarl/time_gap.md``).
     :raises ValueError: naming ``path`` if no model is there or its inputs do not fit the setting's
-        features, ``gamma`` if it is not in (0, 1], ``setting`` or ``velocity`` if unknown.
+        features, ``gamma`` if it is not in (0, 1], ``setting`` or ``velocity`` if unknown, ``velocity`` if not
+        ``"move"`` for a model trained without the robot's velocity (``crowdnav-no-robot-velocity``: nothing to substitute).
     """
 
     name = "sarl"
@@ -72,6 +73,8 @@ class SARLAgent(Agent):
         if (self.network.self_dim, self.network.human_dim) != self.setting.features.dims:
             raise ValueError(f"path: {path} takes joint states of {(self.network.self_dim, self.network.human_dim)} features, "
                              f"its setting {self.setting.features.dims}")  # fmt: skip
+        if self.velocity_features is not None and not self.setting.features.robot_velocity:
+            raise ValueError(f"velocity: the model's setting shows the value no robot velocity; only 'move' applies, got {velocity!r}")
         self.gamma_bar = discount(float(gamma), self.facts)
         self.velocities = action_velocities(self.facts.robot_speed)
         self.reward = self.setting.reward

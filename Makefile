@@ -48,7 +48,8 @@ train: $(FULL)  ## retrain the shipped PPO policy (~35 min on 2 cores) and copy 
 	$(PY) scripts/train_rl.py --total-timesteps 4000000 --seed 0 --out runs/ppo --ship best
 
 train-sarl: $(FULL)  ## retrain SARL on CrowdNav's circle crossing (<= 58 min wall clock) -> agents/models/sarl_crowdnav.npz
-	$(PY) scripts/train_sarl.py --seed 0 --budget-minutes 58 --epsilon-decay 4000 --val-every 500 --out runs/sarl_crowdnav
+	$(PY) scripts/train_sarl.py --setting crowdnav-no-robot-velocity --seed 0 --budget-minutes 58 --epsilon-decay 4000 --val-every 500 \
+		--out runs/sarl_crowdnav
 
 train-sarl-crossings: $(FULL)  ## retrain SARL on CrowdNav's circle and square crossings, taking turns (<= 58 min) -> agents/models/sarl_crowdnav_crossings.npz
 	$(PY) scripts/train_sarl.py --scenario crowdnav-circle-crossing,crowdnav-square-crossing --seed 0 --budget-minutes 58 \

@@ -5,8 +5,8 @@
 off each other; the joint state adds each obstacle's predicted relative position 3 and 6 steps after
 the next one (bounce-aware, from the observation alone) and the robot's free distance to the arena's
 edges (the robot cannot leave the arena: the env clips its waypoints to the box, so the edges trap
-it), with CrowdNav's reward. ``crowdnav-no-robot-velocity``: CrowdNav's, the robot's own velocity
-columns always 0 (it is worth nothing to a holonomic robot the humans do not see). A model's sidecar names its setting (``args.setting``).
+it), with CrowdNav's reward. ``crowdnav-no-robot-velocity`` and ``random-no-robot-velocity``: the same, the robot's own
+velocity columns always 0 (it is worth nothing to a holonomic robot the others do not see). A model's sidecar names its setting (``args.setting``).
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ SETTINGS = {
     "crowdnav": SARLSetting(CROWDNAV_FEATURES, CROWDNAV_REWARD),
     "crowdnav-no-robot-velocity": SARLSetting(check_features(SARLFeatures(robot_velocity=False)), CROWDNAV_REWARD),
     "random": SARLSetting(check_features(SARLFeatures(horizons=(3, 6), walls=True)), CROWDNAV_REWARD),
+    "random-no-robot-velocity": SARLSetting(check_features(SARLFeatures(horizons=(3, 6), walls=True, robot_velocity=False)), CROWDNAV_REWARD),
 }
 
 

@@ -1,7 +1,7 @@
 """Why SARL's circle-crossing navigation time is longer than CrowdNav's: a diagnostic on validation seeds.
 
-    PYTHONPATH=. python docs/results/sarl/time_gap.py --episodes 200                 # the shipped model
-    PYTHONPATH=. python docs/results/sarl/time_gap.py --episodes 200 --model runs/x/best.npz
+    PYTHONPATH=. python docs/results/sarl/time_gap.py --episodes 200                 # the model studied (shipped until session 14)
+    PYTHONPATH=. python docs/results/sarl/time_gap.py --episodes 200 --model agents/models/sarl_crowdnav.npz   # today's
 
 For each episode it plays the greedy SARL agent twice: ``predicted`` (the agent as shipped: the humans'
 next state predicted from the observation) and ``privileged`` (the same model, the 81 moves scored
@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import copy
+from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
@@ -25,11 +26,19 @@ import agents
 import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
 from agents.base import real_obstacles
 from agents.rl.sarl_kernel import StepModel, lookahead_kernel
-from agents.rl.sarl_lookahead import N_SPEEDS, predict_humans
+from agents.rl.sarl_lookahead import N_SPEEDS, SELF_VELOCITY, predict_humans
 from pathplan_env.splits import validation_seeds
 
+#: the model studied here: sarl_crowdnav as shipped until session 14, trained with the robot's velocity (its sidecar beside it)
+STUDIED = Path(__file__).parent / "runs_s12" / "sarl_circle_best.npz"
 #: a step is "free" when every human's gap to the robot exceeds this (m): nothing near enough to matter within 1 s
 FREE_GAP = 2.0
+
+
+def hide_velocity(agent, self_state: np.ndarray) -> None:
+    """The robot's velocity columns zeroed in place for a model trained without them (as its agent's lookahead does)."""
+    if not agent.setting.features.robot_velocity:
+        self_state[:, SELF_VELOCITY] = 0.0
 
 
 def scores(agent, obs, true_next=None) -> np.ndarray:
@@ -43,6 +52,7 @@ def scores(agent, obs, true_next=None) -> np.ndarray:
     robot, goal = (np.asarray(obs[k], np.float64) for k in ("robot_position", "goal"))
     s, h, r = lookahead_kernel(robot, goal, agent.velocities, pos, np.ascontiguousarray(next_pos), np.ascontiguousarray(next_vel), radii,
                                np.ascontiguousarray(ahead[:, 1:]), model)  # fmt: skip
+    hide_velocity(agent, s)
     return r + agent.gamma_bar * np.asarray(agent.network.values(s, h, np.ones(h.shape[:2], np.float32)), np.float64)
 
 
@@ -111,6 +121,7 @@ def probe(env, agent, seeds: list[int]) -> None:
             xmin, ymin, xmax, ymax = facts.arena.robot_box
             model = StepModel(facts.dt, facts.robot_radius, facts.robot_speed, facts.goal_radius, (xmin, ymin), (xmax, ymax), *agent.reward, False)
             s, h, r = lookahead_kernel(robot, goal, agent.velocities, pos, next_pos, next_vel, radii, np.ascontiguousarray(ahead[:, 1:]), model)
+            hide_velocity(agent, s)
             mask = np.ones(h.shape[:2], np.float32)
             k = int(np.argmax(r + agent.gamma_bar * agent.network.values(s, h, mask)))
             if np.min(np.hypot(*(pos - robot).T) - radii - facts.robot_radius, initial=np.inf) > FREE_GAP:
@@ -141,14 +152,14 @@ def probe(env, agent, seeds: list[int]) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--episodes", type=int, default=200)
-    parser.add_argument("--model", default=None, help="a model's .npz (default: the shipped sarl_crowdnav)")
+    parser.add_argument("--model", default=str(STUDIED), help="a model's .npz (default: the one this study is of)")
     parser.add_argument("--modes", default="predicted,privileged")
     parser.add_argument("--probe-episodes", type=int, default=50, help="episodes of the position/velocity probe (0: none)")
     args = parser.parse_args()
     env = gym.make("DynamicObstacle-v0", scenario="crowdnav-circle-crossing", delta_d=0.8333333333333334)
-    agent = agents.make("sarl", env, **({"path": args.model} if args.model else {}))
+    agent = agents.make("sarl", env, path=args.model)
     seeds = validation_seeds(0, args.episodes)
-    print(f"{args.episodes} validation episodes, crowdnav-circle-crossing, model {args.model or 'sarl_crowdnav (shipped)'}")
+    print(f"{args.episodes} validation episodes, crowdnav-circle-crossing, model {args.model}")
     print("straight line: 8 m less the 0.3 m goal radius at 1 m/s = 7.7 s (31 steps of 0.25 s: 7.75 s)")
     for mode in args.modes.split(","):
         summary(mode, [episode(env, agent, s, mode == "privileged") for s in seeds], agent.facts.dt)

@@ -52,7 +52,7 @@ train-sarl: $(FULL)  ## retrain SARL on CrowdNav's circle crossing (<= 58 min wa
 		--out runs/sarl_crowdnav
 
 train-sarl-crossings: $(FULL)  ## retrain SARL on CrowdNav's circle and square crossings, taking turns (<= 58 min) -> agents/models/sarl_crowdnav_crossings.npz
-	$(PY) scripts/train_sarl.py --scenario crowdnav-circle-crossing,crowdnav-square-crossing --seed 0 --budget-minutes 58 \
+	$(PY) scripts/train_sarl.py --setting crowdnav-no-robot-velocity --scenario crowdnav-circle-crossing,crowdnav-square-crossing --seed 0 --budget-minutes 58 \
 		--epsilon-decay 4000 --val-every 500 --model-name sarl_crowdnav_crossings --out runs/sarl_crowdnav_crossings
 
 train-sarl-random: $(FULL)  ## retrain SARL on random scenes, 8 bouncing obstacles, a Δd curriculum to 1.25 (<= 58 min) -> agents/models/sarl_random.npz

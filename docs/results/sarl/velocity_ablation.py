@@ -45,7 +45,7 @@ def main() -> None:
         for rows_, style, name in ((with_v, "--", "with"), (without_v, "-", "without")):
             ax.plot([r["rl_episode"] for r in rows_], [r["navigation_time"] for r in rows_], style, marker="o", ms=3, color=colour,
                     label=f"{label}, {name} the robot's velocity")  # fmt: skip
-    ax.axhline(11.1, color="grey", lw=0.8, ls=":", label="target (SARL's 10.55 s + 5 %)")
+    ax.axhline(11.1, color="grey", lw=0.8, ls=":", label="the circle's target (SARL's 10.55 s + 5 %); circle + square: the mean of both layouts")
     ax.set(xlabel="RL episodes (0: after imitation)", ylabel="mean navigation time, validation (s)",
            title="SARL's value with and without the robot's own velocity")  # fmt: skip
     ax.legend(fontsize=7)

@@ -339,7 +339,7 @@ def test_random_model_acts_without_torch():
 @pytest.mark.skipif(not (SHIPPED_RANDOM.exists() and CLAIM_RANDOM.exists()), reason="no shipped random-scene model or no figure for it")
 def test_random_model_holds_its_claim_on_other_held_out_seeds():
     # 100 episodes of test split 7 at each Δd, never used for a figure, within 3 sd of the difference of two binomial rates
-    # (the claim's 200 episodes and these 100; about 0.15 at 0.8). Measured: 0.99 / 0.73 / 0.24 against 0.97 / 0.825 / 0.28.
+    # (the claim's 200 episodes and these 100; about 0.15 at 0.8).
     results = json.loads(CLAIM_RANDOM.read_text())["results"]
     for delta_d in (0.25, 0.5, 1.0):
         row = next(r for r in results if r["agent"] == "sarl-random" and np.isclose(r["delta_d"], delta_d))

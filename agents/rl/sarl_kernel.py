@@ -29,6 +29,8 @@ class StepModel(NamedTuple):
     discomfort_factor: float
     walls: bool = False
     """four extra robot features: its free distance to the robot box along the goal frame's ±x, ±y (capped at one length)"""
+    robot_velocity: bool = True
+    """False: the robot's velocity columns are 0 (a value trained without them)"""
 
 
 @numba.njit(cache=True)
@@ -64,7 +66,10 @@ def lookahead_kernel(robot, goal, velocities, pos, next_pos, next_vel, radii, fu
         c, s = (gx / dist, gy / dist) if dist > 1e-9 else (1.0, 0.0)
         vx, vy = velocities[a, 0], velocities[a, 1]
         self_state[a, 0], self_state[a, 1], self_state[a, 2] = dist / length, 1.0, big_r / length
-        self_state[a, 3], self_state[a, 4] = (vx * c + vy * s) / speed, (vy * c - vx * s) / speed
+        if model.robot_velocity:
+            self_state[a, 3], self_state[a, 4] = (vx * c + vy * s) / speed, (vy * c - vx * s) / speed
+        else:
+            self_state[a, 3], self_state[a, 4] = 0.0, 0.0
         if model.walls:  # the goal frame's +x, -x, +y, -y
             self_state[a, 5] = wall_ray(nx, ny, c, s, model.box_lo, model.box_hi, length) / length
             self_state[a, 6] = wall_ray(nx, ny, -c, -s, model.box_lo, model.box_hi, length) / length

@@ -155,14 +155,17 @@ def lookahead(obs: dict, facts: EnvFacts, velocities: np.ndarray, reward: CrowdN
               features: SARLFeatures = CROWDNAV_FEATURES):  # fmt: skip
     """Every move's predicted next joint state and CrowdNav reward: ``(self_state, humans, rewards)`` (compiled)."""
     pos, _, next_pos, next_vel, radii, ahead = predict_humans(obs, facts, features.horizons)
-    xmin, ymin, xmax, ymax = facts.arena.robot_box
-    model = StepModel(facts.dt, facts.robot_radius, facts.robot_speed, facts.goal_radius, (xmin, ymin), (xmax, ymax), *reward, features.walls)
     robot, goal = (np.asarray(obs[k], np.float64) for k in ("robot_position", "goal"))
     future = np.ascontiguousarray(ahead[:, 1:])
-    self_state, humans, rewards = lookahead_kernel(robot, goal, np.asarray(velocities, np.float64), pos, next_pos, next_vel, radii, future, model)
-    if not features.robot_velocity:
-        self_state[:, SELF_VELOCITY] = 0.0
-    return self_state, humans, rewards
+    model = step_model(facts, reward, features)
+    return lookahead_kernel(robot, goal, np.asarray(velocities, np.float64), pos, next_pos, next_vel, radii, future, model)
+
+
+def step_model(facts: EnvFacts, reward: CrowdNavReward = CROWDNAV_REWARD, features: SARLFeatures = CROWDNAV_FEATURES) -> StepModel:
+    """What the compiled lookahead needs of the env, the reward and the features, as one record."""
+    xmin, ymin, xmax, ymax = facts.arena.robot_box
+    return StepModel(facts.dt, facts.robot_radius, facts.robot_speed, facts.goal_radius, (xmin, ymin), (xmax, ymax), *reward,
+                     features.walls, features.robot_velocity)  # fmt: skip
 
 
 def lookahead_numpy(obs: dict, facts: EnvFacts, velocities: np.ndarray, reward: CrowdNavReward = CROWDNAV_REWARD,

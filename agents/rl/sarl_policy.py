@@ -42,8 +42,8 @@ class SARLAgent(Agent):
         the sidecar's, else ``crowdnav``).
     :param velocity: the robot's velocity shown in each move's next state: ``"move"`` (the move's own, CrowdNav's)
         or ``"goal"`` (full speed at the goal for every move; ``"zero"``: standing; for a holonomic robot the humans do not see, the
-        value should not depend on it, and the learned dependence otherwise picks slow moves; validation:
-        0.99 at 11.19 s against 11.62 s, ``docs/results/sarl/time_gap.md``).
+        value should not depend on it, and the learned dependence otherwise picks slow moves; validation on the first
+        circle model, trained with the velocity: 0.99 at 11.19 s against 11.62 s, ``docs/results/sarl/time_gap.md``).
     :raises ValueError: naming ``path`` if no model is there or its inputs do not fit the setting's
         features, ``gamma`` if it is not in (0, 1], ``setting`` or ``velocity`` if unknown, ``velocity`` if not
         ``"move"`` for a model trained without the robot's velocity (``crowdnav-no-robot-velocity``: nothing to substitute).

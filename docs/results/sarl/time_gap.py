@@ -25,8 +25,8 @@ import numpy as np
 import agents
 import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
 from agents.base import real_obstacles
-from agents.rl.sarl_kernel import StepModel, lookahead_kernel
-from agents.rl.sarl_lookahead import N_SPEEDS, SELF_VELOCITY, predict_humans
+from agents.rl.sarl_kernel import lookahead_kernel
+from agents.rl.sarl_lookahead import N_SPEEDS, predict_humans, step_model
 from pathplan_env.splits import validation_seeds
 
 #: the model studied here: sarl_crowdnav as shipped until session 14, trained with the robot's velocity (its sidecar beside it)
@@ -35,24 +35,16 @@ STUDIED = Path(__file__).parent / "runs_s12" / "sarl_circle_best.npz"
 FREE_GAP = 2.0
 
 
-def hide_velocity(agent, self_state: np.ndarray) -> None:
-    """The robot's velocity columns zeroed in place for a model trained without them (as its agent's lookahead does)."""
-    if not agent.setting.features.robot_velocity:
-        self_state[:, SELF_VELOCITY] = 0.0
-
-
 def scores(agent, obs, true_next=None) -> np.ndarray:
     """reward + gamma_bar · value of the 81 moves; with ``true_next`` (positions, velocities) the humans' true next state."""
     facts = agent.facts
     pos, _, next_pos, next_vel, radii, ahead = predict_humans(obs, facts)
     if true_next is not None:
         next_pos, next_vel = true_next
-    xmin, ymin, xmax, ymax = facts.arena.robot_box
-    model = StepModel(facts.dt, facts.robot_radius, facts.robot_speed, facts.goal_radius, (xmin, ymin), (xmax, ymax), *agent.reward, False)
+    model = step_model(facts, agent.reward, agent.setting.features)
     robot, goal = (np.asarray(obs[k], np.float64) for k in ("robot_position", "goal"))
     s, h, r = lookahead_kernel(robot, goal, agent.velocities, pos, np.ascontiguousarray(next_pos), np.ascontiguousarray(next_vel), radii,
                                np.ascontiguousarray(ahead[:, 1:]), model)  # fmt: skip
-    hide_velocity(agent, s)
     return r + agent.gamma_bar * np.asarray(agent.network.values(s, h, np.ones(h.shape[:2], np.float32)), np.float64)
 
 
@@ -118,10 +110,8 @@ def probe(env, agent, seeds: list[int]) -> None:
         while True:
             pos, _, next_pos, next_vel, radii, ahead = predict_humans(obs, facts)
             robot, goal = (np.asarray(obs[k], np.float64) for k in ("robot_position", "goal"))
-            xmin, ymin, xmax, ymax = facts.arena.robot_box
-            model = StepModel(facts.dt, facts.robot_radius, facts.robot_speed, facts.goal_radius, (xmin, ymin), (xmax, ymax), *agent.reward, False)
+            model = step_model(facts, agent.reward, agent.setting.features)
             s, h, r = lookahead_kernel(robot, goal, agent.velocities, pos, next_pos, next_vel, radii, np.ascontiguousarray(ahead[:, 1:]), model)
-            hide_velocity(agent, s)
             mask = np.ones(h.shape[:2], np.float32)
             k = int(np.argmax(r + agent.gamma_bar * agent.network.values(s, h, mask)))
             if np.min(np.hypot(*(pos - robot).T) - radii - facts.robot_radius, initial=np.inf) > FREE_GAP:

@@ -41,7 +41,7 @@ def swept_pair(ax, ay, bx, by, robot_radius, oax, oay, obx, oby, radius):
     t_hit = NO_CONTACT
     if gap <= 0.0:
         c = d0x * d0x + d0y * d0y - reach * reach
-        if c <= 0.0:
+        if c <= 0.0 or ee == 0.0:  # (ee == 0: no relative motion, touching throughout; c > 0 only by rounding)
             t_hit = 0.0
         else:  # smaller root of ee t^2 + 2 d0e t + c = 0; real because the minimum is <= 0
             t_hit = (-d0e - math.sqrt(max(d0e * d0e - ee * c, 0.0))) / ee

@@ -241,7 +241,7 @@ def test_bad_behaviour_input_raises_a_value_error_naming_it(make, field):
         make()
 
 
-@pytest.mark.parametrize("name", ["crowdnav-circle-crossing", "crowdnav-square-crossing-visible"])
+@pytest.mark.parametrize("name", ["crowdnav-circle-crossing", "crowdnav-square-crossing-visible", "crowdnav-square-standing"])
 def test_crowdnav_scenes_pass_the_validating_constructor_unchanged(name):
     """The presets skip validation for speed: the scenes they build must be what validation accepts."""
     for seed in range(50):
@@ -250,6 +250,28 @@ def test_crowdnav_scenes_pass_the_validating_constructor_unchanged(name):
         assert checked == fast
         for key, array in fast.arrays().items():
             assert np.array_equal(array, checked.arrays()[key])
+
+
+def test_standing_humans_never_move_and_a_still_robot_touching_one_stays_in_contact():
+    """crowdnav-square-standing: every human stands at its goal for the whole episode; stepping on after a
+    collision (robot and human at rest, touching) reports contact, not a division by zero."""
+    env = gym.make("DynamicObstacle-v0", scenario="crowdnav-square-standing")
+    collided = 0
+    for seed in range(20):
+        obs, _ = env.reset(seed=seed)
+        start = obs["obstacle_positions"][obs["obstacle_mask"] > 0].copy()
+        assert np.all(np.abs(start) <= 5.0)  # in the 10 m square
+        human = start[np.argmin(np.hypot(*(start - obs["robot_position"]).T))]
+        action = env.unwrapped.arena.waypoint_to_action(human)
+        for _ in range(40):  # drive into the nearest human, then on
+            obs, _, terminated, truncated, info = env.step(action)
+            assert np.array_equal(obs["obstacle_positions"][obs["obstacle_mask"] > 0], start)
+            if terminated:
+                collided += 1
+                obs, _, _, _, info = env.step(action)  # past the end: still touching
+                assert info["min_clearance"] <= 0.0
+                break
+    assert collided == 20
 
 
 def test_the_orca_agent_validates_its_settings_as_the_humans_do():

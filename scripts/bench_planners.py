@@ -16,10 +16,14 @@
    on validation episodes (the seeds ``astar-spacetime``'s work budget was calibrated on), with each
    planner's success over them.
 5. ``--unicycle`` (this part alone): part 3's unicycle rows (issue 23's target: replanning <= 5 ms median).
+6. ``--learned`` (this part alone): the shipped learned agents' acting time (one ``predict``, numpy
+   forward, no torch) in the scenes each was trained for, over whole test episodes (issue 20's
+   target: <= 2 ms median), wall clock and this process's CPU time.
 
     python scripts/bench_planners.py [--replans 200] [--scenes 20] [--spacetime-episodes 20]
     python scripts/bench_planners.py --dense [--dense-episodes 5] [--dense-obstacles 30,50] [--dense-delta-d 1,2,4]
     python scripts/bench_planners.py --unicycle [--spacetime-episodes 20] [--unicycle-planners pso-unicycle,pso-unicycle-crowd]
+    python scripts/bench_planners.py --learned [--spacetime-episodes 20]
 """
 
 from __future__ import annotations
@@ -194,6 +198,30 @@ def print_spacetime(episodes: int, planners=SPACETIME_PLANNERS, crowd_planners=C
         print(f"| {name} | {scene} | {count} | {median:.2f} | {p95:.2f} | {cpu:.2f} |", flush=True)
 
 
+#: The shipped learned agents and the scenes each was trained for: ``(agent, scenario, Δd values; None: the scenario's own)``.
+LEARNED_CELLS = (
+    ("ppo", "random", (0.25, 0.5, 1.0)), ("ppo-set", "random", (0.25, 0.5, 1.0)), ("sarl-random", "random", (0.25, 0.5, 1.0)),
+    ("sarl", "crowdnav-circle-crossing", (None,)), ("sarl-crossings", "crowdnav-circle-crossing", (None,)),
+    ("sarl-crossings", "crowdnav-square-crossing", (None,)),
+)  # fmt: skip
+ACTING_TARGET_MS = 2.0  # median, issue 20
+
+
+def print_learned(episodes: int) -> None:
+    from pathplan_env.splits import heldout_seeds
+
+    print(f"\nLearned agents: every action of {episodes} test episodes, ms (numpy forward; target <= {ACTING_TARGET_MS:g} median)")
+    print("| agent | scene | actions | median | p95 | median CPU | success |")
+    print("|---|---|---:|---:|---:|---:|---:|")
+    for name, scenario, deltas in LEARNED_CELLS:
+        for delta_d in deltas:
+            cpu: list[float] = []
+            times, wins = replan_cell(name, delta_d, heldout_seeds(0, episodes), scenario=scenario, cpu=cpu)
+            scene = scenario + (f", Δd {delta_d:g}" if delta_d is not None else "")
+            print(f"| {name} | {scene} | {len(times)} | {np.median(times):.2f} | {np.percentile(times, 95):.2f} | {np.median(cpu):.2f} "
+                  f"| {wins}/{episodes} |", flush=True)  # fmt: skip
+
+
 DENSE_PLANNERS = ("astar-spacetime", "pso-spacetime", "abc-spacetime")
 
 
@@ -215,6 +243,7 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--scenes", type=int, default=20)
     parser.add_argument("--spacetime-episodes", type=int, default=20)
     parser.add_argument("--dense", action="store_true", help="only the dense cells (30 and 50 obstacles x Δd 1, 2, 4)")
+    parser.add_argument("--learned", action="store_true", help="only the learned agents' acting times (their own scenes)")
     parser.add_argument("--unicycle", action="store_true", help="only the unicycle's space-time rows (random scenes, circle crossing)")
     parser.add_argument("--unicycle-planners", default=",".join(UNICYCLE_SPACETIME + CROWD_PLANNERS),
                         help="comma-separated: which of them (the -crowd ones on the circle crossing)")
@@ -252,6 +281,9 @@ def main(argv=None) -> None:
     args = parse_args(argv)
     if args.dense:
         print_dense(args)
+        return
+    if args.learned:
+        print_learned(args.spacetime_episodes)
         return
     if args.unicycle:
         chosen = args.unicycle_planners

@@ -88,14 +88,18 @@ def test_lookahead_scores_the_predicted_humans_not_the_true_ones():
     assert np.abs(true_humans[0] - expected[0]).max() > 1e-3  # the env's future is not what the lookahead used
 
 
-def test_compiled_lookahead_equals_numpy():
+@pytest.mark.parametrize("setting", ["crowdnav", "crowdnav-local-map"])
+def test_compiled_lookahead_equals_numpy(setting):
     env = gym.make("DynamicObstacle-v0", **CROWDNAV)
     facts = EnvFacts.of(env)
     velocities = action_velocities(facts.robot_speed)
+    features = get_setting(setting).features
     for seed in range(3):
         obs, _ = env.reset(seed=seed)
         for _ in range(12):  # into the crossing: contacts and discomfort among the moves
-            for got, expected in zip(lookahead(obs, facts, velocities), lookahead_numpy(obs, facts, velocities)):
+            got_all = lookahead(obs, facts, velocities, features=features)
+            assert got_all[1].shape[-1] == features.dims[1]
+            for got, expected in zip(got_all, lookahead_numpy(obs, facts, velocities, features=features)):
                 np.testing.assert_allclose(got, expected, atol=1e-5)
             obs, *_ = env.step(env.unwrapped.arena.waypoint_to_action(obs["robot_position"] + [0.0, 0.2]))
 
@@ -371,3 +375,22 @@ def test_setting_without_robot_velocity_zeroes_only_those_columns():
         np.testing.assert_array_equal(without[2], with_velocity[2])
     observed_self, _ = observed_joint_state(obs, facts, blind.features)
     assert (observed_self[0, 3:5] == 0).all() and np.abs(observed_joint_state(obs, facts, full.features)[0][0, 3:5]).max() > 0.1
+
+
+def test_local_map_counts_each_humans_neighbours_in_the_goal_frame_and_turns_with_the_scene():
+    from agents.rl.sarl_local_map import CELLS, local_maps
+
+    # goal frame = world frame (cos 1, sin 0); human 1 stands 0.5 ahead (+x) of human 0, human 2 is 5 away
+    pos = np.array([[[0.0, 0.0], [0.5, 0.0], [5.0, 0.0]]])
+    vel = np.array([[[0.0, 0.0], [0.0, 1.0], [1.0, 0.0]]])
+    maps = local_maps(pos, vel, np.array([1.0]), np.array([0.0]))
+    cells = CELLS * CELLS
+    cell = 2 * CELLS + 2  # x in [0, 1), y in [0, 1): the cell right of and above the centre
+    assert maps.shape == (1, 3, 3 * cells)
+    assert maps[0, 0, :cells].sum() == 1 and maps[0, 0, cell] == 1  # human 2 is off the grid
+    assert maps[0, 0, cells + cell] == 0 and maps[0, 0, 2 * cells + cell] == 1  # its mean velocity (0, 1)
+    assert maps[0, 2, :cells].sum() == 0  # nobody within 2 of human 2
+    # the whole scene turned by 90 degrees, the goal frame with it: the same maps
+    turn = np.array([[0.0, -1.0], [1.0, 0.0]])
+    turned = local_maps(pos @ turn.T, vel @ turn.T, np.array([0.0]), np.array([1.0]))
+    np.testing.assert_allclose(turned, maps, atol=1e-6)

@@ -27,6 +27,7 @@ from pathplan_env.wrappers import EnvFacts
 from ..base import real_obstacles, real_static_segments
 from ..planners.prediction import predict_among, substeps_for
 from .sarl_kernel import StepModel, lookahead_kernel, wall_ray
+from .sarl_local_map import MAP_DIM, local_maps
 
 N_HEADINGS, N_SPEEDS = 16, 5
 N_ACTIONS = N_HEADINGS * N_SPEEDS + 1
@@ -56,11 +57,14 @@ class SARLFeatures(NamedTuple):
     robot_velocity: bool = True
     """False: the robot's own velocity columns are always 0. For a holonomic robot the humans do not see, that velocity
     is worth nothing, yet a value trained with it ranks moves by it (``docs/results/sarl/time_gap.md``)"""
+    local_map: bool = False
+    """add LM-SARL's local map to every human: the others around it on a 4 × 4 grid of 1 s cells, their count and mean
+    velocity (:mod:`agents.rl.sarl_local_map`), so that the value can tell a group it cannot pass between"""
 
     @property
     def dims(self) -> tuple[int, int]:
         """``(self_dim, human_dim)`` of the joint state."""
-        return 5 + 4 * bool(self.walls), 7 + 2 * len(self.horizons)
+        return 5 + 4 * bool(self.walls), 7 + 2 * len(self.horizons) + MAP_DIM * bool(self.local_map)
 
 
 def check_features(features: SARLFeatures) -> SARLFeatures:
@@ -68,7 +72,7 @@ def check_features(features: SARLFeatures) -> SARLFeatures:
     horizons = tuple(features.horizons)
     if any(isinstance(h, bool) or not isinstance(h, (int, np.integer)) or h < 1 for h in horizons) or list(horizons) != sorted(set(horizons)):
         raise ValueError(f"features.horizons must be increasing ints >= 1, got {features.horizons!r}")
-    return SARLFeatures(tuple(int(h) for h in horizons), bool(features.walls), bool(features.robot_velocity))
+    return SARLFeatures(tuple(int(h) for h in horizons), bool(features.walls), bool(features.robot_velocity), bool(features.local_map))
 
 
 CROWDNAV_FEATURES = SARLFeatures()
@@ -88,16 +92,17 @@ def action_velocities(speed: float) -> np.ndarray:
 SELF_VELOCITY = slice(3, 5)
 
 
-def joint_state(robot_pos, robot_vel, goal, human_pos, human_vel, human_radii, facts: EnvFacts, future=None, walls: bool = False,
-                robot_velocity: bool = True):  # fmt: skip
-    """The value network's input for B robot states among N humans.
+def joint_state(robot_pos, robot_vel, goal, human_pos, human_vel, human_radii, facts: EnvFacts, future=None,
+                features: SARLFeatures = CROWDNAV_FEATURES):  # fmt: skip
+    """The value network's input for B robot states among N humans, with ``features``' columns.
 
     ``robot_pos``, ``robot_vel`` (B, 2), ``goal`` (2,); ``human_pos``, ``human_vel`` (B, N, 2) or
     (N, 2); ``human_radii`` (N,). Returns ``self_state`` (B, 5: distance to goal, preferred speed,
     radius, velocity; + 4 free distances to the arena's edges with ``walls``) and ``humans`` (B, N, 7:
     relative position, velocity, radius, centre distance, radius sum; + 2 per step of ``future``
-    (N, K, 2), the predicted positions further ahead, relative), float32, in each robot state's goal frame;
-    without ``robot_velocity`` the self state's velocity columns are 0."""
+    (N, K, 2), the predicted positions further ahead, relative; + the local map), float32, in each robot state's
+    goal frame; without ``robot_velocity`` the self state's velocity columns are 0."""
+    walls, robot_velocity = features.walls, features.robot_velocity
     length, speed = facts.robot_speed * 1.0, facts.robot_speed
     to_goal = np.asarray(goal, np.float64) - robot_pos
     dist = np.hypot(to_goal[:, 0], to_goal[:, 1])
@@ -120,6 +125,8 @@ def joint_state(robot_pos, robot_vel, goal, human_pos, human_vel, human_radii, f
     ]  # fmt: skip
     for k in range(0 if future is None else future.shape[1]):
         columns.append(rotate(np.broadcast_to(future[:, k], (b, n, 2)) - robot_pos[:, None, :]) / length)
+    if features.local_map:
+        columns.append(local_maps(np.broadcast_to(human_pos, (b, n, 2)) / length, np.broadcast_to(human_vel, (b, n, 2)) / speed, cos, sin))
     if walls:
         xmin, ymin, xmax, ymax = facts.arena.robot_box
         rays = [np.array([wall_ray(p[0], p[1], d[0], d[1], (xmin, ymin), (xmax, ymax), length) for p, d in zip(robot_pos, dirs)])
@@ -133,7 +140,7 @@ def observed_joint_state(obs: dict, facts: EnvFacts, features: SARLFeatures = CR
     pos, vel, _, _, radii, ahead = predict_humans(obs, facts, tuple(h - 1 for h in features.horizons))
     robot = np.asarray(obs["robot_position"], np.float64)[None]
     return joint_state(robot, np.asarray(obs["robot_velocity"], np.float64)[None], np.asarray(obs["goal"], np.float64), pos, vel, radii, facts,
-                       ahead[:, 1:], features.walls, features.robot_velocity)  # fmt: skip
+                       ahead[:, 1:], features)  # fmt: skip
 
 
 def predict_humans(obs: dict, facts: EnvFacts, horizons: tuple[int, ...] = ()):
@@ -158,7 +165,17 @@ def lookahead(obs: dict, facts: EnvFacts, velocities: np.ndarray, reward: CrowdN
     robot, goal = (np.asarray(obs[k], np.float64) for k in ("robot_position", "goal"))
     future = np.ascontiguousarray(ahead[:, 1:])
     model = step_model(facts, reward, features)
-    return lookahead_kernel(robot, goal, np.asarray(velocities, np.float64), pos, next_pos, next_vel, radii, future, model)
+    self_state, humans, rewards = lookahead_kernel(robot, goal, np.asarray(velocities, np.float64), pos, next_pos, next_vel, radii, future, model)
+    if features.local_map:  # the same humans for every move, seen in each move's goal frame
+        xmin, ymin, xmax, ymax = facts.arena.robot_box
+        to_goal = goal - np.clip(robot + np.asarray(velocities, np.float64) * facts.dt, [xmin, ymin], [xmax, ymax])
+        dist = np.hypot(to_goal[:, 0], to_goal[:, 1])
+        ex = np.where(dist[:, None] > 1e-9, to_goal / np.maximum(dist, 1e-9)[:, None], np.array([1.0, 0.0]))
+        b, n = humans.shape[:2]
+        maps = local_maps(np.broadcast_to(next_pos / facts.robot_speed, (b, n, 2)), np.broadcast_to(next_vel / facts.robot_speed, (b, n, 2)),
+                          ex[:, 0], ex[:, 1])  # fmt: skip
+        humans = np.concatenate([humans, maps], axis=-1)
+    return self_state, humans, rewards
 
 
 def step_model(facts: EnvFacts, reward: CrowdNavReward = CROWDNAV_REWARD, features: SARLFeatures = CROWDNAV_FEATURES) -> StepModel:
@@ -176,7 +193,7 @@ def lookahead_numpy(obs: dict, facts: EnvFacts, velocities: np.ndarray, reward: 
     pos, _, next_pos, next_vel, radii, ahead = predict_humans(obs, facts, features.horizons)
     xmin, ymin, xmax, ymax = facts.arena.robot_box
     nxt = np.clip(robot + velocities * facts.dt, [xmin, ymin], [xmax, ymax])
-    self_state, humans = joint_state(nxt, velocities, goal, next_pos, next_vel, radii, facts, ahead[:, 1:], features.walls, features.robot_velocity)
+    self_state, humans = joint_state(nxt, velocities, goal, next_pos, next_vel, radii, facts, ahead[:, 1:], features)
     # the smallest gap over the step: both move straight from now to the predicted next state
     d0 = (pos - robot)[None]
     d1 = next_pos[None] - nxt[:, None, :]

@@ -92,6 +92,13 @@ def action_velocities(speed: float) -> np.ndarray:
 SELF_VELOCITY = slice(3, 5)
 
 
+def goal_frames(robot_pos: np.ndarray, goal) -> tuple[np.ndarray, np.ndarray]:
+    """Each robot state's distance to the goal (B,) and goal frame's x axis (B, 2; the world's at the goal)."""
+    to_goal = np.asarray(goal, np.float64) - robot_pos
+    dist = np.hypot(to_goal[:, 0], to_goal[:, 1])
+    return dist, np.where(dist[:, None] > 1e-9, to_goal / np.maximum(dist, 1e-9)[:, None], np.array([1.0, 0.0]))
+
+
 def joint_state(robot_pos, robot_vel, goal, human_pos, human_vel, human_radii, facts: EnvFacts, future=None,
                 features: SARLFeatures = CROWDNAV_FEATURES):  # fmt: skip
     """The value network's input for B robot states among N humans, with ``features``' columns.
@@ -104,9 +111,7 @@ def joint_state(robot_pos, robot_vel, goal, human_pos, human_vel, human_radii, f
     goal frame; without ``robot_velocity`` the self state's velocity columns are 0."""
     walls, robot_velocity = features.walls, features.robot_velocity
     length, speed = facts.robot_speed * 1.0, facts.robot_speed
-    to_goal = np.asarray(goal, np.float64) - robot_pos
-    dist = np.hypot(to_goal[:, 0], to_goal[:, 1])
-    ex = np.where(dist[:, None] > 1e-9, to_goal / np.maximum(dist, 1e-9)[:, None], np.array([1.0, 0.0]))
+    dist, ex = goal_frames(robot_pos, goal)
     cos, sin = ex[:, 0], ex[:, 1]
 
     def rotate(v):  # world vectors (B, ..., 2) into each goal frame
@@ -168,9 +173,7 @@ def lookahead(obs: dict, facts: EnvFacts, velocities: np.ndarray, reward: CrowdN
     self_state, humans, rewards = lookahead_kernel(robot, goal, np.asarray(velocities, np.float64), pos, next_pos, next_vel, radii, future, model)
     if features.local_map:  # the same humans for every move, seen in each move's goal frame
         xmin, ymin, xmax, ymax = facts.arena.robot_box
-        to_goal = goal - np.clip(robot + np.asarray(velocities, np.float64) * facts.dt, [xmin, ymin], [xmax, ymax])
-        dist = np.hypot(to_goal[:, 0], to_goal[:, 1])
-        ex = np.where(dist[:, None] > 1e-9, to_goal / np.maximum(dist, 1e-9)[:, None], np.array([1.0, 0.0]))
+        _, ex = goal_frames(np.clip(robot + np.asarray(velocities, np.float64) * facts.dt, [xmin, ymin], [xmax, ymax]), goal)
         b, n = humans.shape[:2]
         maps = local_maps(np.broadcast_to(next_pos / facts.robot_speed, (b, n, 2)), np.broadcast_to(next_vel / facts.robot_speed, (b, n, 2)),
                           ex[:, 0], ex[:, 1])  # fmt: skip

@@ -164,9 +164,6 @@ CROWDNAV_PRESETS = {
 TEST_CASE_SEED_BASE = 1000
 #: CrowdNav's test size (``env.config``); its case counter wraps there.
 TEST_CASES = 500
-#: The presets whose scenes CrowdNav's test cases replace in the ``crowdnav`` split: (layout, visible).
-PRESET_LAYOUTS = {f"crowdnav-{layout}" + ("-visible" if visible else ""): (layout, visible) for layout in ("circle-crossing", "square-crossing")
-                  for visible in (False, True)}  # fmt: skip
 
 
 def _legacy_clear(point, others, min_dist: float) -> bool:
@@ -221,6 +218,8 @@ def _legacy_square_crossing(state: np.random.RandomState, n: int):
 
 
 _LEGACY_LAYOUTS = {"circle-crossing": _legacy_circle_crossing, "square-crossing": _legacy_square_crossing}
+#: The presets whose scenes CrowdNav's test cases replace in the ``crowdnav`` split: (layout, visible).
+PRESET_LAYOUTS = {f"crowdnav-{layout}" + ("-visible" if visible else ""): (layout, visible) for layout in _LEGACY_LAYOUTS for visible in (False, True)}
 
 
 def crowdnav_test_case(layout: str, case: int, n_humans: int | None = None, visible: bool = False,

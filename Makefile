@@ -58,7 +58,7 @@ train-sarl-crossings: $(FULL)  ## retrain SARL on CrowdNav's circle and square c
 train-sarl-random: $(FULL)  ## retrain SARL on random scenes, 8 bouncing obstacles, a Δd curriculum to 1.25 (<= 58 min) -> agents/models/sarl_random.npz
 	nice -n 5 $(PY) scripts/train_sarl.py --setting random-no-robot-velocity --scenario random --delta-d 0.25 --curriculum-max 1.25 \
 		--curriculum-episodes 1500 --val-delta-d 0.25,0.5,1 --val-episodes 50 --teacher astar-spacetime --teacher-kwargs '{}' \
-		--seed 0 --budget-minutes 58 --out runs/sarl_random
+		--seed 0 --budget-minutes 58 --rl-episodes 40000 --out runs/sarl_random
 
 reproduce: $(CORE)
 	$(PY) scripts/reproduce_paper.py --out results/paper

@@ -171,14 +171,20 @@ def lookahead(obs: dict, facts: EnvFacts, velocities: np.ndarray, reward: CrowdN
     future = np.ascontiguousarray(ahead[:, 1:])
     model = step_model(facts, reward, features)
     self_state, humans, rewards = lookahead_kernel(robot, goal, np.asarray(velocities, np.float64), pos, next_pos, next_vel, radii, future, model)
-    if features.local_map:  # the same humans for every move, seen in each move's goal frame
-        xmin, ymin, xmax, ymax = facts.arena.robot_box
-        _, ex = goal_frames(np.clip(robot + np.asarray(velocities, np.float64) * facts.dt, [xmin, ymin], [xmax, ymax]), goal)
-        b, n = humans.shape[:2]
-        maps = local_maps(np.broadcast_to(next_pos / facts.robot_speed, (b, n, 2)), np.broadcast_to(next_vel / facts.robot_speed, (b, n, 2)),
-                          ex[:, 0], ex[:, 1])  # fmt: skip
-        humans = np.concatenate([humans, maps], axis=-1)
+    if features.local_map:
+        humans = with_local_maps(humans, robot, goal, velocities, next_pos, next_vel, facts)
     return self_state, humans, rewards
+
+
+def with_local_maps(humans, robot, goal, velocities, next_pos, next_vel, facts: EnvFacts) -> np.ndarray:
+    """``humans`` (A, N, F) of the moves ``velocities`` from ``robot`` with LM-SARL's local map appended: the same
+    predicted humans for every move, seen in each move's goal frame."""
+    xmin, ymin, xmax, ymax = facts.arena.robot_box
+    _, ex = goal_frames(np.clip(robot + np.asarray(velocities, np.float64) * facts.dt, [xmin, ymin], [xmax, ymax]), goal)
+    b, n = humans.shape[:2]
+    maps = local_maps(np.broadcast_to(next_pos / facts.robot_speed, (b, n, 2)), np.broadcast_to(next_vel / facts.robot_speed, (b, n, 2)),
+                      ex[:, 0], ex[:, 1])  # fmt: skip
+    return np.concatenate([humans, maps], axis=-1)
 
 
 def step_model(facts: EnvFacts, reward: CrowdNavReward = CROWDNAV_REWARD, features: SARLFeatures = CROWDNAV_FEATURES) -> StepModel:

@@ -1,5 +1,5 @@
 """SARL (Chen et al. 2019) as an agent: a value network with attention over the humans and a
-one-step lookahead over 81 moves, run with numpy (no torch).
+lookahead over 81 moves, one step (SARL's) or two along the best few (RGL's), run with numpy (no torch).
 
 ``scripts/train_sarl.py`` trains it (:mod:`agents.rl.training.sarl_train`); the lookahead is
 :mod:`agents.rl.sarl_lookahead` (the humans' next state predicted from the observation, never read
@@ -21,8 +21,9 @@ import numpy as np
 
 from ..base import Agent
 from .policy import MODELS_DIR
-from .sarl_lookahead import action_velocities, best_action, discount
+from .sarl_lookahead import action_velocities, discount
 from .sarl_numpy import SARLNumpy
+from .sarl_planning import best_action_two_steps, check_width
 from .sarl_settings import get_setting
 
 #: ``velocity`` names: the robot's velocity features (goal frame, robot speeds) every move's next state shows; None: the move's own.
@@ -44,18 +45,23 @@ class SARLAgent(Agent):
         or ``"goal"`` (full speed at the goal for every move; ``"zero"``: standing; for a holonomic robot the humans do not see, the
         value should not depend on it, and the learned dependence otherwise picks slow moves; validation on the first
         circle model, trained with the velocity: 0.99 at 11.19 s against 11.62 s, ``docs/results/sarl/time_gap.md``).
+    :param planning_width: ``w`` > 0: RGL's two-step planning over the ``w`` best moves (:mod:`agents.rl.sarl_planning`;
+        about ``1 + w`` forwards a step); 0: CrowdNav's one-step lookahead, as the models were trained. The default 3 was
+        chosen on validation episodes (``docs/results/sarl.md``, session 17); the value is the same network either way.
     :raises ValueError: naming ``path`` if no model is there or its inputs do not fit the setting's
         features, ``gamma`` if it is not in (0, 1], ``setting`` or ``velocity`` if unknown, ``velocity`` if not
-        ``"move"`` for a model trained without the robot's velocity (``crowdnav-no-robot-velocity``: nothing to substitute).
+        ``"move"`` for a model trained without the robot's velocity (``crowdnav-no-robot-velocity``: nothing to substitute),
+        ``planning_width`` if not an int >= 0.
     """
 
     name = "sarl"
 
     def __init__(self, env, seed: int | None = None, path: str | Path | None = None, gamma: float | None = None,
-                 setting: str | None = None, model: str | None = None, velocity: str = "move"):  # fmt: skip
+                 setting: str | None = None, model: str | None = None, velocity: str = "move", planning_width: int = 3):  # fmt: skip
         super().__init__(env, seed=seed)
         if velocity not in VELOCITY_FEATURES:
             raise ValueError(f"velocity must be one of {sorted(VELOCITY_FEATURES)}, got {velocity!r}")
+        self.planning_width = check_width(planning_width)
         self.velocity_features = VELOCITY_FEATURES[velocity]
         if setting is not None:
             get_setting(setting)  # a ValueError naming setting, before the path's
@@ -81,8 +87,8 @@ class SARLAgent(Agent):
 
     def plan(self, obs, memory):
         robot = np.asarray(obs["robot_position"], np.float64)
-        k = best_action(obs, self.facts, self.velocities, self.network.values, self.gamma_bar, self.reward, self.setting.features,
-                        self.velocity_features)  # fmt: skip
+        k = best_action_two_steps(obs, self.facts, self.velocities, self.network.values, self.gamma_bar, self.planning_width,
+                                  self.reward, self.setting.features, self.velocity_features)  # fmt: skip
         waypoint = robot + self.velocities[k] * self.facts.dt
         self.last_plan = np.stack([robot, waypoint])
         return waypoint

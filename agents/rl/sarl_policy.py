@@ -25,6 +25,7 @@ from .sarl_lookahead import action_velocities, discount
 from .sarl_numpy import SARLNumpy
 from .sarl_planning import best_action_two_steps, check_width
 from .sarl_settings import get_setting
+from .sarl_standing import all_standing, standing_scores
 
 #: ``velocity`` names: the robot's velocity features (goal frame, robot speeds) every move's next state shows; None: the move's own.
 VELOCITY_FEATURES = {"move": None, "goal": (1.0, 0.0), "zero": (0.0, 0.0)}
@@ -48,20 +49,28 @@ class SARLAgent(Agent):
     :param planning_width: ``w`` > 0: RGL's two-step planning over the ``w`` best moves (:mod:`agents.rl.sarl_planning`;
         about ``1 + w`` forwards a step); 0: CrowdNav's one-step lookahead, as the models were trained. The default 3 was
         chosen on validation episodes (``docs/results/sarl.md``, session 17); the value is the same network either way.
+    :param standing_search: when every human stands (slower than 5 % of the robot's speed, and at the step before), solve the still scene by
+        value iteration on a grid with the learned value as a stopping payoff (:mod:`agents.rl.sarl_standing`), so
+        that the robot does not freeze on a local maximum of its value; False: the lookahead alone (as with LM-SARL's
+        local map, whose grid this does not build).
     :raises ValueError: naming ``path`` if no model is there or its inputs do not fit the setting's
         features, ``gamma`` if it is not in (0, 1], ``setting`` or ``velocity`` if unknown, ``velocity`` if not
         ``"move"`` for a model trained without the robot's velocity (``crowdnav-no-robot-velocity``: nothing to substitute),
-        ``planning_width`` if not an int >= 0.
+        ``planning_width`` if not an int >= 0, ``standing_search`` if not a bool.
     """
 
     name = "sarl"
 
     def __init__(self, env, seed: int | None = None, path: str | Path | None = None, gamma: float | None = None,
-                 setting: str | None = None, model: str | None = None, velocity: str = "move", planning_width: int = 3):  # fmt: skip
+                 setting: str | None = None, model: str | None = None, velocity: str = "move", planning_width: int = 3,
+                 standing_search: bool = True):  # fmt: skip
         super().__init__(env, seed=seed)
         if velocity not in VELOCITY_FEATURES:
             raise ValueError(f"velocity must be one of {sorted(VELOCITY_FEATURES)}, got {velocity!r}")
         self.planning_width = check_width(planning_width)
+        if not isinstance(standing_search, bool):
+            raise ValueError(f"standing_search must be True or False, got {standing_search!r}")
+        self.standing_search = standing_search
         self.velocity_features = VELOCITY_FEATURES[velocity]
         if setting is not None:
             get_setting(setting)  # a ValueError naming setting, before the path's
@@ -87,7 +96,13 @@ class SARLAgent(Agent):
 
     def plan(self, obs, memory):
         robot = np.asarray(obs["robot_position"], np.float64)
-        k = best_action_two_steps(obs, self.facts, self.velocities, self.network.values, self.gamma_bar, self.planning_width,
+        # standing now and at the last step: at a reset everyone is still, about to walk
+        stood_before, memory["stood"] = memory.get("stood", False), all_standing(obs, self.facts)
+        if self.standing_search and not self.setting.features.local_map and stood_before and memory["stood"]:
+            k = int(np.argmax(standing_scores(obs, self.facts, self.velocities, self.network.values, self.gamma_bar, memory,
+                                              self.reward, self.setting.features)))  # fmt: skip
+        else:
+            k = best_action_two_steps(obs, self.facts, self.velocities, self.network.values, self.gamma_bar, self.planning_width,
                                   self.reward, self.setting.features, self.velocity_features)  # fmt: skip
         waypoint = robot + self.velocities[k] * self.facts.dt
         self.last_plan = np.stack([robot, waypoint])

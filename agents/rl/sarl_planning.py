@@ -11,7 +11,7 @@ simulator. A move that ends the episode (a predicted collision or arrival) keeps
 What it buys: a move whose next state looks safe but leaves no safe move after it (a bouncing obstacle
 that turns into the robot's way) is seen one step earlier. On 500 validation episodes of random scenes
 at Δd 1, the shipped ``sarl-random`` collides in 39 with the one-step rule and 26 with ``width=3``
-(``docs/results/sarl.md``, session 17).
+(``docs/results/sarl.md``, session 17; records in ``docs/results/sarl/validation_s17/random``).
 """
 
 from __future__ import annotations

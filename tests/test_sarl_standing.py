@@ -48,12 +48,12 @@ def test_the_grid_is_bellman_consistent_with_the_learned_value_as_a_floor():
     np.testing.assert_array_equal(grid.values[gap < 0], agent.reward.collision)
     np.testing.assert_array_equal(grid.values[goal & (gap >= 0)], agent.reward.success)
     free = (gap >= 0) & ~goal
-    # the learned value is a floor, and no move improves on a cell's worth (value iteration converged)
+    # the learned value (at most the reward of arriving) is a floor, and no move improves on a cell's worth (value iteration converged)
     self_state, humans_state = agents.rl.sarl_lookahead.joint_state(
         centres[free], np.zeros((free.sum(), 2)), obs["goal"], humans, np.zeros_like(humans), radii, agent.facts, None, agent.setting.features
     )
     learned = agent.network.values(self_state, humans_state, np.ones(humans_state.shape[:2], np.float32))
-    assert np.all(grid.values[free] >= learned - 1e-6)
+    assert np.all(grid.values[free] >= np.minimum(learned, agent.reward.success) - 1e-6)
     entry = np.where(gap < 0, agent.reward.collision, np.where(goal, agent.reward.success, np.where(
         gap < 0.2, (gap - 0.2) * 0.5 * agent.facts.dt, 0.0)))  # fmt: skip
     terminal = (gap < 0) | goal
@@ -103,3 +103,26 @@ def test_standing_search_must_be_a_bool():
     env = gym.make("DynamicObstacle-v0", scenario=STANDING)
     with pytest.raises(ValueError, match="standing_search"):
         agents.make("sarl-crossings", env, standing_search="yes")
+
+
+def test_a_large_arena_gets_a_window_round_the_robot_and_the_goal():
+    from agents.rl.sarl_standing import MAX_CELLS, grid_value, standing_scores
+    from pathplan_env import Obstacle, Scenario
+
+    scene = Scenario(bounds=(0, 0, 60, 60), start=(5, 5), goal=(12, 9), obstacles=(Obstacle(center=(8.0, 7.0), radius=0.5),))
+    env = gym.make("DynamicObstacle-v0", scenario=scene, delta_d=None)
+    agent = agents.make("sarl-random", env)
+    obs, _ = env.reset(seed=0)
+    memory = {}
+    standing_scores(obs, agent.facts, agent.velocities, agent.network.values, agent.gamma_bar, memory, agent.reward, agent.setting.features)
+    grid = memory["standing_grid"]
+    assert grid.values.size <= MAX_CELLS
+    top = grid.origin + grid.cell * (np.array(grid.values.shape) - 1)
+    assert np.all(grid.origin <= np.array([5, 5]) - 3.9) and np.all(top >= np.array([12, 9]) + 3.9)
+    assert np.isfinite(grid_value(grid, np.array([[5.0, 5.0], [12.0, 9.0]]))).all()
+    # near the window's edge inside the arena the grid is rebuilt round the robot
+    far = {k: np.array(v) for k, v in obs.items()}
+    far["robot_position"][:] = top - 0.5
+    standing_scores(far, agent.facts, agent.velocities, agent.network.values, agent.gamma_bar, memory, agent.reward, agent.setting.features)
+    assert memory["standing_grid"] is not grid
+    assert agents.rollout(agent, env, 0)["is_success"]

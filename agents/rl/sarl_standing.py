@@ -37,6 +37,11 @@ STANDING_SPEED = 0.05
 DRIFT = 0.02
 #: Sweeps of value iteration at most (each carries values a step further; it stops early when nothing changes).
 SWEEPS = 100
+#: Cells at most: a larger arena gets a window round the robot and the goal (4 m beyond both), or round the robot
+#: alone; CrowdNav's arena (107 × 107 cells) is whole.
+MAX_CELLS = 20_000
+#: How close (m) the robot may come to a window's edge inside the arena before the grid is rebuilt round it.
+EDGE = 1.0
 
 
 class StandingGrid(NamedTuple):
@@ -47,6 +52,8 @@ class StandingGrid(NamedTuple):
     """(nx, ny) what a move's end is worth: the best of handing over to the learned value there and moving on"""
     humans: np.ndarray
     """(N, 2) the human positions it was built for"""
+    inner: tuple[np.ndarray, np.ndarray]
+    """where the robot may be for the grid to hold: the window less ``EDGE`` on each side the arena does not close"""
 
 
 def all_standing(obs: dict, facts: EnvFacts) -> bool:
@@ -86,14 +93,20 @@ def _sweeps(v0, entry_reward, terminal, offsets, gamma_bar, n_sweeps):
 
 def build_grid(obs: dict, facts: EnvFacts, values, gamma_bar: float, reward: CrowdNavReward, features: SARLFeatures,
                sweeps: int = SWEEPS) -> StandingGrid:  # fmt: skip
-    """The grid over the arena's robot box for the humans standing where ``obs`` shows them."""
+    """The grid over the arena's robot box (or a window of it, ``MAX_CELLS``) for the humans standing where ``obs`` shows them."""
     step = facts.robot_speed * facts.dt
     cell = step / 2
     goal = np.asarray(obs["goal"], np.float64)
-    xmin, ymin, xmax, ymax = facts.arena.robot_box
-    lo = np.array([xmin, ymin])
-    nx, ny = int((xmax - xmin) // cell) + 1, int((ymax - ymin) // cell) + 1
-    xs, ys = xmin + cell * np.arange(nx), ymin + cell * np.arange(ny)
+    robot = np.asarray(obs["robot_position"], np.float64)
+    box_lo, box_hi = np.array(facts.arena.robot_box[:2]), np.array(facts.arena.robot_box[2:])
+    lo, hi = box_lo, box_hi
+    if np.prod((hi - lo) / cell + 1) > MAX_CELLS:  # round the robot and the goal, else round the robot
+        lo, hi = np.maximum(np.minimum(robot, goal) - 4.0, box_lo), np.minimum(np.maximum(robot, goal) + 4.0, box_hi)
+        if np.prod((hi - lo) / cell + 1) > MAX_CELLS:
+            half = 0.5 * cell * (np.sqrt(MAX_CELLS) - 1)
+            lo, hi = np.maximum(robot - half, box_lo), np.minimum(robot + half, box_hi)
+    nx, ny = int((hi[0] - lo[0]) // cell) + 1, int((hi[1] - lo[1]) // cell) + 1
+    xs, ys = lo[0] + cell * np.arange(nx), lo[1] + cell * np.arange(ny)
     points = np.stack(np.meshgrid(xs, ys, indexing="ij"), axis=-1).reshape(-1, 2)
     pos, _, next_pos, next_vel, radii, ahead = predict_humans(obs, facts, features.horizons)
     gap = (np.hypot(*(points[:, None, :] - next_pos[None]).transpose(2, 0, 1)) - radii - facts.robot_radius).min(axis=1)
@@ -106,16 +119,20 @@ def build_grid(obs: dict, facts: EnvFacts, values, gamma_bar: float, reward: Cro
                      np.where(gap < reward.discomfort_dist, (gap - reward.discomfort_dist) * reward.discomfort_factor * facts.dt, 0.0)))  # fmt: skip
     terminal = (gap < 0) | at_goal
     self_state, humans = joint_state(points, np.zeros_like(points), goal, next_pos, next_vel, radii, facts, ahead[:, 1:], features)
-    v0 = np.where(terminal, -np.inf, np.asarray(values(self_state, humans, np.ones(humans.shape[:2], np.float32)), np.float64))
+    learned = np.asarray(values(self_state, humans, np.ones(humans.shape[:2], np.float32)), np.float64)
+    # no state is worth more than arriving now (every other reward is <= 0); a learned value above it, as by
+    # the goal, would have the robot circle there for it
+    v0 = np.where(terminal, -np.inf, np.minimum(learned, reward.success))
     r = int(math.floor(step / cell + 1e-9))
     offsets = np.array([(a, b) for a in range(-r, r + 1) for b in range(-r, r + 1) if math.hypot(a, b) * cell <= step + 1e-9], np.int64)
     v = _sweeps(v0.reshape(nx, ny), entry.reshape(nx, ny), terminal.reshape(nx, ny), offsets, gamma_bar, sweeps)
     v[terminal.reshape(nx, ny)] = entry[terminal]  # what reaching them is worth, for the interpolation beside them
-    return StandingGrid(lo, cell, v, pos)
+    inner = (np.where(lo > box_lo, lo + EDGE, -np.inf), np.where(hi < box_hi, hi - EDGE, np.inf))
+    return StandingGrid(lo, cell, v, pos, inner)
 
 
 def grid_value(grid: StandingGrid, points: np.ndarray) -> np.ndarray:
-    """The grid's value at ``points`` (M, 2), bilinear between cell centres; -inf where a corner has no value."""
+    """The grid's value at ``points`` (M, 2), bilinear between cell centres (a terminal cell holds its reward)."""
     nx, ny = grid.values.shape
     u = np.clip((points - grid.origin) / grid.cell, 0.0, [nx - 1, ny - 1])
     i0 = np.minimum(np.floor(u).astype(np.int64), [nx - 2, ny - 2]).clip(0)
@@ -134,7 +151,8 @@ def standing_scores(obs: dict, facts: EnvFacts, velocities: np.ndarray, values, 
     pos, _, _ = real_obstacles(obs)
     grid = memory.get("standing_grid")
     robot = np.asarray(obs["robot_position"], np.float64)
-    stale = grid is None or grid.humans.shape != pos.shape or np.abs(grid.humans - pos).max() > DRIFT
+    stale = (grid is None or grid.humans.shape != pos.shape or np.abs(grid.humans - pos).max() > DRIFT
+             or np.any(robot < grid.inner[0]) or np.any(robot > grid.inner[1]))  # fmt: skip
     if stale:
         grid = memory["standing_grid"] = build_grid(obs, facts, values, gamma_bar, reward, features)
     _, _, rewards = lookahead(obs, facts, velocities, reward, features)

@@ -27,7 +27,7 @@ register("oracle-clairvoyant", ClairvoyantOracle)  # privileged: reads the simul
 register("ppo", partial(trained_agent, algo="ppo"))  # the shipped PPO; with path=: a train_rl.py model, or any PPO .zip
 register("ppo-lidar", LidarRLAgent)  # the shipped lidar PPO (1-D conv encoder): observation="lidar"; with path=: a train_rl.py --observation lidar model
 register("ppo-set", SetRLAgent)  # the set-encoder PPO (attention over every obstacle); with path=: a train_rl.py --observation set model
-register("sarl", SARLAgent)  # value network with attention + one-step lookahead on predicted humans (agents/models/sarl_crowdnav.npz)
+register("sarl", SARLAgent)  # value network with attention + lookahead on predicted humans (two steps, RGL), a grid search when all stand (sarl_crowdnav.npz)
 register("sarl-random", partial(SARLAgent, model="sarl_random"))  # the same trained on random scenes, bouncing obstacles (sarl_random.npz, setting per sidecar)
 register("sarl-crossings", partial(SARLAgent, model="sarl_crowdnav_crossings"))  # the same trained on CrowdNav's circle and square crossings by turns
 register("sb3", SB3Agent)  # any SB3 model file as it comes, path= required (agents.rl.sb3_model)

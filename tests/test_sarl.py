@@ -52,6 +52,11 @@ def test_numpy_forward_equals_torch_with_padded_humans():
     assert np.isfinite(got).all()
     scrambled = np.where(mask[..., None] > 0, humans, 1e3).astype(np.float32)  # padding is ignored
     np.testing.assert_allclose(SARLNumpy(net.export()).values(self_state, scrambled, mask), got, atol=1e-5)
+    # no human columns at all (a scene without obstacles): torch's value, not a reshape error
+    empty = np.zeros((b, 0, HUMAN_DIM), np.float32), np.zeros((b, 0), np.float32)
+    with torch.no_grad():
+        expected = net(torch.from_numpy(self_state), *(torch.from_numpy(a) for a in empty)).numpy()
+    np.testing.assert_allclose(SARLNumpy(net.export()).values(self_state, *empty), expected, atol=1e-5)
 
 
 def test_actions_are_81_moves_up_to_the_robots_speed():

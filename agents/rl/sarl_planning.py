@@ -6,7 +6,10 @@ moves: the ``width`` best moves by the one-step score are expanded by every move
 scored ``r(s, a) + γ̄ (V(s'_a) + max_b [r(s'_a, b) + γ̄ V(s''_ab)]) / 2``: the value mixed with its own
 one-step backup, RGL's rule for depth 2. The humans' two steps come from the same prediction the
 one-step lookahead uses (``agents.planners.prediction``: constant velocity, bounces), never from the
-simulator. A move that ends the episode (a predicted collision or arrival) keeps its reward alone.
+simulator. A move that ends the episode (a predicted collision or arrival), at either step, keeps its
+reward alone, and the learned value counts at most the reward of arriving (no state is worth more than
+arriving now; beside the goal the value exceeds it by a few hundredths, which would have a move that
+arrives one step later outscore the arrival).
 
 What it buys: a move whose next state looks safe but leaves no safe move after it (a bouncing obstacle
 that turns into the robot's way) is seen one step earlier. On 500 validation episodes of random scenes
@@ -49,7 +52,7 @@ def best_action_two_steps(obs: dict, facts: EnvFacts, velocities: np.ndarray, va
 
     The arguments are :func:`agents.rl.sarl_lookahead.best_action`'s; ``width`` 0 (or a scene without humans) is that
     one-step rule itself."""
-    if width == 0 or not (np.asarray(obs["obstacle_mask"]) > 0).any():
+    if check_width(width) == 0 or not (np.asarray(obs["obstacle_mask"]) > 0).any():
         return best_action(obs, facts, velocities, values, gamma_bar, reward, features, velocity_features)
     return int(np.argmax(two_step_scores(obs, facts, velocities, values, gamma_bar, width, reward, features, velocity_features)))
 
@@ -58,6 +61,7 @@ def two_step_scores(obs: dict, facts: EnvFacts, velocities: np.ndarray, values, 
                     reward: CrowdNavReward = CROWDNAV_REWARD, features: SARLFeatures = CROWDNAV_FEATURES,
                     velocity_features: tuple[float, float] | None = None) -> np.ndarray:  # fmt: skip
     """Every move's two-step score (A,), -inf outside the ``width`` best by the one-step score (a scene with humans)."""
+    check_width(width)
     pos, vel, radii = real_obstacles(obs)
     robot, goal = (np.asarray(obs[k], np.float64) for k in ("robot_position", "goal"))
     horizons = features.horizons
@@ -78,19 +82,22 @@ def two_step_scores(obs: dict, facts: EnvFacts, velocities: np.ndarray, values, 
             self_state[:, SELF_VELOCITY] = velocity_features
         return self_state, humans, rewards
 
+    def ends(r):  # a predicted collision or arrival ends the episode: nothing follows it (CrowdNav's discomfort,
+        # the one other reward, lies in (-discomfort_factor·discomfort_dist·dt, 0], never at either end's value)
+        return (r <= reward.collision) | (r >= reward.success)
+
     s1, h1, r1 = step(robot, 0, 1)
     v1 = np.asarray(values(s1, h1, np.ones(h1.shape[:2], np.float32)), np.float64)
-    top = np.argsort(-(r1 + gamma_bar * v1), kind="stable")[:width]
-    # a predicted collision or arrival ends the episode: nothing follows it (CrowdNav's discomfort, the one other
-    # reward, lies in (-discomfort_factor·discomfort_dist·dt, 0], never at either end's value)
-    ends = (r1[top] <= reward.collision) | (r1[top] >= reward.success)
-    going = top[~ends]
+    top = np.argsort(-(r1 + gamma_bar * v1), kind="stable")[:width]  # RGL's clip: CrowdNav's one-step score
+    v1 = np.minimum(v1, reward.success)
+    going = top[~ends(r1[top])]
     q = np.full(len(velocities), -np.inf)
-    q[top[ends]] = r1[top[ends]]
+    q[top] = r1[top]
     if len(going):
         lo, hi = np.asarray(facts.arena.robot_box[:2]), np.asarray(facts.arena.robot_box[2:])
         branches = [step(np.clip(robot + velocities[a] * facts.dt, lo, hi), 1, 2) for a in going]
         s2, h2, r2 = (np.concatenate(parts) for parts in zip(*branches))
-        q2 = (r2 + gamma_bar * np.asarray(values(s2, h2, np.ones(h2.shape[:2], np.float32)), np.float64)).reshape(len(going), -1)
+        v2 = np.minimum(np.asarray(values(s2, h2, np.ones(h2.shape[:2], np.float32)), np.float64), reward.success)
+        q2 = np.where(ends(r2), r2, r2 + gamma_bar * v2).reshape(len(going), -1)
         q[going] = r1[going] + gamma_bar * 0.5 * (v1[going] + q2.max(axis=1))
     return q

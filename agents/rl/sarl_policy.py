@@ -100,7 +100,7 @@ class SARLAgent(Agent):
         stood_before, memory["stood"] = memory.get("stood", False), all_standing(obs, self.facts)
         if self.standing_search and not self.setting.features.local_map and stood_before and memory["stood"]:
             k = int(np.argmax(standing_scores(obs, self.facts, self.velocities, self.network.values, self.gamma_bar, memory,
-                                              self.reward, self.setting.features)))  # fmt: skip
+                                              self.reward, self.setting.features, self.velocity_features)))  # fmt: skip
         else:
             k = best_action_two_steps(obs, self.facts, self.velocities, self.network.values, self.gamma_bar, self.planning_width,
                                   self.reward, self.setting.features, self.velocity_features)  # fmt: skip

@@ -10,7 +10,8 @@ model of it is exact, so the agent solves it: value iteration over the robot's p
 entering a cell, humans and walls both; the goal's cells end it), where each cell may also hand over to
 the learned value (optimal stopping: a cell is worth the best of its learned value and its best move).
 Each of the 81 moves then scores its exact one-step reward plus the discounted grid value where it ends.
-The grid is kept while the humans stay where they were; it takes a few ms to build.
+The grid is kept while the humans stay where they were; on CrowdNav's arena (11,664 cells) it takes tens of
+milliseconds to build, once per still scene (the acting times' p95 in ``docs/results/sarl.md`` include it).
 
 This is planning in a known static model, not learning: the learned value decides wherever anything
 moves, and here only where it beats every way on. The agent searches when the humans stand at two steps
@@ -29,7 +30,7 @@ from pathplan_env.geometry import point_segment_distance
 from pathplan_env.wrappers import EnvFacts
 
 from ..base import real_obstacles, real_static_segments
-from .sarl_lookahead import CROWDNAV_FEATURES, CROWDNAV_REWARD, CrowdNavReward, SARLFeatures, joint_state, lookahead, predict_humans
+from .sarl_lookahead import CROWDNAV_FEATURES, CROWDNAV_REWARD, SELF_VELOCITY, CrowdNavReward, SARLFeatures, joint_state, lookahead, predict_humans
 
 #: Humans slower than this fraction of the robot's speed count as standing.
 STANDING_SPEED = 0.05
@@ -92,7 +93,7 @@ def _sweeps(v0, entry_reward, terminal, offsets, gamma_bar, n_sweeps):
 
 
 def build_grid(obs: dict, facts: EnvFacts, values, gamma_bar: float, reward: CrowdNavReward, features: SARLFeatures,
-               sweeps: int = SWEEPS) -> StandingGrid:  # fmt: skip
+               sweeps: int = SWEEPS, velocity_features: tuple[float, float] | None = None) -> StandingGrid:  # fmt: skip
     """The grid over the arena's robot box (or a window of it, ``MAX_CELLS``) for the humans standing where ``obs`` shows them."""
     step = facts.robot_speed * facts.dt
     cell = step / 2
@@ -119,6 +120,8 @@ def build_grid(obs: dict, facts: EnvFacts, values, gamma_bar: float, reward: Cro
                      np.where(gap < reward.discomfort_dist, (gap - reward.discomfort_dist) * reward.discomfort_factor * facts.dt, 0.0)))  # fmt: skip
     terminal = (gap < 0) | at_goal
     self_state, humans = joint_state(points, np.zeros_like(points), goal, next_pos, next_vel, radii, facts, ahead[:, 1:], features)
+    if velocity_features is not None:  # as the lookahead shows the value every move's next state
+        self_state[:, SELF_VELOCITY] = velocity_features
     learned = np.asarray(values(self_state, humans, np.ones(humans.shape[:2], np.float32)), np.float64)
     # no state is worth more than arriving now (every other reward is <= 0); a learned value above it, as by
     # the goal, would have the robot circle there for it
@@ -145,7 +148,8 @@ def grid_value(grid: StandingGrid, points: np.ndarray) -> np.ndarray:
 
 
 def standing_scores(obs: dict, facts: EnvFacts, velocities: np.ndarray, values, gamma_bar: float, memory: dict,
-                    reward: CrowdNavReward = CROWDNAV_REWARD, features: SARLFeatures = CROWDNAV_FEATURES) -> np.ndarray:  # fmt: skip
+                    reward: CrowdNavReward = CROWDNAV_REWARD, features: SARLFeatures = CROWDNAV_FEATURES,
+                    velocity_features: tuple[float, float] | None = None) -> np.ndarray:  # fmt: skip
     """Every move's score in a standing scene: its one-step reward, plus (if it does not end the episode) the
     discounted grid value where it ends. The grid is cached in ``memory`` while the humans stay put."""
     pos, _, _ = real_obstacles(obs)
@@ -154,7 +158,7 @@ def standing_scores(obs: dict, facts: EnvFacts, velocities: np.ndarray, values, 
     stale = (grid is None or grid.humans.shape != pos.shape or np.abs(grid.humans - pos).max() > DRIFT
              or np.any(robot < grid.inner[0]) or np.any(robot > grid.inner[1]))  # fmt: skip
     if stale:
-        grid = memory["standing_grid"] = build_grid(obs, facts, values, gamma_bar, reward, features)
+        grid = memory["standing_grid"] = build_grid(obs, facts, values, gamma_bar, reward, features, velocity_features=velocity_features)
     _, _, rewards = lookahead(obs, facts, velocities, reward, features)
     xmin, ymin, xmax, ymax = facts.arena.robot_box
     ends = np.clip(robot + np.asarray(velocities) * facts.dt, [xmin, ymin], [xmax, ymax])

@@ -20,8 +20,9 @@ SELF_DIM, HUMAN_DIM = 5, 7
 #: these are about a quarter of its multiply-adds, so that 81 moves score within a millisecond.
 HIDDEN = {"mlp1": (100, 50), "mlp2": (50,), "attention": (50,), "mlp3": (100, 50)}
 #: Rows (states × humans) a forward takes at once: a larger batch (a standing search's grid: 11,664 states × 5 humans)
-#: goes in pieces whose activations stay in the core's cache (that grid's build took about twice as long in one piece).
-CHUNK_ROWS = 1024
+#: goes in pieces whose activations stay in the core's cache (that grid's build took about twice as long in one piece);
+#: the two-step lookahead's 243 states × 8 obstacles stay one piece.
+CHUNK_ROWS = 2048
 #: The attention score of an absent human: finite, so a scene without humans stays finite.
 MASK_FILL = -1e9
 

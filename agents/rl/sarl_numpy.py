@@ -4,8 +4,8 @@ The forward pass is a few small matrix products over (actions × humans) rows. E
 compiled single-threaded loop (:func:`dense`), not numpy's ``@``: OpenBLAS splits even these small
 products over threads, which on a busy 2-core machine took 20-70 ms a forward instead of about 1.
 Activations are feature-major (features × rows): the inner loop runs along the rows, contiguous,
-four outputs at a time, which vectorises without reductions (2-4 times the speed of a dot product per
-output, as fast as single-threaded OpenBLAS: ``scripts/bench_planners.py --learned`` times the agents).
+four outputs at a time, which vectorises without reductions where a dot product per output did not
+(``scripts/bench_planners.py --learned`` times the agents that use it).
 """
 
 from __future__ import annotations

@@ -8,6 +8,7 @@ from functools import partial
 from .base import Agent, available, make, register, rollout
 from .oracles import ClairvoyantOracle, StaticOracleAgent
 from .planners import MetaheuristicAgent, SpacetimeAStarAgent, SpacetimeMetaheuristicAgent
+from .planners.spacetime import CROWD_SETTINGS
 from .planners.unicycle_astar import UnicycleAStarAgent
 from .planners.unicycle_metaheuristic import UnicycleMetaheuristicAgent
 from .reactive import ORCAAgent, StraightAgent, VelocityObstacleAgent
@@ -40,15 +41,15 @@ for _optimizer in ("pso", "abc"):
     register(f"{_optimizer}-predictive", partial(MetaheuristicAgent, optimizer=_optimizer, variant="paper", predictive=True))
 register("pso-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="pso"))
 register("abc-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="abc", population=40))  # 20 food sources
-# for crowds that steer: a 5 % margin (a human who swerves walks into a plan that grazes it) and, with walls,
+# pso-/abc-spacetime's crowd settings from the first step on (those two take them once they see the obstacles
+# steer, agents.planners.steering): a 5 % margin (a human who swerves walks into a plan that grazes it) and, with walls,
 # no Eq. 4 on the humans the rest of the path past the horizon passes (its pieces may cut walls: the charge
 # held the robot behind slow humans in the maze), but the cost-to-go from where the horizon leaves the robot
 # goes round the humans where the prediction leaves them (without it the swarm waited behind a human in a
 # maze doorway that astar-spacetime walked round); astar-crowd's cone of futures did no better on validation
 # and held the robot back in the maze's corridors (docs/results/maps_first_look/README.md)
-register("pso-crowd", partial(SpacetimeMetaheuristicAgent, optimizer="pso", margin=0.05, rest_obstacles=False, obstacle_field=True))
-register("abc-crowd", partial(SpacetimeMetaheuristicAgent, optimizer="abc", population=40, margin=0.05, rest_obstacles=False,
-                              obstacle_field=True))  # fmt: skip
+register("pso-crowd", partial(SpacetimeMetaheuristicAgent, optimizer="pso", **CROWD_SETTINGS))
+register("abc-crowd", partial(SpacetimeMetaheuristicAgent, optimizer="abc", population=40, **CROWD_SETTINGS))
 # the unicycle (robot="unicycle"): the dynamic window approach, and any waypoint planner driven by pure pursuit
 register("dwa", DWAAgent)
 register("astar-unicycle", UnicycleAStarAgent)  # space-time A* over the unicycle's own moves (agents.planners.unicycle_search)

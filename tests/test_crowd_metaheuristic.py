@@ -106,9 +106,9 @@ def test_pso_spacetime_gets_past_the_humans_where_the_rest_past_its_horizon_held
     pieces pass (through walls) the robot stays behind a human until one walks into it (step 38); with
     ``rest_obstacles=False`` it reaches the goal."""
     env = gym.make("DynamicObstacle-v0", scenario="maze-crowd", delta_d=0.5)
-    charged = agents.rollout(agents.make("pso-spacetime", env, seed=900000011), env, 900000011)
+    charged = agents.rollout(agents.make("pso-spacetime", env, seed=900000011, steering="ignore"), env, 900000011)
     assert charged["collision"]
-    unpaid = agents.rollout(agents.make("pso-spacetime", env, seed=900000011, rest_obstacles=False), env, 900000011)
+    unpaid = agents.rollout(agents.make("pso-spacetime", env, seed=900000011, rest_obstacles=False, steering="ignore"), env, 900000011)
     assert unpaid["is_success"]
 
 
@@ -118,7 +118,7 @@ def test_pso_crowd_walks_round_the_humans_where_the_static_field_held_it_behind_
     static field past the horizon the swarm waits (and wanders) behind them until the time limit; with the
     field round them where the prediction leaves them (``obstacle_field``, pso-crowd's) it reaches the goal."""
     env = gym.make("DynamicObstacle-v0", scenario="maze-crowd", delta_d=1.0)
-    static = agents.rollout(agents.make("pso-crowd", env, seed=900000008, obstacle_field=False), env, 900000008)
+    static = agents.rollout(agents.make("pso-crowd", env, seed=900000008, obstacle_field=False, steering="ignore"), env, 900000008)
     assert not static["is_success"] and not static["collision"]
     around = agents.rollout(agents.make("pso-crowd", env, seed=900000008), env, 900000008)
     assert around["is_success"]

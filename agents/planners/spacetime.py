@@ -14,7 +14,8 @@ its first step:
 
 They see only the observation and :class:`~pathplan_env.wrappers.EnvFacts`. Contacts are
 predicted against obstacles inflated by ``margin`` (relative, on the contact distance), which
-absorbs the prediction's drift at bounces.
+absorbs the prediction's drift at bounces. Humans that steer are no bouncing bodies: once
+:mod:`agents.planners.steering` sees that, pso-/abc-spacetime plan with :data:`CROWD_SETTINGS`.
 """
 
 from __future__ import annotations
@@ -34,11 +35,21 @@ from .prediction import predict_among, substeps_for
 from .spacetime_anytime import PARTIAL_RULES, partial_plan
 from .spacetime_search import BUDGET, EXHAUSTED, SearchSettings, SpacetimeProblem, heading_moves, replay, search
 from .spacetime_seed import SearchSeed, search_seeds
+from .steering import SteeringCheck
 
 #: How the planners predict the obstacles: the env's bounce physics, or a cone of three such
 #: futures per obstacle (its heading, and turned ``cone_degrees`` either way), for obstacles that
 #: steer (goal-directed crowds), whose swerves no observation foretells.
 PREDICTIONS = ("physics", "cone")
+
+#: What ``pso-spacetime`` / ``abc-spacetime`` plan with once the obstacles are seen to steer
+#: (``steering="adapt"``, :mod:`agents.planners.steering`), and what ``pso-crowd`` / ``abc-crowd`` plan
+#: with from the start: a 5 % margin (a human who swerves walks into a plan that grazes it), and with walls
+#: no Eq. 4 on the humans the rest of the path past the horizon passes, but a cost-to-go round them
+#: (chosen on maze-crowd validation episodes: docs/results/maps_first_look/README.md).
+CROWD_SETTINGS = {"margin": 0.05, "rest_obstacles": False, "obstacle_field": True}
+#: ``steering``: switch to :data:`CROWD_SETTINGS` once the obstacles steer, or plan as configured throughout.
+STEERING_RULES = ("adapt", "ignore")
 
 
 class SpacetimeModel:
@@ -277,6 +288,11 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         where the prediction leaves them (:func:`agents.planners.costtogo.around_obstacles`, recomputed every
         replan: ~7 ms on the maze). On in ``pso-crowd`` / ``abc-crowd``: with the static field alone a plan
         that waits behind a human standing in a maze doorway cost as little as one that walks round it.
+    :param steering: ``"adapt"``: once :class:`~agents.planners.steering.SteeringCheck` sees the obstacles
+        steer (an obstacle's speed changes, which the bounce physics never does), plan with
+        :data:`CROWD_SETTINGS` where they ask more than the configured margin, ``rest_obstacles`` and
+        ``obstacle_field``: until then, and among bodies that bounce, exactly as configured. ``"ignore"``:
+        as configured throughout (the planners before the check; docs/results/steering).
     :param progress_weight: weight of the running cost, the mean cost-to-go where each step within the
         horizon ends (:attr:`~agents.planners.objective.TimedScene.progress_weight`; 0: none): among plans that
         end the horizon equally far on, it prefers the one that closes in first, not one that wanders.
@@ -296,7 +312,11 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     def __init__(self, env, seed: int | None = None, *, optimizer: str = "pso", horizon_steps: int = 10, margin: float = 0.005,
                  n_dodges: int = 8, dodge_steps: float = 2.0, prediction: str = "physics", violation: str = "first-contact",
                  search_expansions: int = 0, dense_budget: float = 0.0, cone_degrees: float = 20.0,
-                 rest_obstacles: bool = True, progress_weight: float = 0.0, obstacle_field: bool = False, **kwargs):  # fmt: skip
+                 rest_obstacles: bool = True, progress_weight: float = 0.0, obstacle_field: bool = False, steering: str = "adapt",
+                 **kwargs):  # fmt: skip
+        if steering not in STEERING_RULES:
+            raise ValueError(f"steering must be one of {STEERING_RULES}, got {steering!r}")
+        self.steering = steering
         if not isinstance(obstacle_field, (bool, np.bool_)):
             raise ValueError(f"obstacle_field must be True or False, got {obstacle_field!r}")
         self.obstacle_field = bool(obstacle_field)
@@ -323,16 +343,26 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         self.n_dodges, self.dodge_steps = int(n_dodges), float(dodge_steps)
         super().__init__(env, seed, optimizer=optimizer, variant="paper", predictive=True, **kwargs)
         self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees)
+        # among obstacles that steer: the crowd settings' margin, or the configured one if wider
+        self.crowd_model = SpacetimeModel(self.facts, horizon_steps, max(margin, CROWD_SETTINGS["margin"]), prediction, cone_degrees)
+        self.steering_check = SteeringCheck(self.facts.robot_speed)
         speeds = self.n_waypoints + 1
         self._timed_lo = np.concatenate([self.search_lo, np.zeros(speeds)])
         self._timed_hi = np.concatenate([self.search_hi, np.ones(speeds)])
 
-    def timed_problem(self, obs, memory: dict | None = None) -> TimedScene:
+    def timed_problem(self, obs, memory: dict | None = None, steering: bool = False) -> TimedScene:
         """The space-time objective's problem for one observation (:func:`~agents.planners.objective.timed_path_cost`),
-        with the scene's walls and the static cost-to-go (kept in ``memory`` while the statics stay)."""
-        segments, ctg = self.model.statics(obs, {} if memory is None else memory)
-        trajectory, n, radii, robot, goal = self.model.predict_scene(obs)
-        if self.obstacle_field and ctg.field.size:  # the rest goes round the obstacles where the prediction leaves them
+        with the scene's walls and the static cost-to-go (kept in ``memory`` while the statics stay); with
+        ``steering``, the problem among obstacles that steer (:data:`CROWD_SETTINGS`)."""
+        if steering:  # the crowd settings, where they ask more than the configured ones
+            model = self.crowd_model
+            rest_obstacles = self.rest_obstacles and CROWD_SETTINGS["rest_obstacles"]
+            obstacle_field = self.obstacle_field or CROWD_SETTINGS["obstacle_field"]
+        else:
+            model, rest_obstacles, obstacle_field = self.model, self.rest_obstacles, self.obstacle_field
+        segments, ctg = model.statics(obs, {} if memory is None else memory)
+        trajectory, n, radii, robot, goal = model.predict_scene(obs)
+        if obstacle_field and ctg.field.size:  # the rest goes round the obstacles where the prediction leaves them
             own = np.resize(real_obstacles(obs)[2], len(radii))  # their own radii (the cone repeats them)
             ctg = around_obstacles(ctg, goal, self.facts.goal_radius, self.model.arena.box, segments, self.facts.robot_radius,
                                    trajectory[self.model.horizon_steps * n, :, :2], own)  # fmt: skip
@@ -342,7 +372,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         f = self.facts
         return TimedScene(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.step_length,
                           self.model.horizon_steps, self.penalty_weight, travel, segments, ctg, self.violation,
-                          0.0 if self.constraint == "adaptive" else INFEASIBLE, self.rest_obstacles, self.progress_weight)  # fmt: skip
+                          0.0 if self.constraint == "adaptive" else INFEASIBLE, rest_obstacles, self.progress_weight)  # fmt: skip
 
     def seed_paths(self, robot: np.ndarray, goal: np.ndarray, problem: TimedScene | None = None) -> np.ndarray:
         """Warm-start candidates at top speed: the straight line, then a first waypoint
@@ -375,7 +405,8 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         return not problem.travel.any() or route_bends(problem.cost_to_go, x, y, gx, gy, self.facts.goal_radius)
 
     def plan(self, obs, memory):
-        problem = self.timed_problem(obs, memory)
+        steering = self.steering == "adapt" and self.steering_check.steering(memory, obs)
+        problem = self.timed_problem(obs, memory, steering)
         robot, goal = problem.robot, problem.goal
         seeds = self.seed_paths(robot, goal, problem)
         stall = 0 if self.needs_whole_budget(problem) else None

@@ -8,7 +8,7 @@ from functools import partial
 from .base import Agent, available, make, register, rollout
 from .oracles import ClairvoyantOracle, StaticOracleAgent
 from .planners import MetaheuristicAgent, SpacetimeAStarAgent, SpacetimeMetaheuristicAgent
-from .planners.spacetime import CROWD_SETTINGS
+from .planners.spacetime_metaheuristic import CROWD_SETTINGS
 from .planners.unicycle_astar import UnicycleAStarAgent
 from .planners.unicycle_metaheuristic import UnicycleMetaheuristicAgent
 from .reactive import ORCAAgent, StraightAgent, VelocityObstacleAgent

@@ -3,6 +3,7 @@
 ``spacetime_search``), which predict the obstacles from the observation (``prediction``)."""
 
 from .metaheuristic import MetaheuristicAgent
-from .spacetime import SpacetimeAStarAgent, SpacetimeMetaheuristicAgent
+from .spacetime import SpacetimeAStarAgent
+from .spacetime_metaheuristic import SpacetimeMetaheuristicAgent
 
 __all__ = ["MetaheuristicAgent", "SpacetimeAStarAgent", "SpacetimeMetaheuristicAgent"]

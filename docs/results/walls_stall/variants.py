@@ -21,7 +21,7 @@ def _bend_rule(optimizer, population=None):
     import math
 
     from agents.planners.costtogo import distance_to_goal
-    from agents.planners.spacetime import SpacetimeMetaheuristicAgent
+    from agents.planners.spacetime_metaheuristic import SpacetimeMetaheuristicAgent
 
     class BendRule(SpacetimeMetaheuristicAgent):
         def plan(self, obs, memory):
@@ -46,7 +46,7 @@ def _bend_rule(optimizer, population=None):
 
 import numpy as np  # noqa: E402
 
-from agents.planners.spacetime import walk_along  # noqa: E402
+from agents.planners.objective import walk_along  # noqa: E402
 
 abc_bend = _bend_rule("abc", population=40)
 pso_bend = _bend_rule("pso")

@@ -1,0 +1,192 @@
+"""``pso-spacetime`` / ``abc-spacetime``: the paper's optimisers on a timed path, against the space-time
+model's predicted obstacles (:class:`agents.planners.spacetime.SpacetimeModel`).
+
+The paper's adaptive constraint PSO and modified ABC, the same compiled update rules as ``pso`` /
+``abc``, optimise a sequence of moves (a relative displacement per ``hold`` steps, up to one robot step
+each) with the paper's penalty (Eq. 4) on predicted contact (:func:`agents.planners.objective.timed_path_cost`).
+Humans that steer are no bouncing bodies: once :mod:`agents.planners.steering` sees that, the planners
+plan with :data:`CROWD_SETTINGS`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..base import real_obstacles
+from .costtogo import around_obstacles, route, route_bends, waypoints_on
+from .metaheuristic import MetaheuristicAgent
+from .objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, TimedScene, walk_along
+from .spacetime import SpacetimeModel
+from .spacetime_seed import SearchSeed, search_seeds
+from .steering import SteeringCheck
+
+#: What ``pso-spacetime`` / ``abc-spacetime`` plan with once the obstacles are seen to steer
+#: (``steering="adapt"``, :mod:`agents.planners.steering`), and what ``pso-crowd`` / ``abc-crowd`` plan
+#: with from the start: a 5 % margin (a human who swerves walks into a plan that grazes it), and with walls
+#: no Eq. 4 on the humans the rest of the path past the horizon passes, but a cost-to-go round them
+#: (chosen on maze-crowd validation episodes: docs/results/maps_first_look/README.md).
+CROWD_SETTINGS = {"margin": 0.05, "rest_obstacles": False, "obstacle_field": True}
+#: ``steering``: switch to :data:`CROWD_SETTINGS` once the obstacles steer, or plan as configured throughout.
+STEERING_RULES = ("adapt", "ignore")
+
+#: What the space-time optimisers' penalty measures (:data:`agents.planners.objective.FIRST_CONTACT`).
+VIOLATIONS = {"contacts": CONTACTS, "first-contact": FIRST_CONTACT}
+
+
+class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
+    """``pso-spacetime`` / ``abc-spacetime``: the paper's optimisers on a timed path.
+
+    A candidate is the ``k`` waypoints of the paper's planners plus a speed for each of the ``k + 1``
+    segments (a fraction of the top speed: the robot may slow down or wait). Its cost is the
+    predicted arrival time (as metres at top speed) plus the paper's penalty on every predicted
+    contact within ``horizon_steps`` and on the rest of the path against the obstacles where the
+    prediction leaves them (:func:`agents.planners.objective.timed_path_cost`). Each replan warm-starts from
+    the previous best and the straight line at top speed; the robot flies the first step of the best.
+
+    :param horizon_steps: steps of predicted obstacle motion checked step by step.
+    :param margin: relative margin on the contact distance.
+    :param n_dodges, dodge_steps: warm-start candidates besides the straight line (:meth:`seed_paths`).
+    :param search_expansions: when positive, a bounded space-time search of this many expansions
+        seeds the population too (:mod:`agents.planners.spacetime_seed`); the population still optimises.
+    :param dense_budget: when positive, a replan whose best still touches an obstacle runs again,
+        from that best, with this many times the iterations: the budget grows where the scene is dense.
+    :param prediction, cone_degrees: :class:`SpacetimeModel`'s obstacle prediction.
+    :param rest_obstacles: in a scene with walls (a cost-to-go), whether the rest of the path past the
+        horizon pays Eq. 4 on the obstacles its straight pieces pass where the prediction leaves them
+        (:attr:`~agents.planners.objective.TimedScene.rest_obstacles`; always so without walls). Off
+        in ``pso-crowd`` / ``abc-crowd``: those pieces may cut walls, and the charge held the robot behind
+        slow humans in maze-crowd.
+    :param obstacle_field: in a scene with walls, the cost-to-go past the horizon goes round the obstacles
+        where the prediction leaves them (:func:`agents.planners.costtogo.around_obstacles`, recomputed every
+        replan: ~7 ms on the maze). On in ``pso-crowd`` / ``abc-crowd``: with the static field alone a plan
+        that waits behind a human standing in a maze doorway cost as little as one that walks round it.
+    :param steering: ``"adapt"``: once :class:`~agents.planners.steering.SteeringCheck` sees the obstacles
+        steer (an obstacle's speed changes, which the bounce physics never does), plan with
+        :data:`CROWD_SETTINGS` where they ask more than the configured margin, ``rest_obstacles`` and
+        ``obstacle_field``: until then, and among bodies that bounce, exactly as configured. ``"ignore"``:
+        as configured throughout (the planners before the check; docs/results/steering).
+    :param progress_weight: weight of the running cost, the mean cost-to-go where each step within the
+        horizon ends (:attr:`~agents.planners.objective.TimedScene.progress_weight`; 0: none): among plans that
+        end the horizon equally far on, it prefers the one that closes in first, not one that wanders.
+    :param violation: what the penalty measures (:data:`VIOLATIONS`): ``"contacts"`` (Eq. 4 and the
+        feasibility offset for every obstacle touched within the horizon) or ``"first-contact"`` (how
+        early the first predicted contact comes first, then Eq. 4: the plan that stays free longest wins
+        where every plan touches something).
+    Every other parameter is :class:`~agents.planners.metaheuristic.MetaheuristicAgent`'s; here
+    ``constraint`` defaults to ``"deb"`` and ``stall`` to 5 (with ``violation="first-contact"``: at
+    30 obstacles and Δd 2 on validation episodes ABC went from 0.49 to 0.91 × the limit, PSO from
+    0.71 to 0.80, no 8-obstacle cell worse; docs/results/dense_planners/ablation.md), except in a
+    replan whose way to the goal bends round walls or resting discs, or where nothing moves
+    (:meth:`needs_whole_budget`), which runs its whole budget (docs/results/walls_stall: the maze and
+    static scenes gain; humans crossing open rooms keep the exit).
+    """
+
+    def __init__(self, env, seed: int | None = None, *, optimizer: str = "pso", horizon_steps: int = 10, margin: float = 0.005,
+                 n_dodges: int = 8, dodge_steps: float = 2.0, prediction: str = "physics", violation: str = "first-contact",
+                 search_expansions: int = 0, dense_budget: float = 0.0, cone_degrees: float = 20.0,
+                 rest_obstacles: bool = True, progress_weight: float = 0.0, obstacle_field: bool = False, steering: str = "adapt",
+                 **kwargs):  # fmt: skip
+        if steering not in STEERING_RULES:
+            raise ValueError(f"steering must be one of {STEERING_RULES}, got {steering!r}")
+        self.steering = steering
+        if not isinstance(obstacle_field, (bool, np.bool_)):
+            raise ValueError(f"obstacle_field must be True or False, got {obstacle_field!r}")
+        self.obstacle_field = bool(obstacle_field)
+        if not (isinstance(progress_weight, (int, float, np.number)) and np.isfinite(progress_weight) and progress_weight >= 0.0):
+            raise ValueError(f"progress_weight must be a finite number >= 0, got {progress_weight!r}")
+        self.progress_weight = float(progress_weight)
+        if not isinstance(rest_obstacles, (bool, np.bool_)):
+            raise ValueError(f"rest_obstacles must be True or False, got {rest_obstacles!r}")
+        self.rest_obstacles = bool(rest_obstacles)
+        if not (0.0 <= dense_budget <= 100.0):
+            raise ValueError(f"dense_budget must be in [0, 100], got {dense_budget!r}")
+        self.dense_budget = float(dense_budget)
+        if int(search_expansions) != search_expansions or search_expansions < 0:
+            raise ValueError(f"search_expansions must be a non-negative integer, got {search_expansions!r}")
+        self.search_seed = SearchSeed(max_expansions=int(search_expansions))
+        if violation not in VIOLATIONS:
+            raise ValueError(f"violation must be one of {sorted(VIOLATIONS)}, got {violation!r}")
+        self.violation = VIOLATIONS[violation]
+        kwargs.setdefault("warm_start", True)
+        kwargs.setdefault("iterations", 50)
+        # Deb's rules on the first-contact violation, and the early exit: docs/results/dense_planners/ablation.md
+        kwargs.setdefault("constraint", "deb")
+        kwargs.setdefault("stall", 5)
+        self.n_dodges, self.dodge_steps = int(n_dodges), float(dodge_steps)
+        super().__init__(env, seed, optimizer=optimizer, variant="paper", predictive=True, **kwargs)
+        self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees)
+        # among obstacles that steer: the crowd settings' margin, or the configured one if wider
+        self.crowd_model = SpacetimeModel(self.facts, horizon_steps, max(margin, CROWD_SETTINGS["margin"]), prediction, cone_degrees)
+        self.steering_check = SteeringCheck(self.facts.robot_speed)
+        speeds = self.n_waypoints + 1
+        self._timed_lo = np.concatenate([self.search_lo, np.zeros(speeds)])
+        self._timed_hi = np.concatenate([self.search_hi, np.ones(speeds)])
+
+    def timed_problem(self, obs, memory: dict | None = None, steering: bool = False) -> TimedScene:
+        """The space-time objective's problem for one observation (:func:`~agents.planners.objective.timed_path_cost`),
+        with the scene's walls and the static cost-to-go (kept in ``memory`` while the statics stay); with
+        ``steering``, the problem among obstacles that steer (:data:`CROWD_SETTINGS`)."""
+        if steering:  # the crowd settings, where they ask more than the configured ones
+            model = self.crowd_model
+            rest_obstacles = self.rest_obstacles and CROWD_SETTINGS["rest_obstacles"]
+            obstacle_field = self.obstacle_field or CROWD_SETTINGS["obstacle_field"]
+        else:
+            model, rest_obstacles, obstacle_field = self.model, self.rest_obstacles, self.obstacle_field
+        segments, ctg = model.statics(obs, {} if memory is None else memory)
+        trajectory, n, radii, robot, goal = model.predict_scene(obs)
+        if obstacle_field and ctg.field.size:  # the rest goes round the obstacles where the prediction leaves them
+            own = np.resize(real_obstacles(obs)[2], len(radii))  # their own radii (the cone repeats them)
+            ctg = around_obstacles(ctg, goal, self.facts.goal_radius, self.model.arena.box, segments, self.facts.robot_radius,
+                                   trajectory[self.model.horizon_steps * n, :, :2], own)  # fmt: skip
+        # each obstacle's path length in each step: pairs farther apart than both can travel are skipped
+        moves = np.hypot(*np.diff(trajectory[:, :, :2], axis=0).transpose(2, 0, 1))
+        travel = np.ascontiguousarray(moves.reshape(self.model.horizon_steps, n, -1).sum(axis=1))
+        f = self.facts
+        return TimedScene(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.step_length,
+                          self.model.horizon_steps, self.penalty_weight, travel, segments, ctg, self.violation,
+                          0.0 if self.constraint == "adaptive" else INFEASIBLE, rest_obstacles, self.progress_weight)  # fmt: skip
+
+    def seed_paths(self, robot: np.ndarray, goal: np.ndarray, problem: TimedScene | None = None) -> np.ndarray:
+        """Warm-start candidates at top speed: the straight line, then a first waypoint
+        ``dodge_steps`` steps away in each of ``n_dodges`` directions, the rest straight to the goal.
+        With walls or resting obstacles (a cost-to-go field) the way it points out comes first
+        (:func:`agents.planners.costtogo.route`): the straight line runs into them."""
+        k = self.n_waypoints
+        rows = [np.concatenate([self.straight_line(robot, goal), np.ones(k + 1)])]
+        if problem is not None and problem.cost_to_go.field.size:
+            around = waypoints_on(route(problem.cost_to_go, robot, goal, 0.5 * self.facts.robot_radius), k)
+            rows.insert(0, np.concatenate([around.ravel(), np.ones(k + 1)]))
+        for angle in 2 * np.pi * np.arange(self.n_dodges) / self.n_dodges:
+            w1 = np.clip(robot + self.dodge_steps * self.step_length * np.array([np.cos(angle), np.sin(angle)]), self.search_lo[:2], self.search_hi[:2])
+            rest = w1 + np.arange(1, k)[:, None] / k * (goal - w1)
+            rows.append(np.concatenate([w1, rest.ravel(), np.ones(k + 1)]))
+        rows = np.array(rows)
+        if problem is not None and self.search_seed.max_expansions > 0:  # a bounded search's plan first
+            rows = np.vstack([search_seeds(problem, self.model.arena.box, k, self.search_seed), rows])
+        return np.clip(rows, self._timed_lo, self._timed_hi)
+
+    def needs_whole_budget(self, problem: TimedScene) -> bool:
+        """No early exit where the way to the goal bends round walls or resting discs (the cost-to-go's
+        route > 5 % longer than the straight line: a contact-free best that has not improved for a few
+        iterations is no sign of convergence there; maze 18 -> 20 of 20), nor where walls or discs
+        stand and nothing moves (nothing to react to: the exit only cuts the path's refinement short).
+        Among moving discs in open rooms the exit stays (docs/results/walls_stall)."""
+        if problem.cost_to_go.field.size == 0:
+            return False
+        (x, y), (gx, gy) = problem.robot, problem.goal
+        return not problem.travel.any() or route_bends(problem.cost_to_go, x, y, gx, gy, self.facts.goal_radius)
+
+    def plan(self, obs, memory):
+        steering = self.steering == "adapt" and self.steering_check.steering(memory, obs)
+        problem = self.timed_problem(obs, memory, steering)
+        robot, goal = problem.robot, problem.goal
+        seeds = self.seed_paths(robot, goal, problem)
+        stall = 0 if self.needs_whole_budget(problem) else None
+        best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, seeds, stall=stall)
+        if self.dense_budget > 0.0 and self.last_penalty > 0.0:  # no contact-free plan found: a dense scene
+            best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, seeds, self.dense_budget, stall)
+        k = self.n_waypoints
+        path = np.vstack([robot, best[: 2 * k].reshape(-1, 2), goal])
+        self.last_plan = path
+        _, x, y = walk_along(path, 0, robot[0], robot[1], best[2 * k] * self.step_length)
+        return np.array([x, y])

@@ -10,6 +10,8 @@ plan with :data:`CROWD_SETTINGS`.
 
 from __future__ import annotations
 
+from types import MappingProxyType
+
 import numpy as np
 
 from ..base import real_obstacles
@@ -25,7 +27,7 @@ from .steering import SteeringCheck
 #: with from the start: a 5 % margin (a human who swerves walks into a plan that grazes it), and with walls
 #: no Eq. 4 on the humans the rest of the path past the horizon passes, but a cost-to-go round them
 #: (chosen on maze-crowd validation episodes: docs/results/maps_first_look/README.md).
-CROWD_SETTINGS = {"margin": 0.05, "rest_obstacles": False, "obstacle_field": True}
+CROWD_SETTINGS = MappingProxyType({"margin": 0.05, "rest_obstacles": False, "obstacle_field": True})
 #: ``steering``: switch to :data:`CROWD_SETTINGS` once the obstacles steer, or plan as configured throughout.
 STEERING_RULES = ("adapt", "ignore")
 

@@ -3,6 +3,8 @@ cost-to-go, the searches' contact test and lost-episode proof, and the issue's s
 
 from __future__ import annotations
 
+import dataclasses
+
 import gymnasium as gym
 import numpy as np
 import pytest
@@ -10,12 +12,14 @@ import pytest
 import agents
 import pathplan_env  # noqa: F401  (registers the env)
 from agents.base import real_static_segments
-from agents.planners.costtogo import cost_to_go
+from agents.planners.costtogo import cost_to_go, descent, distance_to_goal, grid_slack, route
 from agents.planners.spacetime_search import SpacetimeProblem, provably_lost
+from agents.reactive.walls import arrival_times, visible_waypoint, wall_contact_times
 from pathplan_env import Scenario
 from pathplan_env.arena import Arena
 from pathplan_env.geometry import shortest_path
 from pathplan_env.scenarios import Obstacle
+from pathplan_env.statics import swept_capsules
 
 #: The issue's scene: a wall of 12 touching discs between start and goal, nothing moving.
 WALL_OF_DISCS = Scenario(bounds=(0, 0, 10, 10), start=(1, 1), goal=(9, 1),
@@ -129,3 +133,69 @@ def test_exact_static_oracle_agrees_with_the_grid_among_discs_walls_and_polygons
         grid = ctg.field[int((start[0] - ctg.x0) / ctg.cell), int((start[1] - ctg.y0) / ctg.cell)]
         assert np.isfinite(exact)
         assert 0.95 * exact <= grid <= exact + 3 * ctg.cell
+
+
+def test_the_way_down_the_cost_to_go_stays_in_the_arena_wherever_its_corner_lies():
+    # an arena whose lower corner is off the diagonal (x0 != y0): each coordinate has its own origin
+    box = Arena((0.0, -5.0, 10.0, 5.0), 0.2).box
+    segments = np.array([[5.0, -5.0, 5.0, 3.0, 0.1]])  # a wall to go round, open at the top
+    start, goal = np.array([1.0, -4.0]), np.array([9.0, -4.0])
+    ctg = cost_to_go(goal, 0.3, box, segments, 0.2)
+    centres, to_go = descent(ctg, start)
+    assert len(centres) > 10 and np.all(np.diff(to_go) < 0) and to_go[-1] <= 0.0
+    assert np.all((centres >= (box.fit_xmin, box.fit_ymin)) & (centres <= (box.fit_xmax, box.fit_ymax)))
+    assert centres[:, 1].max() > 3.0  # over the wall's open end
+    path = route(ctg, start, goal, 0.1)
+    assert np.allclose(path[0], start) and np.allclose(path[-1], goal) and path[:, 1].max() > 3.0
+
+
+def test_the_reactive_agents_aim_at_a_point_of_the_way_they_reach_clear_of_the_walls():
+    box = Arena((0.0, 0.0, 10.0, 10.0), 0.2).box
+    segments = np.array([[5.0, 0.0, 5.0, 7.0, 0.1]])
+    goal = np.array([9.0, 1.0])
+    plain = cost_to_go(goal, 0.3, box, segments, 0.2)
+    ctg = cost_to_go(goal, 0.3, box, segments, 0.25 + grid_slack(plain.cell), cell=plain.cell)  # the way that keeps 0.05 clear
+    for start in ([1.0, 1.0], [4.5, 6.0], [3.0, 9.0]):
+        start = np.asarray(start)
+        point = visible_waypoint(ctg, start, goal, segments, 0.25)
+        assert point is not None and swept_capsules(*start, *point, 0.25, segments)[1] > 1.0
+        assert point[1] > 7.0  # toward the wall's end, not through the wall
+        # the least distance to go of every reachable point of the way: never less than the exact way's
+        _, exact = shortest_path(start, goal, np.zeros((0, 2)), np.zeros(0), bounds=(0.2, 0.2, 9.8, 9.8), capsules=segments + [0, 0, 0, 0, 0.2])
+        assert np.hypot(*(point - start)) + distance_to_goal(plain, *point, *goal, 0.3) <= exact + 3 * ctg.cell
+    past = np.array([7.0, 8.0])  # past the wall: the goal in sight
+    assert np.array_equal(visible_waypoint(ctg, past, goal, segments, 0.25), goal)
+
+
+@pytest.mark.parametrize("family", ["maze", "doorway", "cluttered-room", "intersection", "corridor"])
+def test_velocity_obstacles_find_the_way_through_every_walled_scene_the_static_oracle_solves(family):
+    # the families' walls, nothing else: a reactive agent that stalls here stalls at a wall, not at a body
+    solved = 0
+    for seed in range(4):
+        env = gym.make("DynamicObstacle-v0", scenario=family)
+        env.reset(seed=seed)
+        walls_only = gym.make("DynamicObstacle-v0", scenario=dataclasses.replace(env.unwrapped.scenario, obstacles=()), delta_d=None)
+        if agents.rollout(agents.make("oracle-static", walls_only, seed=0), walls_only, seed=0)["is_success"]:
+            solved += 1
+            info = agents.rollout(agents.make("velocity-obstacle", walls_only, seed=0), walls_only, seed=0)
+            assert info["is_success"] and not info["collision"], (family, seed)
+    assert solved >= 3
+
+
+def test_a_velocity_obstacle_horizon_that_is_not_a_positive_time_is_refused():
+    env = gym.make("DynamicObstacle-v0", scenario="doorway")
+    for name in ("wall_horizon", "time_horizon"):
+        with pytest.raises(ValueError, match=name):
+            agents.make("velocity-obstacle", env, seed=0, **{name: 0.0})
+
+
+def test_a_wall_past_the_goal_does_not_count():
+    robot, goal = np.array([1.0, 1.0]), np.array([2.0, 1.0])
+    velocities = np.array([[2.0, 0.0], [-2.0, 0.0], [0.0, 2.0], [0.0, 0.0]])
+    np.testing.assert_allclose(arrival_times(robot, velocities, goal, 0.2), [0.4, np.inf, np.inf, np.inf])
+    assert np.all(arrival_times(goal + 0.1, velocities, goal, 0.2) == 0.0)  # already there
+    wall = np.array([[2.5, 0.0, 2.5, 2.0, 0.05]])  # just behind the goal
+    held = wall_contact_times(robot, velocities[:1], wall, 0.2, 0.05, 2.0)
+    assert held[0] < 2.0  # held for 2 s the velocity meets the wall ...
+    until = np.minimum(2.0, arrival_times(robot, velocities[:1], goal, 0.2))
+    assert np.isinf(wall_contact_times(robot, velocities[:1], wall, 0.2, 0.05, until)[0])  # ... after the episode ended

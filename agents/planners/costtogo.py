@@ -128,6 +128,12 @@ def _blocked(x0, y0, cell, gx, gy, segments, centers, radii, slack):
     return blocked
 
 
+def grid_slack(cell: float) -> float:
+    """How deep inside a disc's reach of a wall or resting disc a free cell's centre may lie
+    (:func:`cost_to_go` blocks a cell only when all of it and a cell more lies inside)."""
+    return cell * (math.sqrt(0.5) + 1.0)
+
+
 def cost_to_go(goal, goal_radius: float, box, segments: np.ndarray, robot_radius: float,
                centers: np.ndarray | None = None, radii: np.ndarray | None = None, cell: float | None = None) -> CostToGo:  # fmt: skip
     """The static cost-to-go field to the goal's disc for a robot of ``robot_radius`` in ``box``
@@ -154,7 +160,7 @@ def cost_to_go(goal, goal_radius: float, box, segments: np.ndarray, robot_radius
     half_diag = cell * math.sqrt(0.5)
     capsules = segments.copy()
     capsules[:, 4] += robot_radius
-    free = ~_blocked(float(box.fit_xmin), float(box.fit_ymin), float(cell), gx, gy, capsules, centers, radii + robot_radius, half_diag + cell)
+    free = ~_blocked(float(box.fit_xmin), float(box.fit_ymin), float(cell), gx, gy, capsules, centers, radii + robot_radius, grid_slack(cell))
     px, py = np.meshgrid(cx, cy, indexing="ij")
     near_goal = np.hypot(px - goal[0], py - goal[1]) <= goal_radius + half_diag
     near_goal[min(max(int((goal[0] - box.fit_xmin) / cell), 0), gx - 1), min(max(int((goal[1] - box.fit_ymin) / cell), 0), gy - 1)] = True
@@ -195,16 +201,26 @@ def route(ctg: CostToGo, start, goal, tolerance: float) -> np.ndarray:
     import shapely
 
     start, goal = np.asarray(start, np.float64), np.asarray(goal, np.float64)
+    centres, _ = descent(ctg, start)
+    if len(centres) == 0:
+        return np.array([start, goal])
+    points = np.vstack([start, centres, goal])
+    return np.asarray(shapely.LineString(points).simplify(tolerance).coords)
+
+
+def descent(ctg: CostToGo, start) -> tuple[np.ndarray, np.ndarray]:
+    """The cells the cost-to-go's steepest descent crosses from ``start``: their centres ``(K, 2)``
+    and field values ``(K,)``, from ``start``'s cell to the goal's; empty when there is no field or
+    ``start`` is cut off from the goal."""
     field = ctg.field
     if field.shape[0] == 0:
-        return np.array([start, goal])
+        return np.zeros((0, 2)), np.zeros(0)
     i = min(max(int((start[0] - ctg.x0) / ctg.cell), 0), field.shape[0] - 1)
     j = min(max(int((start[1] - ctg.y0) / ctg.cell), 0), field.shape[1] - 1)
     if not np.isfinite(field[i, j]):
-        return np.array([start, goal])
+        return np.zeros((0, 2)), np.zeros(0)
     cells = _descend(field, i, j, field.shape[0] * field.shape[1])
-    points = np.vstack([start, ctg.x0 + (cells + 0.5) * ctg.cell, goal])
-    return np.asarray(shapely.LineString(points).simplify(tolerance).coords)
+    return np.array([ctg.x0, ctg.y0]) + (cells + 0.5) * ctg.cell, field[cells[:, 0], cells[:, 1]]
 
 
 def waypoints_on(path: np.ndarray, k: int) -> np.ndarray:
@@ -219,11 +235,15 @@ def waypoints_on(path: np.ndarray, k: int) -> np.ndarray:
     return np.vstack([corners.reshape(-1, 2), a + fractions[:, None] * (path[-1] - a)])
 
 
-def observed_cost_to_go(obs: dict, facts, memory: dict) -> tuple[np.ndarray, CostToGo]:
+def observed_cost_to_go(obs: dict, facts, memory: dict, clearance: float = 0.0) -> tuple[np.ndarray, CostToGo]:
     """The scene's walls and polygon edges from an observation (:func:`agents.base.real_static_segments`)
     and the cost-to-go to its goal around them and the obstacles at rest (zero velocity: the env's
     kinematic bodies, which never move), for an agent with :class:`~pathplan_env.wrappers.EnvFacts`
-    ``facts``; computed once while they stay the same (kept in the agent's ``memory``)."""
+    ``facts``; computed once while they stay the same (kept in the agent's ``memory``).
+
+    :param clearance: > 0: the field on the same grid for the robot's disc grown by ``clearance`` and
+        :func:`grid_slack`, so that every free cell's centre keeps ``clearance`` from the walls and
+        the resting obstacles (narrow ways close)."""
     from ..base import real_obstacles, real_static_segments
 
     segments = real_static_segments(obs)
@@ -231,10 +251,17 @@ def observed_cost_to_go(obs: dict, facts, memory: dict) -> tuple[np.ndarray, Cos
     still = (velocities == 0.0).all(axis=1)
     goal = np.asarray(obs["goal"], np.float64)
     key = (segments.tobytes(), centers[still].tobytes(), radii[still].tobytes(), goal.tobytes())
-    if memory.get("cost_to_go_key") != key:
-        memory["cost_to_go_key"] = key
-        memory["cost_to_go"] = cost_to_go(goal, facts.goal_radius, facts.arena.box, segments, facts.robot_radius, centers[still], radii[still])
-    return segments, memory["cost_to_go"]
+    name, radius, cell = "cost_to_go", facts.robot_radius, None
+    if clearance != 0.0:
+        plain = observed_cost_to_go(obs, facts, memory)[1]
+        if plain.field.size == 0:
+            return segments, plain
+        name, cell = f"cost_to_go_clear_{clearance!r}", plain.cell
+        radius += clearance + grid_slack(cell)
+    if memory.get(f"{name}_key") != key:
+        memory[f"{name}_key"] = key
+        memory[name] = cost_to_go(goal, facts.goal_radius, facts.arena.box, segments, radius, centers[still], radii[still], cell)
+    return segments, memory[name]
 
 
 def around_obstacles(static: CostToGo, goal, goal_radius: float, box, segments: np.ndarray, robot_radius: float,

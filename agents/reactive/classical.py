@@ -5,7 +5,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..base import Agent, real_obstacles
-from .walls import aim, wall_contact_times
+from .walls import aim, arrival_times, wall_contact_times
+
+#: Where the velocity obstacle's preferred velocity heads among walls: the way's point in sight, or its first corner.
+AIMS = ("visible", "corner")
 
 
 class StraightAgent(Agent):
@@ -25,13 +28,26 @@ class VelocityObstacleAgent(Agent):
     one (straight to the goal at full speed); if none is admissible, the one that collides latest.
 
     Walls and polygons (the observation's ``static_segments``) add their exact static velocity
-    obstacles (:func:`agents.reactive.walls.wall_contact_times`), and the preferred velocity heads
-    for the first corner of the way around them (:func:`agents.reactive.walls.aim`) instead of the goal.
+    obstacles (:func:`agents.reactive.walls.wall_contact_times`), truncated at ``wall_horizon`` and
+    where the velocity reaches the goal (the episode ends there), and the preferred velocity heads
+    for the point of the way around them that the robot reaches in a straight line with ``margin``
+    to spare (:func:`agents.reactive.walls.aim`) instead of the goal (``aim="corner"``: the way's first
+    corner, as before; kept for the ablation). A wall stands still and the
+    robot may turn at every step: with the obstacles' 2 s the robot crawled toward every wall of the
+    maze and stood still before corners (0.30 × the limit in ``--suite maps``' maze at Δd 0.25);
+    0.5 s, and the aim, were chosen on validation episodes (docs/results/maps_suite/README.md).
     """
 
-    def __init__(self, env, seed=None, *, time_horizon: float = 2.0, n_directions: int = 36, n_speeds: int = 4, margin: float = 0.05):
+    def __init__(self, env, seed=None, *, time_horizon: float = 2.0, n_directions: int = 36, n_speeds: int = 4, margin: float = 0.05,
+                 wall_horizon: float = 0.5, aim: str = "visible"):  # fmt: skip
         super().__init__(env, seed)
-        self.time_horizon, self.margin = float(time_horizon), float(margin)
+        for name, value in (("time_horizon", time_horizon), ("wall_horizon", wall_horizon)):
+            if not (np.isfinite(value) and value > 0.0):
+                raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+        if aim not in AIMS:
+            raise ValueError(f"aim must be one of {AIMS}, got {aim!r}")
+        self.time_horizon, self.margin, self.wall_horizon = float(time_horizon), float(margin), float(wall_horizon)
+        self.aim_clearance = self.margin if aim == "visible" else None
         angles = np.linspace(0.0, 2 * np.pi, int(n_directions), endpoint=False)
         speeds = self.facts.robot_speed * np.arange(1, int(n_speeds) + 1) / int(n_speeds)
         unit = np.stack([np.cos(angles), np.sin(angles)], axis=1)
@@ -55,7 +71,7 @@ class VelocityObstacleAgent(Agent):
     def plan(self, obs, memory):
         robot = np.asarray(obs["robot_position"], np.float64)
         goal = np.asarray(obs["goal"], np.float64)
-        segments, target = aim(obs, self.facts, memory)
+        segments, target = aim(obs, self.facts, memory, clearance=self.aim_clearance)
         dist = np.hypot(*(goal - robot))
         heading = target - robot
         preferred = heading / max(np.hypot(*heading), 1e-9) * min(self.facts.robot_speed, dist / self.facts.dt)
@@ -66,7 +82,8 @@ class VelocityObstacleAgent(Agent):
         else:
             ttc = np.full(len(self.candidates), np.inf)
         if len(segments):
-            ttc = np.minimum(ttc, wall_contact_times(robot, self.candidates, segments, self.facts.robot_radius, self.margin, self.time_horizon))
+            horizon = np.minimum(self.wall_horizon, arrival_times(robot, self.candidates, goal, self.facts.goal_radius))
+            ttc = np.minimum(ttc, wall_contact_times(robot, self.candidates, segments, self.facts.robot_radius, self.margin, horizon))
         admissible = ttc > self.time_horizon
         if admissible.any():
             best = np.flatnonzero(admissible)[np.argmin(deviation[admissible])]

@@ -11,10 +11,10 @@ import pytest
 
 import agents
 import pathplan_env  # noqa: F401  (registers the env)
-from agents.base import real_static_segments
+from agents.base import real_obstacles, real_static_segments
 from agents.planners.costtogo import cost_to_go, descent, distance_to_goal, grid_slack, route
 from agents.planners.spacetime_search import SpacetimeProblem, provably_lost
-from agents.reactive.walls import arrival_times, visible_waypoint, wall_contact_times
+from agents.reactive.walls import aim, goal_horizons, visible_waypoint, wall_contact_times
 from pathplan_env import Scenario
 from pathplan_env.arena import Arena
 from pathplan_env.geometry import shortest_path
@@ -147,6 +147,7 @@ def test_the_way_down_the_cost_to_go_stays_in_the_arena_wherever_its_corner_lies
     assert centres[:, 1].max() > 3.0  # over the wall's open end
     path = route(ctg, start, goal, 0.1)
     assert np.allclose(path[0], start) and np.allclose(path[-1], goal) and path[:, 1].max() > 3.0
+    assert np.all((path >= (box.fit_xmin, box.fit_ymin)) & (path <= (box.fit_xmax, box.fit_ymax)))
 
 
 def test_the_reactive_agents_aim_at_a_point_of_the_way_they_reach_clear_of_the_walls():
@@ -192,10 +193,36 @@ def test_a_velocity_obstacle_horizon_that_is_not_a_positive_time_is_refused():
 def test_a_wall_past_the_goal_does_not_count():
     robot, goal = np.array([1.0, 1.0]), np.array([2.0, 1.0])
     velocities = np.array([[2.0, 0.0], [-2.0, 0.0], [0.0, 2.0], [0.0, 0.0]])
-    np.testing.assert_allclose(arrival_times(robot, velocities, goal, 0.2), [0.4, np.inf, np.inf, np.inf])
-    assert np.all(arrival_times(goal + 0.1, velocities, goal, 0.2) == 0.0)  # already there
+    np.testing.assert_allclose(goal_horizons(robot, velocities, goal, 0.2, 2.0), [0.4, 2.0, 2.0, 2.0])
+    assert np.all(goal_horizons(goal + 0.1, velocities, goal, 0.2, 2.0) == 0.0)  # already there
     wall = np.array([[2.5, 0.0, 2.5, 2.0, 0.05]])  # just behind the goal
-    held = wall_contact_times(robot, velocities[:1], wall, 0.2, 0.05, 2.0)
-    assert held[0] < 2.0  # held for 2 s the velocity meets the wall ...
-    until = np.minimum(2.0, arrival_times(robot, velocities[:1], goal, 0.2))
-    assert np.isinf(wall_contact_times(robot, velocities[:1], wall, 0.2, 0.05, until)[0])  # ... after the episode ended
+    assert wall_contact_times(robot, velocities[:1], wall, 0.2, 0.05, 2.0)[0] < 2.0  # held for 2 s it meets the wall ...
+    horizons = goal_horizons(robot, velocities[:1], goal, 0.2, 2.0)
+    assert np.isinf(wall_contact_times(robot, velocities[:1], wall, 0.2, 0.05, horizons)[0])  # ... after the episode ended
+
+
+def test_the_aim_is_in_sight_with_the_clearance_and_falls_back_without_it():
+    env = gym.make("DynamicObstacle-v0", scenario="doorway", delta_d=0.0)  # every obstacle rests
+    obs, _ = env.reset(seed=0)
+    facts, rr = agents.make("velocity-obstacle", env, seed=0).facts, env.unwrapped.robot_radius
+    segments = real_static_segments(obs)
+    centers, _, radii = real_obstacles(obs)
+    sight = np.vstack([segments, np.column_stack([centers, centers, radii])])  # walls and resting discs
+    rng = np.random.default_rng(0)
+    aimed = banded = missed = 0
+    for x, y in rng.uniform((facts.arena.box.fit_xmin, facts.arena.box.fit_ymin), (facts.arena.box.fit_xmax, facts.arena.box.fit_ymax), (300, 2)):
+        gap = swept_capsules(x, y, x, y, rr, sight)[0]
+        if gap <= 0.0:
+            continue  # not a place the robot can be
+        probe = dict(obs, robot_position=np.array([x, y], np.float32))
+        robot = probe["robot_position"].astype(np.float64)
+        _, point = aim(probe, facts, {}, clearance=0.05)
+        if np.array_equal(point, probe["goal"].astype(np.float64)) and gap > 0.05:
+            continue
+        if gap > 0.05 and swept_capsules(*robot, *point, rr + 0.05, sight)[1] > 1.0:
+            aimed += 1  # in sight with the clearance
+        elif gap <= 0.05 and swept_capsules(*robot, *point, rr, sight)[1] > 1.0:
+            banded += 1  # within the clearance of a wall: in sight of the bare disc
+        else:
+            missed += 1
+    assert aimed >= 100 and banded >= 1 and missed == 0, (aimed, banded, missed)

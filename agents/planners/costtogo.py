@@ -131,7 +131,7 @@ def _blocked(x0, y0, cell, gx, gy, segments, centers, radii, slack):
 def grid_slack(cell: float) -> float:
     """How deep inside a disc's reach of a wall or resting disc a free cell's centre may lie
     (:func:`cost_to_go` blocks a cell only when all of it and a cell more lies inside)."""
-    return cell * (math.sqrt(0.5) + 1.0)
+    return cell * math.sqrt(0.5) + cell
 
 
 def cost_to_go(goal, goal_radius: float, box, segments: np.ndarray, robot_radius: float,
@@ -208,18 +208,24 @@ def route(ctg: CostToGo, start, goal, tolerance: float) -> np.ndarray:
     return np.asarray(shapely.LineString(points).simplify(tolerance).coords)
 
 
-def descent(ctg: CostToGo, start) -> tuple[np.ndarray, np.ndarray]:
+def descent(ctg: CostToGo, start, reach: int = 0) -> tuple[np.ndarray, np.ndarray]:
     """The cells the cost-to-go's steepest descent crosses from ``start``: their centres ``(K, 2)``
     and field values ``(K,)``, from ``start``'s cell to the goal's; empty when there is no field or
-    ``start`` is cut off from the goal."""
+    ``start`` is cut off from the goal. When ``start``'s own cell is (a robot within a grown disc's
+    reach of a wall), the descent starts from the nearest cell within ``reach`` cells that is not."""
     field = ctg.field
     if field.shape[0] == 0:
         return np.zeros((0, 2)), np.zeros(0)
     i = min(max(int((start[0] - ctg.x0) / ctg.cell), 0), field.shape[0] - 1)
     j = min(max(int((start[1] - ctg.y0) / ctg.cell), 0), field.shape[1] - 1)
     if not np.isfinite(field[i, j]):
-        return np.zeros((0, 2)), np.zeros(0)
-    cells = _descend(field, i, j, field.shape[0] * field.shape[1])
+        i0, j0 = max(i - reach, 0), max(j - reach, 0)
+        window = field[i0 : i + reach + 1, j0 : j + reach + 1]
+        if not np.isfinite(window).any():
+            return np.zeros((0, 2)), np.zeros(0)
+        near = np.argwhere(np.isfinite(window)) + (i0, j0)
+        i, j = near[np.argmin(np.hypot(*((near - (i, j)).T)))]
+    cells = _descend(field, int(i), int(j), field.shape[0] * field.shape[1])
     return np.array([ctg.x0, ctg.y0]) + (cells + 0.5) * ctg.cell, field[cells[:, 0], cells[:, 1]]
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..base import Agent, real_obstacles
-from .walls import aim, arrival_times, wall_contact_times
+from .walls import aim, goal_horizons, wall_contact_times
 
 #: Where the velocity obstacle's preferred velocity heads among walls: the way's point in sight, or its first corner.
 AIMS = ("visible", "corner")
@@ -82,7 +82,7 @@ class VelocityObstacleAgent(Agent):
         else:
             ttc = np.full(len(self.candidates), np.inf)
         if len(segments):
-            horizon = np.minimum(self.wall_horizon, arrival_times(robot, self.candidates, goal, self.facts.goal_radius))
+            horizon = goal_horizons(robot, self.candidates, goal, self.facts.goal_radius, self.wall_horizon)
             ttc = np.minimum(ttc, wall_contact_times(robot, self.candidates, segments, self.facts.robot_radius, self.margin, horizon))
         admissible = ttc > self.time_horizon
         if admissible.any():

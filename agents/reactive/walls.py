@@ -13,15 +13,18 @@ of the way's points the robot sees with clearance, the one that leaves the least
 
 from __future__ import annotations
 
+import math
 from types import SimpleNamespace
 
 import numpy as np
 
+from pathplan_env.kinematics import reach_fraction
 from pathplan_env.orca import ORCAObstacles
 from pathplan_env.routing import orca_obstacles
 from pathplan_env.statics import swept_capsules
 
-from ..planners.costtogo import descent, observed_cost_to_go, route
+from ..base import real_obstacles
+from ..planners.costtogo import descent, grid_slack, observed_cost_to_go, route
 
 
 def wall_contact_times(robot: np.ndarray, velocities: np.ndarray, segments: np.ndarray, robot_radius: float, margin: float,
@@ -41,20 +44,18 @@ def wall_contact_times(robot: np.ndarray, velocities: np.ndarray, segments: np.n
     return times
 
 
-def arrival_times(robot: np.ndarray, velocities: np.ndarray, goal: np.ndarray, goal_radius: float) -> np.ndarray:
-    """Time (s) at which each candidate velocity (C, 2), held, brings the robot's centre within
-    ``goal_radius`` of the goal; inf when it never does. The episode ends there (the env stops the
-    step where the goal is reached): a wall beyond it is never touched."""
-    p = np.asarray(robot, np.float64) - np.asarray(goal, np.float64)
-    a = np.einsum("ci,ci->c", velocities, velocities)
-    b = velocities @ p
-    c = p @ p - goal_radius**2
-    if c <= 0.0:
-        return np.zeros(len(velocities))
-    disc = b * b - a * c
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = (-b - np.sqrt(np.maximum(disc, 0.0))) / a
-    return np.where((a > 0) & (disc >= 0) & (t >= 0), t, np.inf)
+def goal_horizons(robot: np.ndarray, velocities: np.ndarray, goal: np.ndarray, goal_radius: float, horizon: float) -> np.ndarray:
+    """Each candidate velocity's (C, 2) horizon for the walls: ``horizon`` s, or the time at which,
+    held, it brings the robot's centre within ``goal_radius`` of the goal if sooner. The episode ends
+    there (the env stops the step where the goal is reached, ``pathplan_env.kinematics.reach_fraction``,
+    the env's own test): a wall beyond it is never touched."""
+    x, y, gx, gy = float(robot[0]), float(robot[1]), float(goal[0]), float(goal[1])
+    horizons = np.full(len(velocities), float(horizon))
+    for c, (vx, vy) in enumerate(velocities.tolist()):
+        fraction = reach_fraction(x, y, vx * horizon, vy * horizon, gx, gy, goal_radius)
+        if fraction <= 1.0:
+            horizons[c] = fraction * horizon
+    return horizons
 
 
 def aim(obs: dict, facts, memory: dict, clearance: float | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -64,12 +65,13 @@ def aim(obs: dict, facts, memory: dict, clearance: float | None = None) -> tuple
     through gaps between resting discs that their margin does not fit).
 
     :param clearance: ``None``: the way's first corner (:func:`agents.planners.costtogo.route`).
-        A number: on the way that keeps ``clearance`` from the walls (:func:`observed_cost_to_go`),
-        the point the robot's disc, grown by ``clearance``, reaches in a straight line without
-        touching a wall and that leaves the least distance to go (:func:`visible_waypoint`), or
-        failing that one the bare disc reaches; the first corner when it sees none. The plain way
-        hugs the walls as close as the grid lets a disc pass, so its corners may lie within the
-        clearance of a wall: a robot that aims at one stalls in front of it."""
+        A number: the farthest point of the way that keeps ``clearance`` from the walls and the resting
+        obstacles (:func:`observed_cost_to_go`) that the robot's disc, grown by ``clearance``, reaches
+        in a straight line without touching them (:func:`visible_waypoint`); failing that (the robot
+        within the clearance of a wall), the same from the nearest cell of that way, in sight of the
+        bare disc; failing both, the first corner. The plain way hugs the walls as close as the grid lets a disc
+        pass, so its corners may lie within the clearance of a wall: a robot that aims at one stalls
+        in front of it."""
     goal = np.asarray(obs["goal"], np.float64)
     if "static_segments" not in obs or not np.any(obs["static_mask"]):
         return np.zeros((0, 5)), goal
@@ -77,31 +79,38 @@ def aim(obs: dict, facts, memory: dict, clearance: float | None = None) -> tuple
     robot = np.asarray(obs["robot_position"], np.float64)
     if ctg.field.size == 0:
         return segments, goal
-    if clearance is not None:  # on the way that keeps the clearance; with it, else (the robot within it of a wall) without
+    if clearance is not None:
+        centers, velocities, radii = real_obstacles(obs)
+        still = (velocities == 0.0).all(axis=1)  # the resting obstacles the ways go round, as zero-length capsules
+        sight = np.vstack([segments, np.column_stack([centers[still], centers[still], radii[still]])])
         clear = observed_cost_to_go(obs, facts, memory, clearance)[1]
-        for radius in (facts.robot_radius + clearance, facts.robot_radius):
-            point = visible_waypoint(clear, robot, goal, segments, radius)
-            if point is not None:
-                return segments, point
+        if clear.field.size:
+            reach = math.ceil((clearance + grid_slack(clear.cell)) / clear.cell) + 1  # how far the grown disc blocks
+            for radius, start_reach in ((facts.robot_radius + clearance, 0), (facts.robot_radius, reach)):
+                point = visible_waypoint(clear, robot, goal, sight, radius, start_reach)
+                if point is not None:
+                    return segments, point
     return segments, route(ctg, robot, goal, 0.5 * facts.robot_radius)[1]
 
 
-def visible_waypoint(ctg, robot: np.ndarray, goal: np.ndarray, segments: np.ndarray, radius: float) -> np.ndarray | None:
-    """Of the cells on the cost-to-go's way from ``robot`` to the goal and the goal itself, the point a
-    disc of ``radius`` reaches from ``robot`` in a straight line clear of every capsule of ``segments``
-    that leaves the least distance to go: straight there, then along the way (RVO2's roadmap example
-    picks the vertex to head for by the same rule; of equals, the farthest along). ``None`` when it
-    reaches none. Every point is tested in that order until one is clear (the way may pass out of
-    sight and back into it): at most a few hundred straight sweeps a step."""
-    centres, _ = descent(ctg, robot)
-    points = np.vstack([centres[1:], goal])  # the robot's own cell is no waypoint
-    legs = np.hypot(*np.diff(points, axis=0).T)
-    along = np.concatenate([np.cumsum(legs[::-1])[::-1], [0.0]])  # the way's own length from each point on
-    costs = np.round(np.hypot(*(points - robot).T) + along, 9)  # equal up to rounding: the farthest first
+def visible_waypoint(ctg, robot: np.ndarray, goal: np.ndarray, capsules: np.ndarray, radius: float,
+                     reach: int = 0) -> np.ndarray | None:  # fmt: skip
+    """The goal, or else the farthest cell along the cost-to-go's way from ``robot`` to it, that a disc
+    of ``radius`` reaches from ``robot`` in a straight line clear of every capsule of ``capsules``;
+    ``None`` when it reaches none. Of the way's points in sight this is the one that leaves the least
+    distance to go (straight there, then along the way), the rule by which RVO2's roadmap example
+    picks the vertex to head for (and the ORCA humans theirs, ``pathplan_env.routing.route_targets``).
+    The points are tested from the goal back until one is clear (the way may pass out of sight and
+    back into it): at most one straight sweep per cell of the way, a step. ``reach``: where the way
+    starts when the robot's own cell is blocked (:func:`agents.planners.costtogo.descent`)."""
+    centres, _ = descent(ctg, robot, reach)
+    own = len(centres) and np.all(np.floor((robot - (ctg.x0, ctg.y0)) / ctg.cell) == np.floor((centres[0] - (ctg.x0, ctg.y0)) / ctg.cell))
+    points = np.vstack([centres[1:] if own else centres, goal])  # the robot's own cell is no waypoint
     x, y = float(robot[0]), float(robot[1])
-    for k in np.lexsort((-np.arange(len(points)), costs)):
-        if swept_capsules(x, y, float(points[k, 0]), float(points[k, 1]), radius, segments)[1] > 1.0:
-            return points[k]
+    capsules = np.ascontiguousarray(capsules, np.float64)
+    for px, py in points[::-1].tolist():
+        if swept_capsules(x, y, px, py, radius, capsules)[1] > 1.0:
+            return np.array([px, py])
     return None
 
 

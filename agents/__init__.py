@@ -8,6 +8,7 @@ from functools import partial
 from .base import Agent, available, make, register, rollout
 from .oracles import ClairvoyantOracle, StaticOracleAgent
 from .planners import MetaheuristicAgent, SpacetimeAStarAgent, SpacetimeMetaheuristicAgent
+from .planners.spacetime import CROWD_SETTINGS as ASTAR_CROWD_SETTINGS
 from .planners.spacetime_metaheuristic import CROWD_SETTINGS
 from .planners.unicycle_astar import UnicycleAStarAgent
 from .planners.unicycle_metaheuristic import UnicycleMetaheuristicAgent
@@ -34,7 +35,7 @@ register("sarl-crossings", partial(SARLAgent, model="sarl_crowdnav_crossings")) 
 register("sb3", SB3Agent)  # any SB3 model file as it comes, path= required (agents.rl.sb3_model)
 register("astar-spacetime", SpacetimeAStarAgent)
 # for crowds that steer: a cone of predicted futures, a wider margin, and an escape when every plan ends in contact
-register("astar-crowd", partial(SpacetimeAStarAgent, prediction="cone", margin=0.15, escape_trapped=True, escape_steps=8))
+register("astar-crowd", partial(SpacetimeAStarAgent, **ASTAR_CROWD_SETTINGS))
 for _optimizer in ("pso", "abc"):
     register(_optimizer, partial(MetaheuristicAgent, optimizer=_optimizer, variant="paper"))
     register(f"{_optimizer}-vanilla", partial(MetaheuristicAgent, optimizer=_optimizer, variant="vanilla"))

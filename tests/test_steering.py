@@ -41,8 +41,9 @@ def test_bad_settings_are_a_value_error_naming_them():
     with pytest.raises(ValueError, match="surprises"):
         SteeringCheck(1.0, surprises=0)
     env = gym.make("DynamicObstacle-v0", scenario="maze-crowd")
-    with pytest.raises(ValueError, match="steering"):
-        agents.make("pso-spacetime", env, 0, steering="always")
+    for name in ("pso-spacetime", "astar-spacetime"):
+        with pytest.raises(ValueError, match="steering"):
+            agents.make(name, env, 0, steering="always")
 
 
 def _fires(scenario: str, delta_d: float, episodes: int, steps: int = 150, **kwargs) -> list:
@@ -79,7 +80,7 @@ def test_humans_that_steer_fire_it_within_the_first_steps(scenario, delta_d):
 @pytest.mark.parametrize("scenario", ["random", "cluttered-room"])
 def test_among_bodies_that_bounce_the_planners_act_bit_for_bit_as_without_the_check(scenario):
     env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=1.0)
-    for name in ("pso-spacetime", "abc-spacetime"):
+    for name in ("pso-spacetime", "abc-spacetime", "astar-spacetime"):
         adapt, ignore = agents.make(name, env, 5), agents.make(name, env, 5, steering="ignore")
         obs, _ = env.reset(seed=5)
         for t in range(25):
@@ -105,3 +106,20 @@ def test_once_the_humans_steer_the_planner_builds_the_crowd_settings_problem():
     assert np.array_equal(mine.cost_to_go.field, theirs.cost_to_go.field)  # round the humans, as pso-crowd's
     plain = agent.timed_problem(obs, dict(memory))
     assert plain.rest_obstacles and not np.array_equal(plain.contact_radii, mine.contact_radii)
+
+
+def test_once_the_humans_steer_astar_spacetime_plans_on_astar_crowds_prediction():
+    env = gym.make("DynamicObstacle-v0", scenario="crowdnav-square-crossing")
+    mine, crowd = agents.make("astar-spacetime", env, 2), agents.make("astar-crowd", env, 2)
+    obs, _ = env.reset(seed=2)
+    for t in range(3):
+        obs, *_ = env.step(mine.predict(obs, episode_start=np.array([t == 0]))[0])
+    assert SteeringCheck.count(mine._memory[0]) >= SURPRISES
+    for a, b in zip(mine.crowd_model.predict_scene(obs), crowd.model.predict_scene(obs)):
+        assert np.array_equal(a, b)  # the cone of futures and the margin of astar-crowd
+    assert not np.array_equal(mine.model.predict_scene(obs)[2], crowd.model.predict_scene(obs)[2])
+    used = []
+    predict = mine.crowd_model.predict_scene
+    mine.crowd_model.predict_scene = lambda o: used.append(True) or predict(o)
+    mine.predict(obs)
+    assert used == [True]

@@ -6,7 +6,8 @@ then plans a time-parameterised path over a horizon (the robot may slow down or 
 its first step:
 
 * ``astar-spacetime``: the A* of :mod:`agents.planners.spacetime_search` on the predicted trajectories
-  (the same search the clairvoyant oracle runs on the true ones), bounded in expansions.
+  (the same search the clairvoyant oracle runs on the true ones), bounded in expansions; once the
+  obstacles are seen to steer (:mod:`agents.planners.steering`), on ``astar-crowd``'s (:data:`CROWD_SETTINGS`).
 * ``pso-spacetime`` / ``abc-spacetime`` (:mod:`agents.planners.spacetime_metaheuristic`): the paper's
   adaptive constraint PSO and modified ABC on the same predictions.
 
@@ -18,6 +19,7 @@ absorbs the prediction's drift at bounces.
 from __future__ import annotations
 
 import time
+from types import MappingProxyType
 
 import numpy as np
 
@@ -29,6 +31,7 @@ from .costtogo import CostToGo, observed_cost_to_go
 from .prediction import predict_among, substeps_for
 from .spacetime_anytime import PARTIAL_RULES, partial_plan
 from .spacetime_search import BUDGET, EXHAUSTED, SearchSettings, SpacetimeProblem, heading_moves, replay, search
+from .steering import STEERING_RULES, SteeringCheck
 
 #: How the planners predict the obstacles: the env's bounce physics, or a cone of three such
 #: futures per obstacle (its heading, and turned ``cone_degrees`` either way), for obstacles that
@@ -82,6 +85,11 @@ class SpacetimeModel:
         return trajectory, n, contact_radii, robot, goal
 
 
+#: What ``astar-spacetime`` plans with once the obstacles are seen to steer (``steering="adapt"``,
+#: :mod:`agents.planners.steering`), and what ``astar-crowd`` plans with from the start: a cone of three
+#: predicted futures per obstacle, a 15 % margin, and the escape when every plan ends in contact.
+CROWD_SETTINGS = MappingProxyType({"prediction": "cone", "margin": 0.15, "escape_trapped": True, "escape_steps": 8})
+
 #: ``astar-spacetime``'s default work budget per replan (obstacle and wall tests). Replans at 30
 #: obstacles, 40 validation episodes: median / p95 5.5 / 44 ms at Δd 2, 21 / 34 ms at Δd 4 on a
 #: shared 2-core machine (``scripts/evaluate.py``); 500,000 won as many episodes at Δd 2 as no budget.
@@ -126,6 +134,10 @@ class SpacetimeAStarAgent(Agent):
         fly the :meth:`escape` move instead of the plan that survives longest (always done when no
         move at all is free).
     :param escape_steps: the escape's lookahead (steps).
+    :param steering: ``"adapt"``: once :class:`~agents.planners.steering.SteeringCheck` sees the obstacles
+        steer, plan with :data:`CROWD_SETTINGS` (the cone, and the wider margin, escape and lookahead
+        where they ask more than the configured ones); among bodies that bounce the check never fires
+        and the plans are as configured, bit for bit. ``"ignore"``: as configured throughout.
     """
 
     def __init__(self, env, seed: int | None = None, *, horizon_steps: int = 20, margin: float = 0.005, n_headings: int = 32,
@@ -133,9 +145,14 @@ class SpacetimeAStarAgent(Agent):
                  max_work: float | None = WORK_BUDGET, time_budget_ms: float | None = None, partial: str = "progress",
                  partial_min_steps: int = 5, coarse_cell: float | None = 0.1, coarse_headings: int = 16, fine_share: float = 0.5,
                  keep_plan_steps: int = 10, prediction: str = "physics",
-                 cone_degrees: float = 20.0, escape_trapped: bool = False, escape_steps: int = 4):  # fmt: skip
+                 cone_degrees: float = 20.0, escape_trapped: bool = False, escape_steps: int = 4, steering: str = "adapt"):  # fmt: skip
         super().__init__(env, seed)
+        if steering not in STEERING_RULES:
+            raise ValueError(f"steering must be one of {STEERING_RULES}, got {steering!r}")
+        self.steering = steering
         self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees)
+        self.crowd_model = SpacetimeModel(self.facts, horizon_steps, max(margin, CROWD_SETTINGS["margin"]), CROWD_SETTINGS["prediction"], cone_degrees)
+        self.steering_check = SteeringCheck(self.facts.robot_speed)
         if int(escape_steps) != escape_steps or escape_steps < 1:
             raise ValueError(f"escape_steps must be a positive integer, got {escape_steps!r}")
         if int(max_expansions) != max_expansions or max_expansions < 1:
@@ -173,9 +190,13 @@ class SpacetimeAStarAgent(Agent):
         return min(self.max_work, max(1.0, self._work_per_ms * self.time_budget_ms))
 
     def plan(self, obs, memory):
-        trajectory, n, radii, robot, goal = self.model.predict_scene(obs)
+        steering = self.steering == "adapt" and self.steering_check.steering(memory, obs)
+        model = self.crowd_model if steering else self.model
+        escape_trapped = self.escape_trapped or (steering and CROWD_SETTINGS["escape_trapped"])
+        escape_steps = max(self.escape_steps, CROWD_SETTINGS["escape_steps"]) if steering else self.escape_steps
+        trajectory, n, radii, robot, goal = model.predict_scene(obs)
         f = self.facts
-        segments, ctg = self.model.statics(obs, memory)
+        segments, ctg = model.statics(obs, memory)
         problem = SpacetimeProblem(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.model.arena.box,
                                    self.step_length, segments, ctg)  # fmt: skip
         targets = memory.get("plan")
@@ -202,17 +223,18 @@ class SpacetimeAStarAgent(Agent):
                 rate = work / max(1e3 * (time.perf_counter() - begin), 1e-3)
                 self._work_per_ms = rate if self._work_per_ms is None else 0.5 * (self._work_per_ms + rate)
             self.last_search = {"outcome": int(outcome), "work": int(work), "steps": len(targets)}
-        if len(targets) == 0 or (not keep and outcome == EXHAUSTED and self.escape_trapped):
+        if len(targets) == 0 or (not keep and outcome == EXHAUSTED and escape_trapped):
             # every move is predicted to touch (within the margin), or every plan ends in contact
             # before the horizon: get as far clear as it can
-            targets = self.escape(trajectory, n, radii, robot, goal, segments)[None]
+            targets = self.escape(trajectory, n, radii, robot, goal, segments, escape_steps)[None]
         self.last_plan = np.vstack([robot, targets])
         memory["plan"] = targets[1:]
         return targets[0]
 
-    def escape(self, trajectory, substeps, radii, robot, goal, segments: np.ndarray | None = None) -> np.ndarray:
+    def escape(self, trajectory, substeps, radii, robot, goal, segments: np.ndarray | None = None,
+               lookahead: int | None = None) -> np.ndarray:  # fmt: skip
         """The waypoint of the move (or rest) that keeps the largest predicted clearance over the
-        next ``escape_steps`` steps flown straight on, nearer the goal on ties: standing still
+        next ``lookahead`` (default ``escape_steps``) steps flown straight on, nearer the goal on ties: standing still
         when every plan touches lets an obstacle that does not give way walk into the robot.
 
         The walls and polygons (``segments``, capsule rows) count as obstacles that stay: a move's
@@ -222,7 +244,7 @@ class SpacetimeAStarAgent(Agent):
         lo = np.array(self.model.arena.robot_box[:2])
         hi = np.array(self.model.arena.robot_box[2:])
         steps = np.vstack([np.zeros((1, 2)), self.moves[:, :2] * self.moves[:, 2:3]]) * self.step_length  # (C, 2)
-        k = min(self.escape_steps * substeps, len(trajectory) - 1)
+        k = min((self.escape_steps if lookahead is None else int(lookahead)) * substeps, len(trajectory) - 1)
         t = np.arange(1, k + 1) / substeps  # steps flown at each substep
         path = np.clip(robot + t[None, :, None] * steps[:, None, :], lo, hi)  # (C, K, 2)
         centers = trajectory[1 : k + 1, :, :2]  # (K, N, 2)

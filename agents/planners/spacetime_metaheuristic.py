@@ -20,7 +20,7 @@ from .metaheuristic import MetaheuristicAgent
 from .objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, TimedScene, walk_along
 from .spacetime import SpacetimeModel
 from .spacetime_seed import SearchSeed, search_seeds
-from .steering import SteeringCheck
+from .steering import STEERING_RULES, SteeringCheck
 
 #: What ``pso-spacetime`` / ``abc-spacetime`` plan with once the obstacles are seen to steer
 #: (``steering="adapt"``, :mod:`agents.planners.steering`), and what ``pso-crowd`` / ``abc-crowd`` plan
@@ -28,8 +28,6 @@ from .steering import SteeringCheck
 #: no Eq. 4 on the humans the rest of the path past the horizon passes, but a cost-to-go round them
 #: (chosen on maze-crowd validation episodes: docs/results/maps_first_look/README.md).
 CROWD_SETTINGS = MappingProxyType({"margin": 0.05, "rest_obstacles": False, "obstacle_field": True})
-#: ``steering``: switch to :data:`CROWD_SETTINGS` once the obstacles steer, or plan as configured throughout.
-STEERING_RULES = ("adapt", "ignore")
 
 #: What the space-time optimisers' penalty measures (:data:`agents.planners.objective.FIRST_CONTACT`).
 VIOLATIONS = {"contacts": CONTACTS, "first-contact": FIRST_CONTACT}

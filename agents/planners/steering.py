@@ -26,6 +26,8 @@ import numpy as np
 TOLERANCE = 0.01
 #: Surprises, in one episode, from which the obstacles steer.
 SURPRISES = 2
+#: A planner's ``steering``: switch to its crowd settings once the obstacles steer, or plan as configured throughout.
+STEERING_RULES = ("adapt", "ignore")
 _KEY = "steering"
 
 
@@ -65,4 +67,4 @@ class SteeringCheck:
         return memory.get(_KEY, {}).get("surprises", 0)
 
 
-__all__ = ["SURPRISES", "TOLERANCE", "SteeringCheck"]
+__all__ = ["STEERING_RULES", "SURPRISES", "TOLERANCE", "SteeringCheck"]

@@ -211,8 +211,8 @@ def route(ctg: CostToGo, start, goal, tolerance: float) -> np.ndarray:
 def descent(ctg: CostToGo, start, reach: int = 0) -> tuple[np.ndarray, np.ndarray]:
     """The cells the cost-to-go's steepest descent crosses from ``start``: their centres ``(K, 2)``
     and field values ``(K,)``, from ``start``'s cell to the goal's; empty when there is no field or
-    ``start`` is cut off from the goal. When ``start``'s own cell is (a robot within a grown disc's
-    reach of a wall), the descent starts from the nearest cell within ``reach`` cells that is not."""
+    ``start`` is cut off from the goal. When ``start``'s own cell is blocked (a robot within a grown
+    disc's reach of a wall), the descent starts from the nearest free cell within ``reach`` cells."""
     field = ctg.field
     if field.shape[0] == 0:
         return np.zeros((0, 2)), np.zeros(0)

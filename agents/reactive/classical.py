@@ -31,11 +31,11 @@ class VelocityObstacleAgent(Agent):
     obstacles (:func:`agents.reactive.walls.wall_contact_times`), truncated at ``wall_horizon`` and
     where the velocity reaches the goal (the episode ends there), and the preferred velocity heads
     for the point of the way around them that the robot reaches in a straight line with ``margin``
-    to spare (:func:`agents.reactive.walls.aim`) instead of the goal (``aim="corner"``: the way's first
-    corner, as before; kept for the ablation). A wall stands still and the
-    robot may turn at every step: with the obstacles' 2 s the robot crawled toward every wall of the
-    maze and stood still before corners (0.30 × the limit in ``--suite maps``' maze at Δd 0.25);
-    0.5 s, and the aim, were chosen on validation episodes (docs/results/maps_suite/README.md).
+    to spare (:func:`agents.reactive.walls.aim`) instead of the goal (``aim="corner"``: the way's
+    first corner, as before; kept for the ablation). A wall stands still and the robot may turn at
+    every step: with the obstacles' 2 s the robot crawled toward every wall of the maze and stood
+    still before corners (0.30 × the limit in ``--suite maps``' maze at Δd 0.25); 0.5 s, and the
+    aim, were chosen on validation episodes (docs/results/maps_suite/README.md).
     """
 
     def __init__(self, env, seed=None, *, time_horizon: float = 2.0, n_directions: int = 36, n_speeds: int = 4, margin: float = 0.05,

@@ -69,9 +69,9 @@ def aim(obs: dict, facts, memory: dict, clearance: float | None = None) -> tuple
         obstacles (:func:`observed_cost_to_go`) that the robot's disc, grown by ``clearance``, reaches
         in a straight line without touching them (:func:`visible_waypoint`); failing that (the robot
         within the clearance of a wall), the same from the nearest cell of that way, in sight of the
-        bare disc; failing both, the first corner. The plain way hugs the walls as close as the grid lets a disc
-        pass, so its corners may lie within the clearance of a wall: a robot that aims at one stalls
-        in front of it."""
+        bare disc; failing both, the first corner. The plain way hugs the walls as close as the grid
+        lets a disc pass, so its corners may lie within the clearance of a wall: a robot that aims at
+        one stalls in front of it."""
     goal = np.asarray(obs["goal"], np.float64)
     if "static_segments" not in obs or not np.any(obs["static_mask"]):
         return np.zeros((0, 5)), goal
@@ -104,8 +104,9 @@ def visible_waypoint(ctg, robot: np.ndarray, goal: np.ndarray, capsules: np.ndar
     back into it): at most one straight sweep per cell of the way, a step. ``reach``: where the way
     starts when the robot's own cell is blocked (:func:`agents.planners.costtogo.descent`)."""
     centres, _ = descent(ctg, robot, reach)
-    own = len(centres) and np.all(np.floor((robot - (ctg.x0, ctg.y0)) / ctg.cell) == np.floor((centres[0] - (ctg.x0, ctg.y0)) / ctg.cell))
-    points = np.vstack([centres[1:] if own else centres, goal])  # the robot's own cell is no waypoint
+    origin = np.array([ctg.x0, ctg.y0])
+    starts_here = len(centres) > 0 and np.array_equal(np.floor((robot - origin) / ctg.cell), np.floor((centres[0] - origin) / ctg.cell))
+    points = np.vstack([centres[1:] if starts_here else centres, goal])  # the robot's own cell is no waypoint
     x, y = float(robot[0]), float(robot[1])
     capsules = np.ascontiguousarray(capsules, np.float64)
     for px, py in points[::-1].tolist():

@@ -5,21 +5,21 @@
 
 from functools import partial
 
-from .base import Agent, available, make, register, rollout
-from .oracles import ClairvoyantOracle, StaticOracleAgent
-from .planners import MetaheuristicAgent, SpacetimeAStarAgent, SpacetimeMetaheuristicAgent
-from .planners.spacetime import CROWD_SETTINGS as ASTAR_CROWD_SETTINGS
-from .planners.spacetime_metaheuristic import CROWD_SETTINGS
-from .planners.unicycle_astar import UnicycleAStarAgent
-from .planners.unicycle_metaheuristic import UnicycleMetaheuristicAgent
-from .reactive import ORCAAgent, StraightAgent, VelocityObstacleAgent
-from .reactive.dwa import DWAAgent
-from .reactive.tracker import TrackedAgent
-from .rl import RLAgent
-from .rl.lidar_policy import LidarRLAgent
-from .rl.sarl_policy import SARLAgent
-from .rl.sb3_model import SB3Agent, trained_agent
-from .rl.set_policy import SetRLAgent
+from agents.base import Agent, available, make, register, rollout
+from agents.oracles import ClairvoyantOracle, StaticOracleAgent
+from agents.planners import MetaheuristicAgent, SpacetimeAStarAgent, SpacetimeMetaheuristicAgent
+from agents.planners.spacetime import CROWD_SETTINGS as ASTAR_CROWD_SETTINGS
+from agents.planners.spacetime_metaheuristic import CROWD_SETTINGS
+from agents.planners.unicycle_astar import UnicycleAStarAgent
+from agents.planners.unicycle_metaheuristic import UnicycleMetaheuristicAgent
+from agents.reactive import ORCAAgent, StraightAgent, VelocityObstacleAgent
+from agents.reactive.dwa import DWAAgent
+from agents.reactive.tracker import TrackedAgent
+from agents.rl import RLAgent
+from agents.rl.lidar.policy import LidarRLAgent
+from agents.rl.obstacle_set.policy import SetRLAgent
+from agents.rl.sarl.policy import SARLAgent
+from agents.rl.sb3_model import SB3Agent, trained_agent
 
 register("straight", StraightAgent)
 register("velocity-obstacle", VelocityObstacleAgent)

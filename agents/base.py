@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from pathplan_env.wrappers import EnvFacts
+from pathplan_env.facts import EnvFacts
 
 
 def real_obstacles(obs: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -6,15 +6,17 @@ inside the learning wrappers, for rl-zoo3 and other tools that want a flat ``Box
 
 from gymnasium.envs.registration import register
 
-from ._numba_cache import configure as _configure_numba_cache
+from pathplan_env import _moved
+from pathplan_env._numba_cache import configure as _configure_numba_cache
 
+_moved.install()  # the import paths of 0.1.0 that moved (pathplan_env.statics, ...) keep working
 _configure_numba_cache()  # before any compiled function is defined
 
-from .env import DynamicObstacleEnv  # noqa: E402
-from .geometry import shortest_path  # noqa: E402
-from .presets import PAPER_CASES, PRESETS, make_scenario, paper_case, sample_random_scenario  # noqa: E402
-from .scenarios import Obstacle, Scenario  # noqa: E402
-from .wrappers import EgocentricObservation, EpisodeSchedule, RelativeWaypointAction, make_learning_env  # noqa: E402
+from pathplan_env.env import DynamicObstacleEnv  # noqa: E402
+from pathplan_env.geometry.shortest_paths import shortest_path  # noqa: E402
+from pathplan_env.scenarios.presets import PAPER_CASES, PRESETS, make_scenario, paper_case, sample_random_scenario  # noqa: E402
+from pathplan_env.scenarios.scenario import Obstacle, Scenario  # noqa: E402
+from pathplan_env.wrappers import EgocentricObservation, EpisodeSchedule, RelativeWaypointAction, make_learning_env  # noqa: E402
 
 #: Episode time limit of the registered env (20 s at dt = 0.1 s): 4-6x the straight-line time.
 MAX_EPISODE_STEPS = 200

@@ -16,7 +16,7 @@ import numpy as np
 
 
 class ArenaBox(NamedTuple):
-    """What compiled kernels read of the arena (``pathplan_env.kinematics.robot_move``): its lower
+    """What compiled kernels read of the arena (``pathplan_env.robots.holonomic.robot_move``): its lower
     corner and half size (the action mapping), and the box where the robot's disc fits."""
 
     xmin: float

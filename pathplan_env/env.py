@@ -9,14 +9,20 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from . import lidar, unicycle, visibility  # noqa: F401  (register the "lidar", "visible-state" observations, the "unicycle" action)
-from .actions import make_action_type, with_robot_entries
-from .arena import Arena
-from .observations import make_observation_type
-from .presets import make_scenario
-from .rewards import MAX_REWARD_WEIGHT, RewardWeights, reward_terms  # noqa: F401 (MAX_REWARD_WEIGHT: its old home)
-from .scenarios import Scenario, check_count, check_delta_d, check_n_obstacles
-from .world import World, scenario_substeps
+from pathplan_env import _moved
+from pathplan_env.arena import Arena
+from pathplan_env.arguments import check_count, check_delta_d, check_n_obstacles
+from pathplan_env.rewards import RewardWeights, reward_terms
+from pathplan_env.robots import unicycle  # noqa: F401  (registers the "unicycle" action)
+from pathplan_env.robots.actions import make_action_type, with_robot_entries
+from pathplan_env.scenarios.presets import make_scenario
+from pathplan_env.scenarios.scenario import Scenario
+from pathplan_env.sensors import lidar, visible_state  # noqa: F401  (register the "lidar" and "visible-state" observations)
+from pathplan_env.sensors.observations import make_observation_type
+from pathplan_env.world.simulation import World
+from pathplan_env.world.substep_count import scenario_substeps
+
+__getattr__ = _moved.names_of(__name__)  # the names of 0.1.0 that live elsewhere now
 
 
 class DynamicObstacleEnv(gym.Env):
@@ -35,7 +41,7 @@ class DynamicObstacleEnv(gym.Env):
     speed back, so only directions change. Resting obstacles are immovable (infinite mass). No
     overlap correction: no obstacle ever moves farther than ``speed * dt`` in a step.
 
-    Obstacles may instead be goal-directed agents (``pathplan_env.behaviours``): ORCA or social-force
+    Obstacles may instead be goal-directed agents (``pathplan_env.crowds.behaviours``): ORCA or social-force
     humans that head for goals of their own and avoid one another, and the robot when
     ``robot_visible``; the CrowdNav presets use ORCA humans (``docs/crowdnav.md``). pymunk still
     integrates them; their behaviour sets their velocities at the start of every step.
@@ -50,14 +56,14 @@ class DynamicObstacleEnv(gym.Env):
     is not a hit.
 
     ## Action Space
-    ``action="waypoint"`` (``pathplan_env.actions``): ``Box(-1, 1, (2,), float32)``, a waypoint mapped
+    ``action="waypoint"`` (``pathplan_env.robots.actions``): ``Box(-1, 1, (2,), float32)``, a waypoint mapped
     linearly onto the arena: ``-1`` is the arena's lower edge and ``+1`` its upper edge on each axis.
     Each step the robot moves straight toward the waypoint at its maximum speed, stopping on it if it
     is closer than one step. The waypoint is clipped so that the robot's disc stays inside the arena.
     Out-of-range actions are clipped to [-1, 1]; a NaN or infinite action raises ``ValueError``.
     Convert with ``env.unwrapped.waypoint_to_action(xy)`` and ``env.unwrapped.action_to_waypoint(a)``.
 
-    ``robot="unicycle"`` (``pathplan_env.unicycle``; ``robot`` picks the action type): ``Box(-1, 1, (2,))``,
+    ``robot="unicycle"`` (``pathplan_env.robots.unicycle``; ``robot`` picks the action type): ``Box(-1, 1, (2,))``,
     a normalised target (forward speed in ``[min_speed, max_speed]``, turn rate ``± max_turn_rate``)
     reached within ``max_acceleration * dt`` and ``max_angular_acceleration * dt`` at each step's start and
     held over the step (one exact arc; no reversing). ``robot_params`` sets any of the five; defaults
@@ -67,7 +73,7 @@ class DynamicObstacleEnv(gym.Env):
     ``robot_velocity`` is its velocity now. ``env.unwrapped.action_type.limits`` holds the episode's limits.
 
     ## Observation Space
-    ``observation="state"`` (``pathplan_env.observations``): a ``Dict`` in the world frame (metres,
+    ``observation="state"`` (``pathplan_env.sensors.observations``): a ``Dict`` in the world frame (metres,
     m/s), every entry float32 with finite bounds. ``N`` is ``max_obstacles``; rows past the scenario's
     obstacles are padding (zeros at the arena's lower corner, mask 0).
 
@@ -83,7 +89,7 @@ class DynamicObstacleEnv(gym.Env):
 
     ``V`` is the arena diagonal divided by ``dt`` (crossing the arena in one step): no speed is higher.
     Static public facts for planners: ``env.unwrapped.bounds``, ``dt``, ``robot_radius``, ``robot_speed``,
-    ``goal_radius`` (``pathplan_env.wrappers.EnvFacts``), ``robot_step_length`` and ``arena``
+    ``goal_radius`` (``pathplan_env.facts.EnvFacts``), ``robot_step_length`` and ``arena``
     (``pathplan_env.arena.Arena``: the box where the robot's disc fits). ``env.unwrapped.world`` is the
     simulator's state, read by privileged oracles only.
 
@@ -100,7 +106,7 @@ class DynamicObstacleEnv(gym.Env):
 
     ## Starting State
     The robot rests at the scenario's start. Presets: ``"paper-case-1"``, ``"paper-case-2"``,
-    ``"paper-case-3"`` (the paper's Table 1 obstacle centres; see ``pathplan_env.presets`` and
+    ``"paper-case-3"`` (the paper's Table 1 obstacle centres; see ``pathplan_env.scenarios.presets`` and
     ``docs/paper_assumptions.md`` for the assumed start, goal, radii and arena) and ``"random"``
     (``n_obstacles`` non-overlapping obstacles, start and goal at least 6 m apart, all drawn from
     ``np_random``), ``"crowdnav-circle-crossing"`` and ``"crowdnav-square-crossing"`` (CrowdNav's
@@ -131,7 +137,7 @@ class DynamicObstacleEnv(gym.Env):
              robot_params=None, render_mode=None)
     ```
     - ``scenario``: a preset name, a ``pathplan_env.Scenario`` or its dict form
-      (``pathplan_env.scenario_files.load_scenario`` reads one from a JSON or YAML file).
+      (``pathplan_env.scenarios.files.load_scenario`` reads one from a JSON or YAML file).
     - ``delta_d``: obstacle displacement per step in radii, applied to every obstacle (directions
       kept; resting obstacles get random ones); ``0`` freezes the obstacles. ``None`` (the default)
       keeps the scenario's own speeds: Δd 0.25 for ``"random"`` and the paper's cases, 1 m/s for
@@ -146,9 +152,9 @@ class DynamicObstacleEnv(gym.Env):
       reward weights; ``proximity_distance`` (m, default 0.5) is the surface gap below which the
       proximity penalty starts.
     - ``observation``, ``action``: the observation and action types by name
-      (``pathplan_env.observations.OBSERVATION_TYPES``, ``pathplan_env.actions.ACTION_TYPES``): also
-      ``"lidar"`` (a range scan: ``pathplan_env.lidar``) and ``"visible-state"`` (``"state"`` with only
-      the obstacles in sight: ``pathplan_env.visibility``), with their ``observation_params``.
+      (``pathplan_env.sensors.observations.OBSERVATION_TYPES``, ``pathplan_env.robots.actions.ACTION_TYPES``): also
+      ``"lidar"`` (a range scan: ``pathplan_env.sensors.lidar``) and ``"visible-state"`` (``"state"`` with only
+      the obstacles in sight: ``pathplan_env.sensors.visible_state``), with their ``observation_params``.
     - ``render_mode``: ``"human"`` (a pygame window) or ``"rgb_array"`` (works with no display).
 
     ``reset(options={"scenario": ..., "delta_d": ..., "n_obstacles": ...})`` reconfigures the env from
@@ -330,7 +336,7 @@ class DynamicObstacleEnv(gym.Env):
         if self._world is None:
             raise RuntimeError("call reset() before render()")
         if self._renderer is None:
-            from .rendering import Renderer  # pygame is imported lazily, only when rendering
+            from pathplan_env.rendering import Renderer  # pygame is imported lazily, only when rendering
 
             self._renderer = Renderer(self.bounds, self.render_mode, self.metadata["render_fps"])
         world = self._world

@@ -12,7 +12,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from .scenarios import MIN_LENGTH
+from pathplan_env.scenarios.scenario import MIN_LENGTH
 
 #: Largest reward weight accepted: beyond it sums of rewards lose their meaning (and 1e308 overflows).
 MAX_REWARD_WEIGHT = 1e6

@@ -7,55 +7,18 @@ policy can be run on the raw env's observations (``agents.make("ppo", env)``) ex
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from .arena import Arena
+from pathplan_env import _moved
+from pathplan_env.facts import EnvFacts
+
+__getattr__ = _moved.names_of(__name__)  # the names of 0.1.0 that live elsewhere now
 
 FEATURE_LIMIT = 10.0  # features are clipped to +-FEATURE_LIMIT (bounds for the Box space)
 PER_OBSTACLE = 7  # x, y, vx, vy (goal frame), radius, surface gap, mask
 ROBOT_FEATURES = 9  # goal distance, goal direction (2), robot velocity (2), wall distances (4)
-#: Lengths are measured in units of this many robot steps, so that scenes of different sizes but the
-#: same robot step (the paper's cases, the random preset) look alike to a policy.
-STEPS_PER_LENGTH_UNIT = 10.0
-
-
-@dataclass(frozen=True)
-class EnvFacts:
-    """The static public facts of an env that the learning transforms need."""
-
-    bounds: tuple[float, float, float, float]
-    robot_radius: float
-    robot_speed: float
-    dt: float
-    goal_radius: float
-
-    @classmethod
-    def of(cls, env) -> EnvFacts:
-        """Read the facts from an env, a wrapped env, a Gymnasium vector env or an SB3 VecEnv."""
-        names = ("bounds", "robot_radius", "robot_speed", "dt", "goal_radius")
-        if hasattr(env, "unwrapped") and hasattr(env.unwrapped, "robot_speed"):
-            values = [getattr(env.unwrapped, name) for name in names]
-        elif hasattr(env, "get_attr"):  # an SB3 VecEnv or a Gymnasium vector env
-            values = [env.get_attr(name)[0] for name in names]
-        else:
-            raise ValueError(f"cannot read bounds, dt, robot radius and speed from {type(env).__name__}")
-        bounds, radius, speed, dt, goal_radius = values
-        return cls(tuple(float(b) for b in bounds), float(radius), float(speed), float(dt), float(goal_radius))
-
-    @property
-    def arena(self) -> Arena:
-        """The arena: its bounds, the box where the robot's disc fits, the waypoint <-> action mapping."""
-        return Arena(self.bounds, self.robot_radius)
-
-    @property
-    def length_scale(self) -> float:
-        return STEPS_PER_LENGTH_UNIT * self.robot_speed * self.dt
-
-
 def _goal_frame(obs: dict[str, np.ndarray]):
     """Unit vector toward the goal (..., 2); the egocentric frame's x axis."""
     to_goal = obs["goal"] - obs["robot_position"]

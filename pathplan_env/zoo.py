@@ -30,8 +30,8 @@ import gymnasium as gym
 
 def make_flat_env(k_nearest: int = 8, **kwargs) -> gym.Env:
     """``DynamicObstacleFlat-v0``'s entry point: the env (``kwargs``) inside the learning wrappers."""
-    from .env import DynamicObstacleEnv
-    from .wrappers import make_learning_env
+    from pathplan_env.env import DynamicObstacleEnv
+    from pathplan_env.wrappers import make_learning_env
 
     return make_learning_env(DynamicObstacleEnv(**kwargs), k_nearest=k_nearest)
 

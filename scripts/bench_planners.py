@@ -38,7 +38,7 @@ from tqdm import tqdm
 import agents
 import pathplan_env  # noqa: F401  (registers the env)
 from agents.planners.objective import evaluate
-from pathplan_env.geometry import shortest_path_to_goal
+from pathplan_env.geometry.shortest_paths import shortest_path_to_goal
 
 BUDGET_PARTICLES, BUDGET_ITERATIONS = 30, 100
 
@@ -149,7 +149,7 @@ def replan_cell(name: str, delta_d: float | None, seeds, n_obstacles: int | None
     """Every replan's time (ms) of ``name`` over the episodes of ``seeds`` (``scenario``: random scenes
     by default), after a warm-up episode, and how many of them it won; ``cpu``, if given, receives each
     replan's CPU time (ms, this process's)."""
-    from pathplan_env.splits import heldout_seeds
+    from pathplan_env.scenarios.splits import heldout_seeds
 
     robot = "unicycle" if name in agents.UNICYCLE_AGENTS else "holonomic"
     env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=delta_d, robot=robot, n_obstacles=n_obstacles)
@@ -176,7 +176,7 @@ def spacetime_replan_times(episodes: int, deltas=(0.25, 0.5, 1.0, 2.0), planners
                            crowd_planners=CROWD_PLANNERS) -> list[tuple[str, str, float, float, float, int]]:  # fmt: skip
     """``(planner, scene, median ms, p95 ms, median CPU ms, replans)`` over every replan of ``episodes``
     test episodes: random scenes at each Δd, then the crowd planners on CrowdNav's circle crossing."""
-    from pathplan_env.splits import heldout_seeds
+    from pathplan_env.scenarios.splits import heldout_seeds
 
     cells = [(name, delta_d, "random") for name in planners for delta_d in deltas]
     cells += [(name, None, CROWD_SCENARIO) for name in crowd_planners]
@@ -208,7 +208,7 @@ ACTING_TARGET_MS = 2.0  # median, issue 20
 
 
 def print_learned(episodes: int) -> None:
-    from pathplan_env.splits import heldout_seeds
+    from pathplan_env.scenarios.splits import heldout_seeds
 
     print(f"\nLearned agents: every action of {episodes} test episodes, ms (numpy forward; target <= {ACTING_TARGET_MS:g} median)")
     print("| agent | scene | actions | median | p95 | median CPU | success |")
@@ -227,7 +227,7 @@ DENSE_PLANNERS = ("astar-spacetime", "pso-spacetime", "abc-spacetime")
 
 def dense_replan_times(episodes: int, counts=(30, 50), deltas=(1.0, 2.0, 4.0), planners=DENSE_PLANNERS) -> list[tuple]:
     """``(planner, obstacles, Δd, median ms, p95 ms, replans, wins)`` over ``episodes`` validation episodes a cell."""
-    from pathplan_env.splits import episode_seeds
+    from pathplan_env.scenarios.splits import episode_seeds
 
     rows = []
     cells = [(name, n, d) for n in counts for d in deltas for name in planners]

@@ -32,8 +32,8 @@ import numpy as np
 from bench_env import best_of, paired_ratio
 
 import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
-from pathplan_env.raycast import beam_directions, scan_beams
-from pathplan_env.visibility import visible_obstacles
+from pathplan_env.geometry.rays import beam_directions, scan_beams
+from pathplan_env.sensors.visible_state import visible_obstacles
 
 SIZE, RANGE, BEAMS, ROBOT = 20.0, 10.0, 360, (10.0, 10.0)
 
@@ -181,7 +181,7 @@ def timing(args) -> None:
 def planning(episodes: int, names: list[str], limit: bool, n_obstacles: int | None = None) -> None:
     """Success rates on "state" and "visible-state" over the same test-split episodes."""
     import agents
-    from pathplan_env.splits import heldout_seeds
+    from pathplan_env.scenarios.splits import heldout_seeds
 
     seeds = heldout_seeds(0, episodes)
     sensors = [("state", None), ("visible-state", 10.0), ("visible-state", 3.0)]  # (observation, a 360° sensor's range)

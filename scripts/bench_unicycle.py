@@ -1,7 +1,7 @@
 """What turning costs: success of the unicycle's agents beside the same planners on the holonomic robot,
 against each robot's own clairvoyant limit, and the unicycle env's speed beside CartPole-v1.
 
-Random scenes (8 obstacles), validation seeds (``pathplan_env.splits.validation_seeds``, never the
+Random scenes (8 obstacles), validation seeds (``pathplan_env.scenarios.splits.validation_seeds``, never the
 test split), the same episodes for every agent; ``tracked-<planner>`` is the planner driven by pure
 pursuit (``agents.reactive.tracker``), ``dwa`` the dynamic window approach (``agents.reactive.dwa``),
 ``astar-unicycle`` the space-time A* over the unicycle's own moves (``agents.planners.unicycle_search``).
@@ -34,8 +34,8 @@ import numpy as np
 from bench_unicycle_controls import run_cell  # the episode loop both scripts use
 
 import pathplan_env  # noqa: F401
-from pathplan_env.families import FAMILIES
-from pathplan_env.splits import validation_seeds
+from pathplan_env.scenarios.splits import validation_seeds
+from pathplan_env.scenarios.wall_families import FAMILIES
 
 #: (label, agent, robot)
 ENTRIES = [

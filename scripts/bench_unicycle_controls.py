@@ -3,7 +3,7 @@ control sequences) beside ``tracked-pso-spacetime`` (the holonomic planner drive
 ``dwa``: success, collisions and the median replanning time, on the same episodes for every agent.
 
 Random scenes (8 obstacles), ``robot="unicycle"``; ``--split test`` (default) draws
-``pathplan_env.splits`` test seeds, never used for tuning (tune on ``--split validation``).
+``pathplan_env.scenarios.splits`` test seeds, never used for tuning (tune on ``--split validation``).
 ``--scenario`` runs a preset at its own speeds instead (e.g. ``crowdnav-circle-crossing``) and lists
 the seeds of the episodes each agent fails (``c``: a collision, ``t``: a timeout).
 
@@ -23,7 +23,7 @@ import numpy as np
 
 import agents
 import pathplan_env  # noqa: F401
-from pathplan_env.splits import episode_seeds
+from pathplan_env.scenarios.splits import episode_seeds
 
 AGENTS = ["pso-unicycle", "abc-unicycle", "tracked-pso-spacetime", "dwa"]
 

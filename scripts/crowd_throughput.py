@@ -14,8 +14,8 @@ import time
 import numpy as np
 
 import pathplan_env
-from pathplan_env.crowd_families import CROWD_FAMILIES
-from pathplan_env.world import World
+from pathplan_env.scenarios.crowd_families import CROWD_FAMILIES
+from pathplan_env.world.simulation import World
 
 STEPS = 200
 STUCK_SECONDS = 5.0
@@ -34,7 +34,7 @@ def episode(name: str, seed: int, steps: int = STEPS) -> tuple[int, int, int, fl
     window = int(round(STUCK_SECONDS / dt))
     moved = np.hypot(*(xy[window:] - xy[:-window]).transpose(2, 0, 1))  # over every 5 s window
     stuck = ((moved < STUCK_DISTANCE) & ~at_goal[window:] & ~at_goal[:-window]).any(axis=0)
-    from pathplan_env.statics import points_clearance
+    from pathplan_env.geometry.walls import points_clearance
 
     gap = points_clearance(xy.reshape(-1, 2), scenario.static_segments).min() - scenario.obstacles[0].radius if len(scenario.static_segments) else np.inf
     return n, int(reached.sum()), int(stuck.sum()), float(gap)

@@ -34,13 +34,13 @@ from pathlib import Path
 from agents.evaluation import LIMIT_AGENT, SUITES, evaluate
 from agents.evaluation.records import OWN_SPEEDS
 from agents.evaluation.reporting import crowdnav_table, limit_table, markdown_table
-from pathplan_env.splits import SPLITS
+from pathplan_env.scenarios.splits import SPLITS
 
 #: gym.make keywords with a flag of their own: ``--NAME`` (a registered type's name) and ``--NAME-params``
 #: (its parameters as JSON), into the env options ``NAME`` and ``NAME_params``. (``robot`` joins the same way.)
 ENV_OPTION_FLAGS = {
-    "observation": "the observation type (pathplan_env.observations)",
-    "robot": "the robot model (holonomic, unicycle; pathplan_env.actions.ROBOTS)",
+    "observation": "the observation type (pathplan_env.sensors.observations)",
+    "robot": "the robot model (holonomic, unicycle; pathplan_env.robots.actions.ROBOTS)",
 }
 
 

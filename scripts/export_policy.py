@@ -13,7 +13,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from agents.rl.set_numpy import export_any_policy
+from agents.rl.export import export_any_policy
 
 
 def parse_args(argv=None) -> argparse.Namespace:

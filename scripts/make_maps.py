@@ -1,6 +1,6 @@
-"""Draw the shipped maps (pathplan_env/map_data/) in the ROS map_server format: a YAML and a PGM each.
+"""Draw the shipped maps (pathplan_env/maps/data/) in the ROS map_server format: a YAML and a PGM each.
 
-    python scripts/make_maps.py                    # rewrites pathplan_env/map_data/
+    python scripts/make_maps.py                    # rewrites pathplan_env/maps/data/
     python scripts/make_maps.py --out /tmp/maps    # elsewhere (tests compare the bytes)
 
 * ``maze``: 9.8 m x 9.8 m at 5 cm, a 6 x 6 maze of 1.6 m cells (corridors 1.4 m wide, walls 0.2 m),
@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
-from pathplan_env.ros_maps import load_ros_map
+from pathplan_env.maps.ros_maps import load_ros_map
 
 OCCUPIED, FREE, UNKNOWN = 0, 254, 205
 RESOLUTION = 0.05
@@ -120,7 +120,7 @@ def draw_office(out: Path) -> None:
 
 def parse_args(argv=None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", type=Path, default=ROOT / "pathplan_env" / "map_data", help="folder to write the maps into")
+    parser.add_argument("--out", type=Path, default=ROOT / "pathplan_env" / "maps" / "data", help="folder to write the maps into")
     return parser.parse_args(argv)
 
 

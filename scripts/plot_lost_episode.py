@@ -20,9 +20,10 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import agents
-from agents.planners.spacetime_search import SpacetimeProblem, provably_lost
-from pathplan_env.splits import heldout_seeds
-from pathplan_env.world import World
+from agents.planners.reachable_set import provably_lost
+from agents.planners.spacetime_search import SpacetimeProblem
+from pathplan_env.scenarios.splits import heldout_seeds
+from pathplan_env.world.simulation import World
 
 
 def parse_args(argv=None) -> argparse.Namespace:

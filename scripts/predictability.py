@@ -22,7 +22,7 @@ import numpy as np
 import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
 from agents.base import real_obstacles
 from agents.planners.prediction import predict_obstacles, substeps_for
-from pathplan_env.splits import validation_seeds
+from pathplan_env.scenarios.splits import validation_seeds
 
 
 def errors(n_obstacles: int, delta_d: float, scenes: int, steps: int, warmup: int = 3):

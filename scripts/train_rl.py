@@ -12,7 +12,7 @@
 The policy sees ``pathplan_env.wrappers.make_learning_env``'s egocentric features and acts in its
 relative-waypoint action space, the same transforms ``agents.make("ppo", env)`` applies at test time.
 Training episodes come from ``EpisodeSchedule`` streams of training seeds (disjoint from the
-validation and test splits of ``pathplan_env.splits``), on random scenes whose Δd widens from
+validation and test splits of ``pathplan_env.scenarios.splits``), on random scenes whose Δd widens from
 ``[0, --delta-d-start]`` to ``[0, --delta-d-max]`` over the first ``--curriculum-fraction`` of training.
 An ``EvalCallback`` scores the same validation episodes every ``--eval-freq`` steps (success rate
 from ``info["is_success"]``) and keeps the best model. Writes to ``--out``: TensorBoard logs,
@@ -22,15 +22,15 @@ seed and figures, which ``agents.make("ppo", env, path=...)`` reads), ``evaluati
 ``learning_curve.png``. The PPO defaults are ``pathplan_env.zoo.PPO_SETTINGS``, which rl-zoo3's
 hyperparameters share; the training itself is the library ``agents.rl.training``.
 
-``--observation lidar`` trains on the ``"lidar"`` observation instead (``agents.rl.lidar_features``:
+``--observation lidar`` trains on the ``"lidar"`` observation instead (``agents.rl.lidar.features``:
 the scan in the goal's frame, min-pooled to ``--lidar-bins``, with its change since the last step;
-``agents.rl.lidar_encoder``: stride-2 ``Conv1d`` layers with circular padding), cloned from a teacher
+``agents.rl.lidar.encoder``: stride-2 ``Conv1d`` layers with circular padding), cloned from a teacher
 that reads the exact state while a lockstep twin env records what the lidar sees; ``--scenarios``
 deals presets (wall families too) to the training envs; ``--budget-minutes`` caps the run's wall time.
 
-``--observation set`` trains on every obstacle as a token (``agents.rl.set_features``: goal-frame
+``--observation set`` trains on every obstacle as a token (``agents.rl.obstacle_set.features``: goal-frame
 position, velocity, radius, gap and positions predicted by the planners' physics, distance-sorted,
-masked, with an ego token; ``agents.rl.set_encoder``: SARL's attention pooling or, with
+masked, with an ego token; ``agents.rl.obstacle_set.encoder``: SARL's attention pooling or, with
 ``--set-pooling mean``, DeepSets'), cloned from the same teacher; ``--set-tokens`` sets the padding.
 """
 

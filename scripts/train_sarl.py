@@ -2,7 +2,7 @@
 
     python scripts/train_sarl.py --budget-minutes 60        # CrowdNav's circle crossing -> agents/models/sarl_crowdnav.npz
 
-Every field of ``agents.rl.training.sarl_train.SARLArgs`` is a flag (``--il-episodes 1000``).
+Every field of ``agents.rl.sarl.training.config.SARLArgs`` is a flag (``--il-episodes 1000``).
 """
 
 from __future__ import annotations
@@ -17,7 +17,8 @@ import sys
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):  # one core: BLAS threads only contend on small matrices
     os.environ.setdefault(_var, "1")
 
-from agents.rl.training.sarl_train import SARLArgs, train  # noqa: E402  (after the thread settings)
+from agents.rl.sarl.training.config import SARLArgs  # noqa: E402  (after the thread settings)
+from agents.rl.sarl.training.train import train  # noqa: E402
 
 
 def parse_args(argv: list[str] | None = None) -> SARLArgs:

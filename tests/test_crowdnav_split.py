@@ -13,8 +13,8 @@ from agents.evaluation import evaluate
 from agents.evaluation.entrants import resolve_scenarios
 from agents.evaluation.episodes import make_episode_env, run_episode
 from agents.evaluation.run_diff import diff_runs
-from pathplan_env.crowdnav import PRESET_LAYOUTS, crowdnav_test_case
-from pathplan_env.splits import episode_seeds, heldout_seeds
+from pathplan_env.scenarios.crowdnav import PRESET_LAYOUTS, crowdnav_test_case
+from pathplan_env.scenarios.splits import episode_seeds, heldout_seeds
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
 import evaluate as evaluate_script
@@ -163,7 +163,7 @@ def test_the_limit_runs_on_a_visible_case_whose_human_starts_on_the_robots_goal(
     import gymnasium as gym
 
     import agents
-    from pathplan_env.crowdnav import crowdnav_test_case
+    from pathplan_env.scenarios.crowdnav import crowdnav_test_case
 
     scenario = crowdnav_test_case("square-crossing", 3, visible=True)
     env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=None)

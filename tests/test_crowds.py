@@ -16,11 +16,11 @@ import agents
 import pathplan_env
 from agents.base import rollout
 from pathplan_env import Obstacle, Scenario
-from pathplan_env.behaviours import ORCA, SocialForce, make_behaviour
-from pathplan_env.crowdnav import HUMAN_RADIUS
-from pathplan_env.orca import ORCAAgentState, ORCAParams, orca_velocity
-from pathplan_env.splits import heldout_seeds
-from pathplan_env.world import World
+from pathplan_env.crowds.behaviours import ORCA, SocialForce, make_behaviour
+from pathplan_env.crowds.orca import ORCAAgentState, ORCAParams, orca_velocity
+from pathplan_env.scenarios.crowdnav import HUMAN_RADIUS
+from pathplan_env.scenarios.splits import heldout_seeds
+from pathplan_env.world.simulation import World
 
 CROWDNAV_DELTA_D = 1.0 * 0.25 / 0.3  # 1 m/s, dt 0.25 s, radius 0.3 m
 

@@ -11,8 +11,8 @@ from agents.planners.constraints import ADAPTIVE, DEB, PENALTY, ConstraintRule, 
 from agents.planners.objective import Scene
 from agents.planners.pso import PSOSettings, inertia_schedule, pso_run
 from pathplan_env import Scenario
-from pathplan_env.scenarios import Obstacle
-from pathplan_env.splits import heldout_seeds
+from pathplan_env.scenarios.scenario import Obstacle
+from pathplan_env.scenarios.splits import heldout_seeds
 
 
 def _scene(radius: float) -> Scene:

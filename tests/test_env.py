@@ -14,7 +14,7 @@ import pytest
 
 import pathplan_env
 from pathplan_env import Obstacle, Scenario
-from pathplan_env.geometry import swept_contact
+from pathplan_env.geometry.contacts import swept_contact
 from pathplan_env.wrappers import make_learning_env
 
 
@@ -211,7 +211,7 @@ def test_random_and_paper_presets_default_to_delta_d_a_quarter(name):
 
 @pytest.mark.parametrize("name", ["crowdnav-circle-crossing", "crowdnav-square-crossing-visible"])
 def test_crowdnav_presets_keep_their_humans_speed_without_delta_d(name):
-    from pathplan_env.crowdnav import HUMAN_SPEED
+    from pathplan_env.scenarios.crowdnav import HUMAN_SPEED
 
     env = gym.make("DynamicObstacle-v0", scenario=name)
     env.reset(seed=0)
@@ -346,7 +346,7 @@ def test_no_obstacle_moves_farther_than_its_speed_allows(delta_d):
 def test_robot_never_pushes_obstacles():
     # the robot drives through moving obstacles (the unwrapped env runs on past contacts): their
     # trajectories stay exactly those of a world in which the robot stood far away
-    from pathplan_env.world import World
+    from pathplan_env.world.simulation import World
 
     env = gym.make("DynamicObstacle-v0", n_obstacles=12, delta_d=0.5)
     env.reset(seed=3)

@@ -12,7 +12,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
 import evaluate
 
 from agents.evaluation.run_diff import diff_runs
-from pathplan_env.splits import TEST_SEED_BASE, heldout_seeds, is_training_seed
+from pathplan_env.scenarios.splits import TEST_SEED_BASE, heldout_seeds, is_training_seed
 
 TINY = ["--agents", "straight,pso-predictive", "--scenarios", "paper-case-1", "--delta-d", "0,0.5", "--episodes", "4", "--no-plots"]
 

@@ -5,7 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from pathplan_env.orca import ORCAAgentState, ORCAObstacles, ORCAParams, obstacle_vertices, orca_velocity_among, orca_velocity_ordered
+from pathplan_env.crowds.orca import ORCAAgentState, ORCAParams, orca_velocity_among, orca_velocity_ordered
+from pathplan_env.crowds.orca_obstacles import ORCAObstacles, obstacle_vertices
 
 
 def _random_obstacle(rng):
@@ -82,8 +83,8 @@ def _walled(behaviour):
 
 @pytest.mark.parametrize("behaviour", ["orca", "social-force"])
 def test_humans_route_around_a_wall_to_their_goals_and_keep_off_it(behaviour):
-    from pathplan_env.statics import points_clearance
-    from pathplan_env.world import World
+    from pathplan_env.geometry.walls import points_clearance
+    from pathplan_env.world.simulation import World
 
     scenario = _walled(behaviour)
     trajectory = World(scenario).obstacle_trajectory(120)  # 30 s: the way round is ~15 m at 1 m/s
@@ -96,7 +97,7 @@ def test_humans_route_around_a_wall_to_their_goals_and_keep_off_it(behaviour):
 
 def test_without_routes_a_human_presses_into_the_wall():
     """The routes make the difference: the same human aimed straight at its goal stays behind the wall."""
-    from pathplan_env.world import World
+    from pathplan_env.world.simulation import World
 
     world = World(_walled("orca"))
     world._human_statics.routes.row_of[:] = -1  # no route: straight for the goal, as before walls were known

@@ -15,13 +15,13 @@ import torch
 from rollouts import random_action_observations
 
 import pathplan_env  # noqa: F401
-from agents.rl.lidar_encoder import LidarConvExtractor
-from agents.rl.lidar_features import LidarFeatureStack, egocentric_scan, lidar_feature_size, lidar_features
-from agents.rl.lidar_policy import LidarRLAgent
-from agents.rl.numpy_conv import conv1d_circular
-from agents.rl.numpy_policy import NumpyPolicy, export_policy
+from agents.rl.lidar.encoder import LidarConvExtractor
+from agents.rl.lidar.features import LidarFeatureStack, egocentric_scan, lidar_feature_size, lidar_features
+from agents.rl.lidar.numpy_encoder import NumpyLidarPolicy, conv1d_circular, export_lidar_policy
+from agents.rl.lidar.policy import LidarRLAgent
+from agents.rl.numpy_policy import NumpyPolicy
 from agents.rl.training import Args, build_model, collect_demonstrations, demonstration_env, make_env
-from pathplan_env.wrappers import EnvFacts
+from pathplan_env.facts import EnvFacts
 
 ROOT = Path(__file__).resolve().parents[1]
 BINS, FRAMES = 90, 2
@@ -109,7 +109,9 @@ def test_numpy_forward_equals_sb3_predict_and_exports_through_the_script(lidar_m
     env = lidar_env("cluttered-room")
     stack = LidarFeatureStack(EnvFacts.of(env), BINS, FRAMES)
     features = np.stack([stack(o) for o in random_action_observations(env, seed=5, steps=20)])
-    exported = NumpyPolicy(export_policy(model, tmp_path / "policy.npz"))
+    exported = NumpyLidarPolicy(export_lidar_policy(model, tmp_path / "policy.npz"))
+    with pytest.raises(ValueError, match="NumpyLidarPolicy"):
+        NumpyPolicy(tmp_path / "policy.npz")  # the plain MLP would skip the encoder: it refuses
     expected, _ = model.predict(features, deterministic=True)
     np.testing.assert_allclose(exported.predict(features), expected, atol=1e-5)
     np.testing.assert_allclose(exported.predict(features[0]), expected[0], atol=1e-5)
@@ -121,12 +123,12 @@ def test_numpy_forward_equals_sb3_predict_and_exports_through_the_script(lidar_m
     import export_policy as script  # the command line, run in this process
 
     script.main([str(copy)])
-    np.testing.assert_allclose(NumpyPolicy(copy.with_suffix(".npz")).predict(features), expected, atol=1e-5)
+    np.testing.assert_allclose(NumpyLidarPolicy(copy.with_suffix(".npz")).predict(features), expected, atol=1e-5)
 
 
 def test_the_agent_acts_on_raw_lidar_observations_with_either_backend(lidar_model, tmp_path):
     model, path = lidar_model
-    export_policy(model, path.with_suffix(".npz"))
+    export_lidar_policy(model, path.with_suffix(".npz"))
     env = lidar_env("random", delta_d=0.25)
     agents_by_backend = {b: LidarRLAgent(env, seed=0, path=path, backend=b) for b in ("numpy", "sb3")}
     obs, _ = env.reset(seed=7)

@@ -14,8 +14,9 @@ import math
 
 import numpy as np
 
-from pathplan_env.behaviours import _NO_OBSTACLE_FIELDS, ORCA, _orca_step_fields
-from pathplan_env.orca import ORCAAgentState, obstacle_vertices, orca_velocity_among
+from pathplan_env.crowds.behaviours import _NO_OBSTACLE_FIELDS, ORCA, _orca_step_fields
+from pathplan_env.crowds.orca import ORCAAgentState, orca_velocity_among
+from pathplan_env.crowds.orca_obstacles import obstacle_vertices
 
 
 def _rings(rng):

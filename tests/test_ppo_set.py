@@ -15,13 +15,13 @@ from rollouts import random_action_observations
 
 import agents
 import pathplan_env  # noqa: F401
-from agents.rl.set_encoder import SetAttentionExtractor
-from agents.rl.set_features import EGO_SIZE, TOKEN_SIZE, SetLearningEnv, set_feature_size, set_features, split_features
-from agents.rl.set_numpy import NumpySetPolicy, export_set_policy
-from agents.rl.set_policy import SetRLAgent
+from agents.rl.obstacle_set.encoder import SetAttentionExtractor
+from agents.rl.obstacle_set.features import EGO_SIZE, TOKEN_SIZE, SetLearningEnv, set_feature_size, set_features, split_features
+from agents.rl.obstacle_set.numpy_net import NumpySetPolicy, export_set_policy
+from agents.rl.obstacle_set.policy import SetRLAgent
 from agents.rl.training import Args, build_model, make_env
-from pathplan_env.splits import heldout_seeds
-from pathplan_env.wrappers import EnvFacts
+from pathplan_env.facts import EnvFacts
+from pathplan_env.scenarios.splits import heldout_seeds
 
 ROOT = Path(__file__).resolve().parents[1]
 N_TOKENS = 12

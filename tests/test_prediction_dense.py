@@ -13,8 +13,8 @@ import pytest
 
 import pathplan_env  # noqa: F401  (registers the env)
 from agents.planners.prediction import predict_among, substeps_for
-from pathplan_env.splits import episode_seeds
-from pathplan_env.world import World
+from pathplan_env.scenarios.splits import episode_seeds
+from pathplan_env.world.simulation import World
 
 HORIZON = 6
 

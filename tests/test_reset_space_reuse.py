@@ -1,4 +1,4 @@
-"""The pymunk space lent from one episode's world to the next (``pathplan_env.world_space``): every
+"""The pymunk space lent from one episode's world to the next (``pathplan_env.world.space``): every
 episode is the one a new space gives, bit for bit, and a space is lent only where it fits (another
 obstacle count, moving pattern or statics builds a new one); copies still continue exactly."""
 
@@ -10,7 +10,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-import pathplan_env.world_space as world_space
+import pathplan_env.world.space as world_space
 
 
 def same_step(a, b) -> bool:

@@ -18,7 +18,7 @@ import agents
 import pathplan_env  # noqa: F401
 from agents.rl import MODELS_DIR
 from agents.rl.training import Args, build_model, demonstration_env, make_env, ship, train
-from pathplan_env.splits import (
+from pathplan_env.scenarios.splits import (  # fmt: skip
     TRAINING_SEEDS_PER_RUN,
     VALIDATION_SEED_BASE,
     heldout_seeds,
@@ -26,7 +26,7 @@ from pathplan_env.splits import (
     is_validation_seed,
     training_seed_base,
     validation_seeds,
-)  # fmt: skip
+)
 from pathplan_env.wrappers import EpisodeSchedule, make_learning_env
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -55,7 +55,8 @@ def test_numpy_actor_matches_sb3s_deterministic_action():
     from stable_baselines3 import PPO
 
     from agents.rl.numpy_policy import NumpyPolicy
-    from pathplan_env.wrappers import EnvFacts, egocentric_features
+    from pathplan_env.facts import EnvFacts
+    from pathplan_env.wrappers import egocentric_features
 
     model = PPO.load(MODELS_DIR / "ppo.zip", device="cpu")
     actor = NumpyPolicy(MODELS_DIR / "ppo.npz")

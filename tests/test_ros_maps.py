@@ -1,4 +1,4 @@
-"""ROS map_server maps (pathplan_env.ros_maps): the occupancy rule, row order, safety, polygons, free space."""
+"""ROS map_server maps (pathplan_env.maps.ros_maps): the occupancy rule, row order, safety, polygons, free space."""
 
 import sys
 from pathlib import Path
@@ -10,15 +10,9 @@ import yaml
 from PIL import Image, ImageFile
 
 from pathplan_env import Scenario
-from pathplan_env.ros_maps import (
-    SHIPPED_MAPS,
-    MapFileError,
-    load_ros_map,
-    load_shipped_map,
-    occupancy_polygons,
-    scenario_kwargs,
-    shipped_map_path,
-)
+from pathplan_env.maps.occupancy import occupancy_polygons
+from pathplan_env.maps.ros_maps import SHIPPED_MAPS, MapFileError, load_ros_map, load_shipped_map, shipped_map_path
+from pathplan_env.scenarios.on_maps import scenario_kwargs
 
 ROOT = Path(__file__).resolve().parents[1]
 FIELDS = {"resolution": 0.5, "origin": [-1.0, 2.0, 0.0], "occupied_thresh": 0.65, "free_thresh": 0.196, "negate": 0}

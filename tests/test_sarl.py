@@ -13,7 +13,7 @@ import agents
 import pathplan_env  # noqa: F401
 from agents.planners.prediction import predict_among, substeps_for
 from agents.rl import MODELS_DIR
-from agents.rl.sarl_lookahead import (
+from agents.rl.sarl.lookahead import (
     N_ACTIONS,
     SARLFeatures,
     action_velocities,
@@ -21,20 +21,20 @@ from agents.rl.sarl_lookahead import (
     check_features,
     joint_state,
     lookahead,
-    lookahead_numpy,  # fmt: skip
+    lookahead_numpy,
     observed_joint_state,
 )
-from agents.rl.sarl_numpy import HUMAN_DIM, SELF_DIM, SARLNumpy, check_sizes
-from agents.rl.sarl_settings import get_setting
-from pathplan_env.splits import heldout_seeds
-from pathplan_env.wrappers import EnvFacts
+from agents.rl.sarl.numpy_net import HUMAN_DIM, SELF_DIM, SARLNumpy, check_sizes
+from agents.rl.sarl.settings import get_setting
+from pathplan_env.facts import EnvFacts
+from pathplan_env.scenarios.splits import heldout_seeds
 
 torch = pytest.importorskip("torch")
 CROWDNAV = dict(scenario="crowdnav-circle-crossing", delta_d=0.8333333333333334)
 
 
 def test_numpy_forward_equals_torch_with_padded_humans():
-    from agents.rl.sarl_net import SARLValue
+    from agents.rl.sarl.net import SARLValue
 
     torch.manual_seed(0)
     net = SARLValue()
@@ -129,7 +129,7 @@ def test_lookahead_reward_is_crowdnavs_on_the_predicted_step():
 
 
 def _random_model(path):
-    from agents.rl.sarl_net import SARLValue
+    from agents.rl.sarl.net import SARLValue
 
     torch.manual_seed(0)
     np.savez(path, **SARLValue().export())
@@ -152,7 +152,7 @@ def test_agent_acts_without_torch(tmp_path):
 
 
 def test_bad_arguments_raise_naming_them(tmp_path):
-    from agents.rl.training.sarl_train import SARLArgs
+    from agents.rl.sarl.training.config import SARLArgs
 
     env = gym.make("DynamicObstacle-v0", **CROWDNAV)
     with pytest.raises(ValueError, match="path"):
@@ -175,7 +175,8 @@ def test_bad_arguments_raise_naming_them(tmp_path):
 
 
 def test_tiny_training_run(tmp_path):
-    from agents.rl.training.sarl_train import SARLArgs, train
+    from agents.rl.sarl.training.config import SARLArgs
+    from agents.rl.sarl.training.train import train
 
     args = SARLArgs(il_episodes=2, il_epochs=1, rl_episodes=2, train_batches=2, val_every=1, val_episodes=1, out=str(tmp_path / "run"), ship=False)
     meta = train(args, command="test")
@@ -186,7 +187,8 @@ def test_tiny_training_run(tmp_path):
 
 
 def test_training_on_two_layouts_takes_turns_and_validates_each(tmp_path):
-    from agents.rl.training.sarl_train import SARLArgs, train
+    from agents.rl.sarl.training.config import SARLArgs
+    from agents.rl.sarl.training.train import train
 
     both = "crowdnav-circle-crossing,crowdnav-square-crossing"
     args = SARLArgs(scenario=both, il_episodes=2, il_epochs=1, rl_episodes=2, train_batches=2, val_every=2, val_episodes=2,
@@ -282,7 +284,7 @@ def test_random_observed_state_matches_the_lookaheads_next_state():
 
 
 def test_numpy_forward_equals_torch_for_wider_inputs():
-    from agents.rl.sarl_net import SARLValue
+    from agents.rl.sarl.net import SARLValue
 
     torch.manual_seed(1)
     net = SARLValue(dims=RANDOM.features.dims)
@@ -298,7 +300,7 @@ def test_numpy_forward_equals_torch_for_wider_inputs():
 
 
 def test_random_setting_bad_arguments_raise_naming_them(tmp_path):
-    from agents.rl.training.sarl_train import SARLArgs
+    from agents.rl.sarl.training.config import SARLArgs
 
     env = gym.make("DynamicObstacle-v0", scenario="random")
     with pytest.raises(ValueError, match="setting"):
@@ -314,7 +316,8 @@ def test_random_setting_bad_arguments_raise_naming_them(tmp_path):
 
 
 def test_tiny_random_training_run_with_a_curriculum(tmp_path):
-    from agents.rl.training.sarl_train import SARLArgs, train
+    from agents.rl.sarl.training.config import SARLArgs
+    from agents.rl.sarl.training.train import train
 
     args = SARLArgs(setting="random", scenario="random", delta_d=0.25, curriculum_max=1.0, curriculum_episodes=2, val_delta_d="0.25,1",
                     teacher="astar-spacetime", teacher_kwargs={}, il_episodes=2, il_epochs=1, rl_episodes=2, train_batches=2, val_every=1,
@@ -383,7 +386,7 @@ def test_setting_without_robot_velocity_zeroes_only_those_columns():
 
 
 def test_local_map_counts_each_humans_neighbours_in_the_goal_frame_and_turns_with_the_scene():
-    from agents.rl.sarl_local_map import CELLS, local_maps
+    from agents.rl.sarl.local_map import CELLS, local_maps
 
     # goal frame = world frame (cos 1, sin 0); human 1 stands 0.5 ahead (+x) of human 0, human 2 is 5 away
     pos = np.array([[[0.0, 0.0], [0.5, 0.0], [5.0, 0.0]]])

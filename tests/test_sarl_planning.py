@@ -8,10 +8,10 @@ import pytest
 import agents
 import pathplan_env  # noqa: F401
 from agents.rl import MODELS_DIR
-from agents.rl.sarl_lookahead import action_velocities, lookahead, predict_humans
-from agents.rl.sarl_planning import best_action_two_steps, two_step_scores
-from agents.rl.sarl_policy import SARLAgent
-from agents.rl.sarl_settings import get_setting
+from agents.rl.sarl.lookahead import action_velocities, lookahead, predict_humans
+from agents.rl.sarl.planning import best_action_two_steps, two_step_scores
+from agents.rl.sarl.policy import SARLAgent
+from agents.rl.sarl.settings import get_setting
 
 pytestmark = pytest.mark.skipif(not (MODELS_DIR / "sarl_random.npz").exists(), reason="no shipped sarl_random model")
 

@@ -8,8 +8,8 @@ import pytest
 import agents
 import pathplan_env  # noqa: F401
 from agents.rl import MODELS_DIR
-from agents.rl.sarl_standing import all_standing, build_grid
-from pathplan_env.splits import episode_seeds
+from agents.rl.sarl.standing import all_standing, build_grid
+from pathplan_env.scenarios.splits import episode_seeds
 
 pytestmark = pytest.mark.skipif(not (MODELS_DIR / "sarl_crowdnav_crossings.npz").exists(), reason="no shipped sarl-crossings model")
 STANDING = "crowdnav-square-standing"
@@ -49,7 +49,7 @@ def test_the_grid_is_bellman_consistent_with_the_learned_value_as_a_floor():
     np.testing.assert_array_equal(grid.values[goal & (gap >= 0)], agent.reward.success)
     free = (gap >= 0) & ~goal
     # the learned value (at most the reward of arriving) is a floor, and no move improves on a cell's worth (value iteration converged)
-    self_state, humans_state = agents.rl.sarl_lookahead.joint_state(
+    self_state, humans_state = agents.rl.sarl.lookahead.joint_state(
         centres[free], np.zeros((free.sum(), 2)), obs["goal"], humans, np.zeros_like(humans), radii, agent.facts, None, agent.setting.features
     )
     learned = agent.network.values(self_state, humans_state, np.ones(humans_state.shape[:2], np.float32))
@@ -119,7 +119,7 @@ def test_standing_search_must_be_a_bool():
 
 
 def test_a_large_arena_gets_a_window_round_the_robot_and_the_goal():
-    from agents.rl.sarl_standing import MAX_CELLS, grid_value, standing_scores
+    from agents.rl.sarl.standing import MAX_CELLS, grid_value, standing_scores
     from pathplan_env import Obstacle, Scenario
 
     scene = Scenario(bounds=(0, 0, 60, 60), start=(5, 5), goal=(12, 9), obstacles=(Obstacle(center=(8.0, 7.0), radius=0.5),))

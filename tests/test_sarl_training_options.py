@@ -10,16 +10,17 @@ import pytest
 import agents
 import pathplan_env  # noqa: F401
 from agents.rl import MODELS_DIR
-from agents.rl.sarl_lookahead import observed_joint_state
-from agents.rl.sarl_numpy import HUMAN_DIM, SELF_DIM
-from pathplan_env.wrappers import EnvFacts
+from agents.rl.sarl.lookahead import observed_joint_state
+from agents.rl.sarl.numpy_net import HUMAN_DIM, SELF_DIM
+from pathplan_env.facts import EnvFacts
 
 torch = pytest.importorskip("torch")
 CROWDNAV = dict(scenario="crowdnav-circle-crossing", delta_d=0.8333333333333334)
 
 
 def test_drop_timeouts_keeps_only_episodes_at_the_goal_or_in_a_collision():
-    from agents.rl.training.sarl_train import SARLArgs, kept
+    from agents.rl.sarl.training.config import SARLArgs
+    from agents.rl.sarl.training.train import kept
 
     crowdnav, ours = SARLArgs(drop_timeouts=True), SARLArgs()
     ends = {"success": {"is_success": True, "collision": False}, "collision": {"is_success": False, "collision": True},
@@ -29,8 +30,8 @@ def test_drop_timeouts_keeps_only_episodes_at_the_goal_or_in_a_collision():
 
 
 def test_next_values_equal_one_state_at_a_time():
-    from agents.rl.sarl_net import SARLValue
-    from agents.rl.training.sarl_train import _values, next_values
+    from agents.rl.sarl.net import SARLValue
+    from agents.rl.sarl.training.train import _values, next_values
 
     env = gym.make("DynamicObstacle-v0", **CROWDNAV)
     facts = EnvFacts.of(env)
@@ -49,7 +50,7 @@ def test_next_values_equal_one_state_at_a_time():
 
 
 def test_bad_ema_decay_raises_naming_it():
-    from agents.rl.training.sarl_train import SARLArgs
+    from agents.rl.sarl.training.config import SARLArgs
 
     for bad in (-0.1, 1.0, True):
         with pytest.raises(ValueError, match="ema_decay"):
@@ -57,7 +58,8 @@ def test_bad_ema_decay_raises_naming_it():
 
 
 def test_tiny_run_validates_the_averaged_weights_beside_the_trained_ones(tmp_path):
-    from agents.rl.training.sarl_train import SARLArgs, train
+    from agents.rl.sarl.training.config import SARLArgs
+    from agents.rl.sarl.training.train import train
 
     args = SARLArgs(il_episodes=2, il_epochs=1, rl_episodes=2, train_batches=2, val_every=1, val_episodes=1, drop_timeouts=True,
                     ema_decay=0.5, out=str(tmp_path / "run"), ship=False)  # fmt: skip
@@ -71,7 +73,7 @@ def test_tiny_run_validates_the_averaged_weights_beside_the_trained_ones(tmp_pat
 
 
 def test_goal_velocity_option_scores_every_move_with_the_same_velocity_features():
-    from agents.rl.sarl_lookahead import best_action, lookahead
+    from agents.rl.sarl.lookahead import best_action, lookahead
 
     env = gym.make("DynamicObstacle-v0", **CROWDNAV)
     obs, _ = env.reset(seed=5)

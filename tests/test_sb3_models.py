@@ -20,7 +20,7 @@ import pathplan_env  # noqa: F401  (registers the env ids)
 from agents.evaluation import evaluate
 from agents.rl import sb3_model
 from agents.rl.sb3_model import detect_algorithm, statistics_beside
-from pathplan_env.splits import heldout_seeds
+from pathplan_env.scenarios.splits import heldout_seeds
 
 DELTA_D = 0.25
 EPISODES = 20

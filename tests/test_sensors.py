@@ -10,10 +10,10 @@ import pytest
 
 import pathplan_env  # noqa: F401  (registers the env)
 from pathplan_env import Obstacle, Scenario
-from pathplan_env.lidar import LidarObservation, beam_endpoints
-from pathplan_env.observations import OBSERVATION_TYPES
-from pathplan_env.raycast import ANGLE_SLACK, rough_atan2, scan_beams
-from pathplan_env.visibility import VisibleStateObservation, visible_obstacles
+from pathplan_env.geometry.rays import ANGLE_SLACK, rough_atan2, scan_beams
+from pathplan_env.sensors.lidar import LidarObservation, beam_endpoints
+from pathplan_env.sensors.observations import OBSERVATION_TYPES
+from pathplan_env.sensors.visible_state import VisibleStateObservation, visible_obstacles
 
 BOUNDS = (0.0, 0.0, 20.0, 20.0)
 

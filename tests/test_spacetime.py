@@ -8,7 +8,7 @@ import agents
 from agents.base import real_obstacles
 from agents.planners.prediction import predict_obstacles, substeps_for
 from pathplan_env import Obstacle, Scenario
-from pathplan_env.splits import heldout_seeds
+from pathplan_env.scenarios.splits import heldout_seeds
 
 
 def head_on(distance: float) -> Scenario:

@@ -53,7 +53,7 @@ def test_a_reset_builds_new_scratch():
 def test_compiled_goal_cells_are_numpys():
     """``routing._goal_cells`` against the numpy of before (``_cells_of``), goals outside the grid and on
     cell edges included."""
-    from pathplan_env.routing import _cells_of, _goal_cells, _grid
+    from pathplan_env.crowds.routing import _cells_of, _goal_cells, _grid
 
     rng = np.random.default_rng(5)
     grid = _grid(((0.0, 0.0, 16.0, 6.0), (((0.0, 1.0), (16.0, 1.0)),), 0.1, ()), 0.35, 0.1)

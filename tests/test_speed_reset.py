@@ -12,10 +12,10 @@ import dataclasses
 import numpy as np
 import pytest
 
-from pathplan_env.crowd_families import CROWD_FAMILIES
-from pathplan_env.families import FAMILIES
-from pathplan_env.routing import LEAVE, _box_free, _cell, _sees, human_statics
-from pathplan_env.scenarios import Obstacle, Scenario
+from pathplan_env.crowds.routing import LEAVE, _box_free, _cell, _sees, human_statics
+from pathplan_env.scenarios.crowd_families import CROWD_FAMILIES
+from pathplan_env.scenarios.scenario import Obstacle, Scenario
+from pathplan_env.scenarios.wall_families import FAMILIES
 
 FAST_FAMILIES = {**FAMILIES, **{name: f for name, f in CROWD_FAMILIES.items() if name not in ("maze",)}}
 

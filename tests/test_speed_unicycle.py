@@ -15,8 +15,9 @@ import gymnasium as gym
 import numpy as np
 
 import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
-from pathplan_env.arc_contact import Arc, _bound, arc_capsules, arc_goal, arc_point, step_statics_between
-from pathplan_env.presets import (
+from pathplan_env.robots.arc_contact import Arc, _bound, arc_capsules, arc_goal, arc_point, step_statics_between
+from pathplan_env.robots.unicycle import arena_edges
+from pathplan_env.scenarios.presets import (
     _CANDIDATES,
     DT,
     RANDOM_MIN_START_GOAL,
@@ -28,8 +29,7 @@ from pathplan_env.presets import (
     random_arena_bounds,
     sample_random_scenario,
 )
-from pathplan_env.substep_kernels import _finish_substep, restore_speeds
-from pathplan_env.unicycle import arena_edges
+from pathplan_env.world.substep_kernels import _finish_substep, restore_speeds
 
 
 def test_restore_speeds_is_the_second_half_of_finish_substep():

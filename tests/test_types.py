@@ -10,10 +10,10 @@ import pytest
 from gymnasium import spaces
 
 import pathplan_env  # noqa: F401  (registers the env)
-from pathplan_env.actions import ACTION_TYPES, WaypointAction
 from pathplan_env.env import DynamicObstacleEnv
-from pathplan_env.observations import OBSERVATION_TYPES, ObservationType, StateObservation, state_layout
 from pathplan_env.rewards import MAX_REWARD_WEIGHT, RewardWeights, total
+from pathplan_env.robots.actions import ACTION_TYPES, WaypointAction
+from pathplan_env.sensors.observations import OBSERVATION_TYPES, ObservationType, StateObservation, state_layout
 
 
 # -- types by name ------------------------------------------------------------------------------

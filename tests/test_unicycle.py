@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 import pathplan_env  # noqa: F401
-from pathplan_env.arc_contact import Arc, arc_capsule, arc_disc, arc_point
-from pathplan_env.geometry import NO_CONTACT
-from pathplan_env.unicycle import default_limits
+from pathplan_env.geometry.contacts import NO_CONTACT
+from pathplan_env.robots.arc_contact import Arc, arc_capsule, arc_disc, arc_point
+from pathplan_env.robots.unicycle import default_limits
 
 SAMPLES = 2001  # reference grid per case, then a ternary refinement of its best bracket
 CASES = 12000
@@ -213,7 +213,7 @@ def unicycle_digest(scenario="random", steps=150, seed=3, **kwargs) -> str:
     return h.hexdigest()
 
 
-UNICYCLE_DIGESTS = [  # computed before the step was compiled (pathplan_env/unicycle_step.py): the same episodes bit for bit
+UNICYCLE_DIGESTS = [  # computed before the step was compiled (pathplan_env/robots/unicycle_step.py): the same episodes bit for bit
     ({}, "88b4ab7c23c4a5c33a83b671e33ec333bbc6462c1f601e405d6b91d3660266ca"),
     ({"delta_d": 1.0}, "4de8baa009d948e1e1fefdd70bf7812f2e0ab2ccbcab9aade4838c14d9a38fd4"),
     ({"delta_d": 4.0, "n_obstacles": 20}, "d6d1e7d286c192edbeed78e524b189681bed1f024c8b4cc6fc60305925a033ee"),

@@ -13,13 +13,14 @@ import agents
 import pathplan_env  # noqa: F401  (registers the env)
 from agents.base import real_obstacles, real_static_segments
 from agents.planners.costtogo import cost_to_go, descent, distance_to_goal, grid_slack, route
-from agents.planners.spacetime_search import SpacetimeProblem, provably_lost
+from agents.planners.reachable_set import provably_lost
+from agents.planners.spacetime_search import SpacetimeProblem
 from agents.reactive.walls import aim, goal_horizons, visible_waypoint, wall_contact_times
 from pathplan_env import Scenario
 from pathplan_env.arena import Arena
-from pathplan_env.geometry import shortest_path
-from pathplan_env.scenarios import Obstacle
-from pathplan_env.statics import swept_capsules
+from pathplan_env.geometry.shortest_paths import shortest_path
+from pathplan_env.geometry.walls import swept_capsules
+from pathplan_env.scenarios.scenario import Obstacle
 
 #: The issue's scene: a wall of 12 touching discs between start and goal, nothing moving.
 WALL_OF_DISCS = Scenario(bounds=(0, 0, 10, 10), start=(1, 1), goal=(9, 1),

@@ -14,9 +14,9 @@ import pytest
 
 import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
 from pathplan_env import Obstacle, Scenario
-from pathplan_env.scenario_files import load_scenario
-from pathplan_env.statics import DEFAULT_WALL_THICKNESS, swept_capsules
-from pathplan_env.world import World
+from pathplan_env.geometry.walls import DEFAULT_WALL_THICKNESS, swept_capsules
+from pathplan_env.scenarios.files import load_scenario
+from pathplan_env.world.simulation import World
 
 ARENA = (0.0, 0.0, 10.0, 10.0)
 SAMPLES = 4001  # of the reference: t = 0, 1/4000, ..., 1
@@ -300,9 +300,9 @@ def test_the_renderer_draws_walls_and_polygons():
 
 @pytest.mark.parametrize("family", ["corridor", "doorway", "intersection", "cluttered-room"])
 def test_preset_families_are_seeded_valid_and_keep_obstacles_out_of_the_walls(family):
-    from pathplan_env.families import FAMILIES
-    from pathplan_env.geometry import shortest_path_to_goal
-    from pathplan_env.presets import make_scenario
+    from pathplan_env.geometry.shortest_paths import shortest_path_to_goal
+    from pathplan_env.scenarios.presets import make_scenario
+    from pathplan_env.scenarios.wall_families import FAMILIES
 
     scenarios = [make_scenario(family, np.random.default_rng(seed)) for seed in range(30)]
     assert make_scenario(family, np.random.default_rng(4)) == scenarios[4]  # seeded: the same scene again
@@ -340,8 +340,8 @@ def _around_a_corner(a, centre, reach):
 
 
 def test_the_static_shortest_path_goes_around_walls_and_polygons():
-    from pathplan_env.geometry import shortest_path_to_goal
-    from pathplan_env.presets import make_scenario
+    from pathplan_env.geometry.shortest_paths import shortest_path_to_goal
+    from pathplan_env.scenarios.presets import make_scenario
 
     base = {"bounds": ARENA, "start": (1.0, 5.0), "goal": (9.0, 5.0)}
     wall = Scenario(**base, walls=(((5.0, 2.0), (5.0, 8.0)),))  # over the wall's round end (reach 0.05 + 0.2)

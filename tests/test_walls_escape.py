@@ -5,7 +5,7 @@ import numpy as np
 
 import agents
 import pathplan_env  # noqa: F401  (registers the env)
-from pathplan_env.statics import capsules_clearance, swept_capsules
+from pathplan_env.geometry.walls import capsules_clearance, swept_capsules
 
 
 def test_escape_from_a_disc_does_not_fly_into_the_wall_beside_the_robot():

@@ -12,8 +12,8 @@ import agents
 import agents.reactive.orca as orca_agent
 from agents.evaluation.episodes import run_episode
 from agents.reactive.walls import geometry_of, orca_obstacles_of
-from pathplan_env.routing import orca_obstacles
-from pathplan_env.statics import capsules_clearance
+from pathplan_env.crowds.routing import orca_obstacles
+from pathplan_env.geometry.walls import capsules_clearance
 
 CASES = Path(__file__).resolve().parents[1] / "docs/results/crowdnav_cases/episodes.csv"
 

@@ -8,10 +8,10 @@ objects and files) into labelled specs the workers can receive; one episode is
 ``records`` holds the types all of them share and imports none of them.
 """
 
-from .entrants import AgentSpec, ScenarioSpec, resolve_agents, resolve_scenarios
-from .episodes import run_episode
-from .harness import evaluate
-from .records import LIMIT_AGENT, EpisodeResult
-from .suites import SUITES
+from agents.evaluation.entrants import AgentSpec, ScenarioSpec, resolve_agents, resolve_scenarios
+from agents.evaluation.episodes import run_episode
+from agents.evaluation.harness import evaluate
+from agents.evaluation.records import LIMIT_AGENT, EpisodeResult
+from agents.evaluation.suites import SUITES
 
 __all__ = ["LIMIT_AGENT", "SUITES", "AgentSpec", "EpisodeResult", "ScenarioSpec", "evaluate", "resolve_agents", "resolve_scenarios", "run_episode"]

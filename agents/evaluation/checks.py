@@ -8,8 +8,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .entrants import AgentSpec, ScenarioSpec, resolve_agents, resolve_scenarios
-from .records import OWN_SPEEDS, delta_text
+from agents.evaluation.entrants import AgentSpec, ScenarioSpec, resolve_agents, resolve_scenarios
+from agents.evaluation.records import OWN_SPEEDS, delta_text
 
 #: ``gym.make`` keywords the run sets itself (its scenarios, Δd and counts), and ``render_mode`` (episodes are not drawn).
 RUN_OWN_ENV_KEYWORDS = ("scenario", "delta_d", "n_obstacles", "render_mode")
@@ -67,8 +67,8 @@ def resolve_env_options(env_options, split: str = "test") -> dict:
 
 
 def _check_split(split: str, scenario_specs: list[ScenarioSpec], episodes: int) -> None:
-    from pathplan_env.crowdnav import PRESET_LAYOUTS
-    from pathplan_env.splits import SPLITS, episode_seeds
+    from pathplan_env.scenarios.crowdnav import PRESET_LAYOUTS
+    from pathplan_env.scenarios.splits import SPLITS, episode_seeds
 
     if split not in SPLITS:
         raise ValueError(f"split must be one of {list(SPLITS)}, got {split!r}")
@@ -87,9 +87,8 @@ def check_run(agent_names, scenarios, deltas, episodes, *, seed=0, split="test",
     ``env_options`` too (the env's own error for a bad option).
 
     ``transport`` is how jobs reach the workers (:func:`entrants.resolve_agents`)."""
-    from pathplan_env.splits import episode_seeds
-
-    from .episodes import make_episode_env
+    from agents.evaluation.episodes import make_episode_env
+    from pathplan_env.scenarios.splits import episode_seeds
 
     def whole(value, name, minimum):
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:

@@ -38,9 +38,9 @@ from pathlib import Path
 from typing import Any
 
 from pathplan_env import PRESETS, Scenario
-from pathplan_env.scenario_files import SUFFIXES, is_scenario_file, load_scenario
-from pathplan_env.scenarios import check_n_obstacles
-from pathplan_env.wrappers import EnvFacts
+from pathplan_env.arguments import check_n_obstacles
+from pathplan_env.facts import EnvFacts
+from pathplan_env.scenarios.files import SUFFIXES, is_scenario_file, load_scenario
 
 _LABELLED = re.compile(r"([\w.+-]+)=(.+)")  # "label=entry": a label has no '/', ':', '@' or '='
 AGENT_FORMS = "a registered name, name@model_path, module:attribute or path/to/file.py:attribute"

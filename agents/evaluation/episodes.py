@@ -10,10 +10,9 @@ import time
 
 import numpy as np
 
-from pathplan_env.crowdnav import DISCOMFORT_DISTANCE  # CrowdNav's: a step closer than this is one in danger
-
-from .entrants import AgentSpec, ScenarioSpec, resolve_agents, resolve_scenarios
-from .records import EpisodeResult
+from agents.evaluation.entrants import AgentSpec, ScenarioSpec, resolve_agents, resolve_scenarios
+from agents.evaluation.records import EpisodeResult
+from pathplan_env.scenarios.crowdnav import DISCOMFORT_DISTANCE  # CrowdNav's: a step closer than this is one in danger
 
 _WARMED: set[str] = set()  # agents (by label) whose compiled code this process has already loaded
 
@@ -22,12 +21,12 @@ def make_episode_env(scenario: ScenarioSpec, delta_d: float | None, n_obstacles:
                      split: str = "test", episode: int = 0):  # fmt: skip
     """The env of episode ``episode`` of a cell: the scenario at ``delta_d``, with the run's
     ``env_options`` (``gym.make`` keywords). On the ``crowdnav`` split the scene is CrowdNav's test
-    case ``episode`` (``pathplan_env.crowdnav.crowdnav_test_case``, Δd applied there), not a draw from
+    case ``episode`` (``pathplan_env.scenarios.crowdnav.crowdnav_test_case``, Δd applied there), not a draw from
     the env's seed."""
     import gymnasium as gym
 
     if split == "crowdnav":
-        from pathplan_env.crowdnav import PRESET_LAYOUTS, crowdnav_test_case
+        from pathplan_env.scenarios.crowdnav import PRESET_LAYOUTS, crowdnav_test_case
 
         if not (isinstance(scenario.scenario, str) and scenario.scenario in PRESET_LAYOUTS):
             raise ValueError(f"split 'crowdnav' takes only the presets {sorted(PRESET_LAYOUTS)}, got scenario {scenario.label!r}")
@@ -103,7 +102,7 @@ def run_episode(agent: AgentSpec | str, scenario: ScenarioSpec | str, delta_d: f
     """One episode of one agent (the unit of work every executor runs). ``agent`` and ``scenario``
     are specs (:mod:`.entrants`) or anything they resolve, e.g. a registered name and a preset.
     ``env_options`` and ``split``: :func:`make_episode_env` (the env and agent are seeded with ``seed`` on any split)."""
-    from pathplan_env.geometry import shortest_path_to_goal
+    from pathplan_env.geometry.shortest_paths import shortest_path_to_goal
 
     agent = agent if isinstance(agent, AgentSpec) else resolve_agents([agent])[0]
     scenario = scenario if isinstance(scenario, ScenarioSpec) else resolve_scenarios([scenario])[0]

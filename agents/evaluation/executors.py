@@ -9,8 +9,8 @@ from multiprocessing import get_context
 
 from tqdm import tqdm
 
-from .episodes import run_episode
-from .records import EpisodeResult
+from agents.evaluation.episodes import run_episode
+from agents.evaluation.records import EpisodeResult
 
 
 def _init_worker() -> None:

@@ -6,7 +6,7 @@
 
 Agents and scenarios come in many forms (:mod:`agents.evaluation.entrants`), each named by a label.
 Every (agent, scenario, Δd) cell runs the same episodes: episode ``i`` uses seed
-``pathplan_env.splits.heldout_seeds(seed, episodes)[i]`` for the env (scene, directions) and the
+``pathplan_env.scenarios.splits.heldout_seeds(seed, episodes)[i]`` for the env (scene, directions) and the
 agent, so results do not depend on the number of workers (``split="validation"``: the validation
 seeds; ``split="crowdnav"``: CrowdNav's test case ``i`` as the scene, the test seeds for the rest).
 ``env_options`` are ``gym.make`` keywords given to every episode's env. The privileged ``oracle-clairvoyant``
@@ -27,12 +27,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..provenance import versions
-from .checks import check_run
-from .entrants import resolve_agents
-from .executors import run_jobs
-from .records import LIMIT_AGENT, EpisodeResult, delta_order
-from .statistics import summarize
+from agents.evaluation.checks import check_run
+from agents.evaluation.entrants import resolve_agents
+from agents.evaluation.executors import run_jobs
+from agents.evaluation.records import LIMIT_AGENT, EpisodeResult, delta_order
+from agents.evaluation.statistics import summarize
+from agents.provenance import versions
 
 
 def _job_key(job) -> tuple:
@@ -80,8 +80,8 @@ def evaluate(
     part of each episode's record (a resumed run with other options runs its episodes anew).
     ``backend``: ``"process"`` (a local pool of ``workers`` processes) or ``"ray"`` (a local Ray, or
     the cluster at ``address``; :mod:`agents.evaluation.ray_backend`). Both run the same jobs: same results."""
-    from pathplan_env.crowdnav import TEST_CASE_SEED_BASE as CROWDNAV_SEED_BASE
-    from pathplan_env.splits import episode_seeds
+    from pathplan_env.scenarios.crowdnav import TEST_CASE_SEED_BASE as CROWDNAV_SEED_BASE
+    from pathplan_env.scenarios.splits import episode_seeds
 
     if backend not in ("process", "ray"):
         raise ValueError(f"backend must be 'process' or 'ray', got {backend!r}")
@@ -137,7 +137,7 @@ def evaluate(
             sink.flush()
 
         if backend == "ray":
-            from .ray_backend import run_jobs_on_ray
+            from agents.evaluation.ray_backend import run_jobs_on_ray
 
             run_jobs_on_ray(jobs, record, address=address, num_cpus=workers)
         else:
@@ -162,7 +162,7 @@ def evaluate(
             row = {k: v for k, v in asdict(res).items() if k != "plan_ms"}
             writer.writerow(row | {"plan_ms_median": float(np.median(res.plan_ms))})
     if plots:
-        from .reporting import plot
+        from agents.evaluation.reporting import plot
 
         plot(rows, out)
     return rows

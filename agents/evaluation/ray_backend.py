@@ -28,8 +28,8 @@ def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, nu
         import ray
     except ImportError:
         raise ValueError('--backend ray needs Ray: pip install -e ".[ray]"') from None
-    from .episodes import run_episode
-    from .records import EpisodeResult
+    from agents.evaluation.episodes import run_episode
+    from agents.evaluation.records import EpisodeResult
 
     run = runner if runner is not None else (lambda job: run_episode(*job))
     started_here = not ray.is_initialized()

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .records import LIMIT_AGENT, delta_order, delta_text
+from agents.evaluation.records import LIMIT_AGENT, delta_order, delta_text
 
 
 def markdown_table(rows: list[dict]) -> str:

@@ -8,7 +8,7 @@ import math
 import numpy as np
 from scipy.stats import binomtest
 
-from .records import LIMIT_AGENT, EpisodeResult
+from agents.evaluation.records import LIMIT_AGENT, EpisodeResult
 
 
 def wilson_interval(successes: int, n: int) -> tuple[float, float]:

@@ -2,7 +2,7 @@
 obstacles as they stand; ``clairvoyant`` is PRIVILEGED: it reads the simulator to give each episode
 its physical limit."""
 
-from .clairvoyant import ClairvoyantOracle
-from .static import StaticOracleAgent
+from agents.oracles.clairvoyant import ClairvoyantOracle
+from agents.oracles.static import StaticOracleAgent
 
 __all__ = ["ClairvoyantOracle", "StaticOracleAgent"]

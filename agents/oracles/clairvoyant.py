@@ -24,12 +24,12 @@ import time
 
 import numpy as np
 
-from pathplan_env.unicycle import UnicycleAction
-
-from ..base import Agent
-from ..planners.spacetime_search import BUDGET, FOUND, SearchSettings, SpacetimeProblem, heading_moves, provably_lost, search
-from .clairvoyant_unicycle import UnicycleClairvoyantOracle
-from .future import simulator_of, true_future
+from agents.base import Agent
+from agents.oracles.clairvoyant_unicycle import UnicycleClairvoyantOracle
+from agents.oracles.future import simulator_of, true_future
+from agents.planners.reachable_set import provably_lost
+from agents.planners.spacetime_search import BUDGET, FOUND, SearchSettings, SpacetimeProblem, heading_moves, search
+from pathplan_env.robots.unicycle import UnicycleAction
 
 #: What the oracle concludes about an episode: a plan, provably no plan, a failed search, or no
 #: limit because the obstacles react to the robot.

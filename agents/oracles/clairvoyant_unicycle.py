@@ -8,7 +8,7 @@ exact arc with the env's arc contact tests, the arena's edges as walls). Its pla
 (tested): the limit is the unicycle's, with its acceleration and turn-rate limits.
 
 **Lost-episode proof, with headings.** Where no search finds a plan, the holonomic reachable-set
-test (:func:`agents.planners.spacetime_search.provably_lost`) runs with the unicycle's top speed as
+test (:func:`agents.planners.reachable_set.provably_lost`) runs with the unicycle's top speed as
 the reach per step. It over-approximates the robot's *positions*: every unicycle state
 ``(x, y, heading, v, ω)`` reachable after a substep has its ``(x, y)`` within ``max_speed dt / n``
 (the arc's length bounds its chord) of a position reachable one substep before, whatever its heading
@@ -27,13 +27,13 @@ import time
 
 import numpy as np
 
-from pathplan_env.unicycle import arena_edges
-
-from ..base import Agent
-from ..planners.spacetime_search import SpacetimeProblem, provably_lost
-from ..planners.unicycle_astar import unicycle_model
-from ..planners.unicycle_search import BUDGET, EXHAUSTED, FOUND, HORIZON, UnicycleProblem, UnicycleResult, search, settings
-from .future import simulator_of, true_future
+from agents.base import Agent
+from agents.oracles.future import simulator_of, true_future
+from agents.planners.reachable_set import provably_lost
+from agents.planners.spacetime_search import BUDGET, EXHAUSTED, FOUND, HORIZON, SpacetimeProblem
+from agents.planners.unicycle_astar import unicycle_model
+from agents.planners.unicycle_search import UnicycleProblem, UnicycleResult, search, settings
+from pathplan_env.robots.unicycle import arena_edges
 
 
 class UnicycleClairvoyantOracle(Agent):

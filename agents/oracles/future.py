@@ -16,10 +16,9 @@ from typing import NamedTuple
 import numpy as np
 
 import pathplan_env
+from agents.planners.costtogo import STRAIGHT_LINE, CostToGo, cost_to_go
 from pathplan_env.env import DynamicObstacleEnv
-from pathplan_env.world import World
-
-from ..planners.costtogo import STRAIGHT_LINE, CostToGo, cost_to_go
+from pathplan_env.world.simulation import World
 
 
 class Future(NamedTuple):

@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..base import Agent, point_along, real_obstacles, real_static_segments
-from .tangent_graph import shortest_path
+from agents.base import Agent, point_along, real_obstacles, real_static_segments
+from agents.oracles.tangent_graph import shortest_path
 
 
 class StaticOracleAgent(Agent):
     """Exact shortest collision-free path among the obstacles as they are now and the scene's walls
     and polygons (from the observation's ``static_segments``: capsules inflated by the robot radius
-    and ``margin``; tangent visibility graph + Dijkstra: ``pathplan_env.geometry.shortest_path``'s graph and path,
+    and ``margin``; tangent visibility graph + Dijkstra: ``pathplan_env.geometry.shortest_paths.shortest_path``'s graph and path,
     built by ``tangent_graph`` fast enough for every step among many walls);
     flies one step along it.
 
@@ -43,6 +43,6 @@ class StaticOracleAgent(Agent):
 
 def _segment_distances(point: np.ndarray, capsules: np.ndarray) -> np.ndarray:
     """Distance from ``point`` to each capsule row's segment."""
-    from pathplan_env.geometry import point_segment_distance
+    from pathplan_env.geometry.contacts import point_segment_distance
 
     return point_segment_distance(point[None], capsules[:, 0:2], capsules[:, 2:4])

@@ -1,4 +1,4 @@
-"""``pathplan_env.geometry.shortest_path``, the same graph and path, fast enough to replan every step
+"""``pathplan_env.geometry.shortest_paths.shortest_path``, the same graph and path, fast enough to replan every step
 among many walls.
 
 The reference tests every tangent node, edge and arc sample against every circle and capsule with
@@ -20,7 +20,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from pathplan_env.geometry import _bitangents, _chain_points, _graph_chain, _path_inputs, _point_tangents
+from pathplan_env.geometry.shortest_paths import _bitangents, _chain_points, _graph_chain, _path_inputs, _point_tangents
 
 _TOL = 1e-7  # the reference's tolerance: a point this close to a boundary is outside
 _SLACK = 1e-6  # pruning margin, far above float error: a pruned shape is farther than this from the point
@@ -174,7 +174,7 @@ def arcs_blocked(points, circle, shapes, bounds):
 
 
 def shortest_path(start, goal, centers, radii, bounds=None, arc_resolution: float = 0.05, capsules=None):
-    """``pathplan_env.geometry.shortest_path``, argument for argument and result for result."""
+    """``pathplan_env.geometry.shortest_paths.shortest_path``, argument for argument and result for result."""
     start, goal, centers, radii, capsules = _path_inputs(start, goal, centers, radii, capsules)
     centers, radii, capsules = np.ascontiguousarray(centers), np.ascontiguousarray(radii), np.ascontiguousarray(capsules)
     shapes = Shapes(centers, radii, capsules)

@@ -2,8 +2,8 @@
 ``pso``, ``bee_colony``, ``objective``) and their space-time versions (``spacetime``,
 ``spacetime_search``), which predict the obstacles from the observation (``prediction``)."""
 
-from .metaheuristic import MetaheuristicAgent
-from .spacetime import SpacetimeAStarAgent
-from .spacetime_metaheuristic import SpacetimeMetaheuristicAgent
+from agents.planners.metaheuristic import MetaheuristicAgent
+from agents.planners.spacetime import SpacetimeAStarAgent
+from agents.planners.spacetime_metaheuristic import SpacetimeMetaheuristicAgent
 
 __all__ = ["MetaheuristicAgent", "SpacetimeAStarAgent", "SpacetimeMetaheuristicAgent"]

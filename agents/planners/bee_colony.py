@@ -21,9 +21,9 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from .constraints import ConstraintRule, adapt, better, score, stalled
-from .fast_random import below, new_state, uniform
-from .objective import OptimizerResult, objective
+from agents.planners.constraints import ConstraintRule, adapt, better, score, stalled
+from agents.planners.fast_random import below, new_state, uniform
+from agents.planners.objective import OptimizerResult, objective
 
 
 class ABCSettings(NamedTuple):

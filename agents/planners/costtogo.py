@@ -244,13 +244,13 @@ def waypoints_on(path: np.ndarray, k: int) -> np.ndarray:
 def observed_cost_to_go(obs: dict, facts, memory: dict, clearance: float = 0.0) -> tuple[np.ndarray, CostToGo]:
     """The scene's walls and polygon edges from an observation (:func:`agents.base.real_static_segments`)
     and the cost-to-go to its goal around them and the obstacles at rest (zero velocity: the env's
-    kinematic bodies, which never move), for an agent with :class:`~pathplan_env.wrappers.EnvFacts`
+    kinematic bodies, which never move), for an agent with :class:`~pathplan_env.facts.EnvFacts`
     ``facts``; computed once while they stay the same (kept in the agent's ``memory``).
 
     :param clearance: > 0: the field on the same grid for the robot's disc grown by ``clearance`` and
         :func:`grid_slack`, so that every free cell's centre keeps ``clearance`` from the walls and
         the resting obstacles (narrow ways close)."""
-    from ..base import real_obstacles, real_static_segments
+    from agents.base import real_obstacles, real_static_segments
 
     segments = real_static_segments(obs)
     centers, velocities, radii = real_obstacles(obs)

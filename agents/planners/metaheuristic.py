@@ -11,11 +11,11 @@ from typing import Any
 
 import numpy as np
 
-from ..base import Agent, point_along, real_obstacles, real_static_segments
-from .bee_colony import ABCSettings, abc_run
-from .constraints import constraint_rule
-from .objective import Scene, TimedScene
-from .pso import PSOSettings, inertia_schedule, pso_run
+from agents.base import Agent, point_along, real_obstacles, real_static_segments
+from agents.planners.bee_colony import ABCSettings, abc_run
+from agents.planners.constraints import constraint_rule
+from agents.planners.objective import Scene, TimedScene
+from agents.planners.pso import PSOSettings, inertia_schedule, pso_run
 
 
 class MetaheuristicAgent(Agent):

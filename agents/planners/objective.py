@@ -27,11 +27,10 @@ import numba
 import numpy as np
 from numba.extending import overload
 
-from pathplan_env.geometry import swept_pair
-from pathplan_env.kinematics import reach_fraction, substep_point
-from pathplan_env.statics import swept_capsule
-
-from .costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal
+from agents.planners.costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal
+from pathplan_env.geometry.contacts import swept_pair
+from pathplan_env.geometry.walls import swept_capsule
+from pathplan_env.robots.holonomic import reach_fraction, substep_point
 
 TWO_PI = 2.0 * math.pi
 #: Added to a timed plan's cost per obstacle it is predicted to touch within the horizon (m): more

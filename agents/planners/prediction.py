@@ -18,7 +18,7 @@ import math
 import numba
 import numpy as np
 
-from pathplan_env.world import substeps_for as world_substeps
+from pathplan_env.world.substep_count import substeps_for as world_substeps
 
 
 def substeps_for(velocities: np.ndarray, radii: np.ndarray, dt: float) -> int:

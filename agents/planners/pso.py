@@ -18,9 +18,9 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from .constraints import ConstraintRule, adapt, better, stalled
-from .fast_random import new_state, uniform
-from .objective import OptimizerResult, objective
+from agents.planners.constraints import ConstraintRule, adapt, better, stalled
+from agents.planners.fast_random import new_state, uniform
+from agents.planners.objective import OptimizerResult, objective
 
 
 class PSOSettings(NamedTuple):

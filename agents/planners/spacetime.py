@@ -11,7 +11,7 @@ its first step:
 * ``pso-spacetime`` / ``abc-spacetime`` (:mod:`agents.planners.spacetime_metaheuristic`): the paper's
   adaptive constraint PSO and modified ABC on the same predictions.
 
-They see only the observation and :class:`~pathplan_env.wrappers.EnvFacts`. Contacts are
+They see only the observation and :class:`~pathplan_env.facts.EnvFacts`. Contacts are
 predicted against obstacles inflated by ``margin`` (relative, on the contact distance), which
 absorbs the prediction's drift at bounces.
 """
@@ -23,15 +23,14 @@ from types import MappingProxyType
 
 import numpy as np
 
-from pathplan_env.geometry import segment_segment_distance
-from pathplan_env.wrappers import EnvFacts
-
-from ..base import Agent, covering_rows, real_obstacles, real_static_segments
-from .costtogo import CostToGo, observed_cost_to_go
-from .prediction import predict_among, substeps_for
-from .spacetime_anytime import PARTIAL_RULES, partial_plan
-from .spacetime_search import BUDGET, EXHAUSTED, SearchSettings, SpacetimeProblem, heading_moves, replay, search
-from .steering import STEERING_RULES, SteeringCheck
+from agents.base import Agent, covering_rows, real_obstacles, real_static_segments
+from agents.planners.costtogo import CostToGo, observed_cost_to_go
+from agents.planners.prediction import predict_among, substeps_for
+from agents.planners.spacetime_anytime import PARTIAL_RULES, partial_plan
+from agents.planners.spacetime_search import BUDGET, EXHAUSTED, SearchSettings, SpacetimeProblem, heading_moves, replay, search
+from agents.planners.steering import STEERING_RULES, SteeringCheck
+from pathplan_env.facts import EnvFacts
+from pathplan_env.geometry.contacts import segment_segment_distance
 
 #: How the planners predict the obstacles: the env's bounce physics, or a cone of three such
 #: futures per obstacle (its heading, and turned ``cone_degrees`` either way), for obstacles that

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .spacetime_search import SearchTree
+from agents.planners.spacetime_search import SearchTree
 
 #: The rules :func:`partial_plan` knows.
 PARTIAL_RULES = ("deepest", "progress")

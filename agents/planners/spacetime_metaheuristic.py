@@ -14,13 +14,13 @@ from types import MappingProxyType
 
 import numpy as np
 
-from ..base import real_obstacles
-from .costtogo import around_obstacles, route, route_bends, waypoints_on
-from .metaheuristic import MetaheuristicAgent
-from .objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, TimedScene, walk_along
-from .spacetime import SpacetimeModel
-from .spacetime_seed import SearchSeed, search_seeds
-from .steering import STEERING_RULES, SteeringCheck
+from agents.base import real_obstacles
+from agents.planners.costtogo import around_obstacles, route, route_bends, waypoints_on
+from agents.planners.metaheuristic import MetaheuristicAgent
+from agents.planners.objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, TimedScene, walk_along
+from agents.planners.spacetime import SpacetimeModel
+from agents.planners.spacetime_seed import SearchSeed, search_seeds
+from agents.planners.steering import STEERING_RULES, SteeringCheck
 
 #: What ``pso-spacetime`` / ``abc-spacetime`` plan with once the obstacles are seen to steer
 #: (``steering="adapt"``, :mod:`agents.planners.steering`), and what ``pso-crowd`` / ``abc-crowd`` plan

@@ -2,7 +2,7 @@
 
 Shared by the privileged clairvoyant oracle (the env's own future obstacle states) and by the
 model-based ``astar-spacetime`` planner (obstacles predicted from the observation). Every move is a
-waypoint action made exactly as the env makes it (``pathplan_env.kinematics``: float32 action,
+waypoint action made exactly as the env makes it (``pathplan_env.robots.holonomic``: float32 action,
 clipping, the one-step reach) and checked with the env's swept contact test at every substep, so a
 plan found against the env's own trajectory replays bit for bit.
 
@@ -30,13 +30,12 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
+from agents.planners.costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal
+from agents.planners.reachable_set import provably_lost
 from pathplan_env.arena import ArenaBox
-from pathplan_env.geometry import swept_pair
-from pathplan_env.kinematics import reach_fraction, robot_move, substep_point
-from pathplan_env.statics import swept_capsule
-
-from .costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal
-from .reachable_set import provably_lost
+from pathplan_env.geometry.contacts import swept_pair
+from pathplan_env.geometry.walls import swept_capsule
+from pathplan_env.robots.holonomic import reach_fraction, robot_move, substep_point
 
 __all__ = ["BUDGET", "EXHAUSTED", "FOUND", "HORIZON", "SearchResult", "SearchSettings", "SearchTree", "SpacetimeProblem",
            "heading_moves", "provably_lost", "replay", "search", "step_paths"]  # provably_lost lives in reachable_set
@@ -179,7 +178,7 @@ def _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, gx, gy
     instant, let alone at the same one. For the pairs left (written to ``close``) the test is the
     env's ``swept_contact``, substep by substep. The static capsules ``near_s[:n_near_s]`` (rows of
     ``statics``) are tested as the env tests them: one exact swept test of the whole move
-    (``pathplan_env.statics.static_stop``)."""
+    (``pathplan_env.geometry.walls.static_stop``)."""
     slack = 1e-9 * (1.0 + abs(x) + abs(y) + abs(dx) + abs(dy))  # far above rounding, far below a miss
     pairs = 0
     for q in range(n_near):

@@ -15,8 +15,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .objective import TimedScene
-from .spacetime_search import SearchSettings, SpacetimeProblem, heading_moves, search
+from agents.planners.objective import TimedScene
+from agents.planners.spacetime_search import SearchSettings, SpacetimeProblem, heading_moves, search
 
 
 class SearchSeed(NamedTuple):

@@ -7,7 +7,7 @@ unicycle's own moves (:mod:`agents.planners.unicycle_search`: (step, x, y, headi
 dynamic window's primitives, exact arcs and the env's arc contact tests) from the observed pose and
 velocities, and sends the plan's first action. The previous plan is flown on without a search while
 the new prediction still finds it free (the primitives being exact, the robot is where it planned
-to be). It reads only the observation and public facts (``pathplan_env.unicycle.limits_of``).
+to be). It reads only the observation and public facts (``pathplan_env.robots.unicycle.limits_of``).
 """
 
 from __future__ import annotations
@@ -16,11 +16,11 @@ import time
 
 import numpy as np
 
-from pathplan_env.unicycle import arena_edges, limits_of
-from pathplan_env.wrappers import EnvFacts
-
-from .spacetime import SpacetimeModel
-from .unicycle_search import BUDGET, UnicycleModel, UnicycleProblem, replay, search, settings
+from agents.planners.spacetime import SpacetimeModel
+from agents.planners.spacetime_search import BUDGET
+from agents.planners.unicycle_search import UnicycleModel, UnicycleProblem, replay, search, settings
+from pathplan_env.facts import EnvFacts
+from pathplan_env.robots.unicycle import arena_edges, limits_of
 
 
 def unicycle_model(env) -> UnicycleModel:

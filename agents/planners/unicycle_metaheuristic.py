@@ -12,7 +12,7 @@ Warm start: the population holds the previous step's best shifted by one control
 the plan; with ``hold = 1`` exactly the plan one step on), the previous best as it was (its first
 control still held), a pursuit of the goal (or of the cost-to-go's route around walls), braking,
 and constant turns at full and zero target speed; the rest is uniform in ``[-1, 1]^2K``. It reads
-only the observation and public facts (the robot's limits, ``pathplan_env.unicycle.limits_of``).
+only the observation and public facts (the robot's limits, ``pathplan_env.robots.unicycle.limits_of``).
 """
 
 from __future__ import annotations
@@ -21,13 +21,12 @@ import math
 
 import numpy as np
 
-from pathplan_env.unicycle import arena_edges, command, limits_of, next_velocity, pose
-
-from ..base import point_along
-from .costtogo import route
-from .metaheuristic import MetaheuristicAgent
-from .spacetime import SpacetimeModel
-from .unicycle_rollout import UnicycleScene, broad_phase, rollout, unicycle_params
+from agents.base import point_along
+from agents.planners.costtogo import route
+from agents.planners.metaheuristic import MetaheuristicAgent
+from agents.planners.spacetime import SpacetimeModel
+from agents.planners.unicycle_rollout import UnicycleScene, broad_phase, rollout, unicycle_params
+from pathplan_env.robots.unicycle import arena_edges, command, limits_of, next_velocity, pose
 
 #: Constant controls ``(a_v, a_ω)`` among the warm-start rows: turns at full and at the lowest target speed.
 #: Placeholders for the broad phase's fields until :func:`~.unicycle_rollout.broad_phase` fills them.

@@ -2,7 +2,7 @@
 
 A candidate is ``K`` normalised targets ``(a_v, a_ω)`` (the env's own action, ``[-1, 1]^2`` each), each
 held for ``hold`` steps: a plan of ``H = K * hold`` steps, flattened to ``2K`` numbers. The rollout is
-the env's step operation for operation (``pathplan_env.unicycle_step.step_velocity``: the target
+the env's step operation for operation (``pathplan_env.robots.unicycle_step.step_velocity``: the target
 reached within the acceleration limits at each step's start, then one exact arc; the heading
 wrapped as the env wraps it), so the plan goes where the env would drive it (tested).
 
@@ -28,13 +28,12 @@ import numba
 import numpy as np
 from numba.extending import overload
 
-from pathplan_env.arc_contact import Arc, arc_capsule, arc_disc_between, arc_goal, arc_point
-from pathplan_env.geometry import NO_CONTACT
-from pathplan_env.statics import point_segment
-from pathplan_env.unicycle_step import DV, MAX_SPEED, MAX_TURN_RATE, MIN_SPEED, PARAMS_SIZE, pose, step_velocity
-
-from .costtogo import CostToGo, distance_to_goal
-from .objective import INFEASIBLE, TWO_PI, objective
+from agents.planners.costtogo import CostToGo, distance_to_goal
+from agents.planners.objective import INFEASIBLE, TWO_PI, objective
+from pathplan_env.geometry.contacts import NO_CONTACT
+from pathplan_env.geometry.walls import point_segment
+from pathplan_env.robots.arc_contact import Arc, arc_capsule, arc_disc_between, arc_goal, arc_point
+from pathplan_env.robots.unicycle_step import DV, MAX_SPEED, MAX_TURN_RATE, MIN_SPEED, PARAMS_SIZE, pose, step_velocity
 
 #: Metres added to a reach disc's radius (far above rounding, far below any clearance): an obstacle it
 #: skips is one its own distance test would skip too, so skipping by disc changes no cost (bit for bit).
@@ -55,7 +54,7 @@ class UnicycleScene(NamedTuple):
     start: np.ndarray  # (5,) x, y (m), heading (rad), speed (m/s), turn rate (rad/s): the columns above
     goal: np.ndarray  # (2,) m
     goal_radius: float  # m
-    params: np.ndarray  # (PARAMS_SIZE,) the limits in ``pathplan_env.unicycle_step``'s columns
+    params: np.ndarray  # (PARAMS_SIZE,) the limits in ``pathplan_env.robots.unicycle_step``'s columns
     dt: float  # s
     hold: int  # steps each control is held
     horizon_steps: int  # H = K * hold
@@ -109,7 +108,7 @@ def broad_phase(scene):
 
 
 def unicycle_params(limits, dt: float) -> np.ndarray:
-    """A ``pathplan_env.unicycle.UnicycleLimits`` as the kernels' ``params`` array (the env's own)."""
+    """A ``pathplan_env.robots.unicycle.UnicycleLimits`` as the kernels' ``params`` array (the env's own)."""
     params = np.zeros(PARAMS_SIZE)
     params[:5] = limits.min_speed, limits.max_speed, limits.max_turn_rate, limits.max_acceleration * dt, limits.max_angular_acceleration * dt
     return params

@@ -4,7 +4,7 @@ The unicycle's native counterpart of :mod:`agents.planners.spacetime_search`, sh
 the privileged clairvoyant oracle (the env's own future) and the ``astar-unicycle`` planner
 (obstacles predicted from the observation).
 
-**The state carries the velocities.** The env (``pathplan_env.unicycle``) moves ``(v, ω)`` toward the
+**The state carries the velocities.** The env (``pathplan_env.robots.unicycle``) moves ``(v, ω)`` toward the
 action's target by at most ``a dt`` and ``α dt`` at the start of a step, then flies one exact arc; so
 what the robot can do next depends on ``(v, ω)`` as much as on the pose, and a search node holds all
 five. **Motion primitives are the dynamic window**: from ``(v, ω)`` a move's target is ``v + f dv``
@@ -33,18 +33,17 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from pathplan_env.arc_contact import Arc, arc_capsule, arc_disc, arc_goal, arc_point
-from pathplan_env.geometry import NO_CONTACT
-
-from .costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal
-from .spacetime_search import BUDGET, EXHAUSTED, FOUND, HORIZON, _near_statics, _segment_distance, step_paths
+from agents.planners.costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal
+from agents.planners.spacetime_search import BUDGET, EXHAUSTED, FOUND, HORIZON, _near_statics, _segment_distance, step_paths
+from pathplan_env.geometry.contacts import NO_CONTACT
+from pathplan_env.robots.arc_contact import Arc, arc_capsule, arc_disc, arc_goal, arc_point
 
 #: Columns of a pose row (``UnicycleResult.poses``, ``UnicycleProblem.start``).
 X, Y, HEADING, SPEED, TURN_RATE = range(5)
 
 
 class UnicycleModel(NamedTuple):
-    """The robot's limits as the env applies them (``pathplan_env.unicycle.UnicycleLimits`` and ``dt``)."""
+    """The robot's limits as the env applies them (``pathplan_env.robots.unicycle.UnicycleLimits`` and ``dt``)."""
 
     min_speed: float  # m/s: the lowest target
     max_speed: float  # m/s

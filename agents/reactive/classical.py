@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..base import Agent, real_obstacles
-from .walls import aim, goal_horizons, wall_contact_times
+from agents.base import Agent, real_obstacles
+from agents.reactive.walls import aim, goal_horizons, wall_contact_times
 
 #: Where the velocity obstacle's preferred velocity heads among walls: the way's point in sight, or its first corner.
 AIMS = ("visible", "corner")

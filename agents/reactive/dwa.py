@@ -11,7 +11,7 @@ and touches nothing within the step. Among them it maximises Fox's objective
 normalised to [0, 1] over the window: ``heading`` = 1 - |bearing of the goal| / π from the pose
 after the step, ``clearance`` = time to the first predicted contact (capped at the horizon),
 ``velocity`` = v / max speed. With no admissible pair it takes the one whose contact comes latest.
-It reads only the observation and public facts (``pathplan_env.unicycle.limits_of``).
+It reads only the observation and public facts (``pathplan_env.robots.unicycle.limits_of``).
 """
 
 from __future__ import annotations
@@ -20,10 +20,9 @@ import time
 
 import numpy as np
 
-from pathplan_env.unicycle import limits_of, to_action
-from pathplan_env.wrappers import EnvFacts
-
-from ..base import real_obstacles
+from agents.base import real_obstacles
+from pathplan_env.facts import EnvFacts
+from pathplan_env.robots.unicycle import limits_of, to_action
 
 
 def arc_positions(x, y, heading, v, w, t):
@@ -76,7 +75,7 @@ class DWAAgent:
         targets_w = np.linspace(max(-lim.max_turn_rate, w0 - lim.max_angular_acceleration * f.dt),
                                 min(lim.max_turn_rate, w0 + lim.max_angular_acceleration * f.dt), self.n_turns)  # fmt: skip
         tv, tw = (a.ravel() for a in np.meshgrid(targets_v, targets_w, indexing="ij"))
-        dv, dw = lim.max_acceleration * f.dt, lim.max_angular_acceleration * f.dt  # pathplan_env.unicycle.next_velocity, on arrays
+        dv, dw = lim.max_acceleration * f.dt, lim.max_angular_acceleration * f.dt  # pathplan_env.robots.unicycle.next_velocity, on arrays
         v, w = v0 + np.clip(tv - v0, -dv, dv), w0 + np.clip(tw - w0, -dw, dw)
         path = arc_positions(p[0], p[1], heading, v, w, self.times)  # (C, T, 2)
         t_contact = self.contact_times(path, observation)

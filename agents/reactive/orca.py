@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from pathplan_env.behaviours import ORCA, SLOW_DOWN_TIME
-from pathplan_env.orca import ORCAAgentState, orca_velocity, orca_velocity_among, preferred_velocity
-
-from ..base import Agent, real_obstacles
-from .walls import aim, orca_obstacles_of, wall_contact_times
+from agents.base import Agent, real_obstacles
+from agents.reactive.walls import aim, orca_obstacles_of, wall_contact_times
+from pathplan_env.crowds.behaviours import ORCA, SLOW_DOWN_TIME
+from pathplan_env.crowds.orca import ORCAAgentState, orca_velocity, orca_velocity_among, preferred_velocity
 
 
 class ORCAAgent(Agent):

@@ -7,7 +7,7 @@ ahead: curvature ``κ = 2 sin(α) / d`` for a target at distance ``d`` and beari
 heading, at the planner's own next-step speed slowed by ``cos α``, to ``max_turn_rate / |κ|`` on a
 curve, and to what still lets it brake to the plan's later speeds (``min_k v_k + a k dt``); a target
 behind (``|α| > π/2``) turns the robot on the spot. It reads only the observation and public facts (the robot's limits,
-``pathplan_env.unicycle.limits_of``).
+``pathplan_env.robots.unicycle.limits_of``).
 """
 
 from __future__ import annotations
@@ -16,9 +16,8 @@ import math
 
 import numpy as np
 
-from pathplan_env.unicycle import limits_of, to_action
-
-from ..base import make
+from agents.base import make
+from pathplan_env.robots.unicycle import limits_of, to_action
 
 
 class TrackedAgent:

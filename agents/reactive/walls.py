@@ -3,7 +3,7 @@ around the walls to aim at instead of the goal itself.
 
 A wall does not move, so its velocity obstacle within a time horizon ``T`` is exact and cheap: a
 velocity ``v`` is in it when the robot's disc, moving straight from where it is to ``robot + v T``,
-touches the capsule inflated by a margin (``pathplan_env.statics.swept_capsules``, the env's own
+touches the capsule inflated by a margin (``pathplan_env.geometry.walls.swept_capsules``, the env's own
 test). The preferred velocity points at a waypoint on the way the static cost-to-go points out
 (:func:`agents.planners.costtogo.descent`), picked as RVO2's roadmap example picks its next vertex:
 of the way's points the robot sees with clearance, the one that leaves the least distance to go
@@ -18,13 +18,12 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from pathplan_env.kinematics import reach_fraction
-from pathplan_env.orca import ORCAObstacles
-from pathplan_env.routing import orca_obstacles
-from pathplan_env.statics import swept_capsules
-
-from ..base import real_obstacles
-from ..planners.costtogo import descent, grid_slack, observed_cost_to_go, route
+from agents.base import real_obstacles
+from agents.planners.costtogo import descent, grid_slack, observed_cost_to_go, route
+from pathplan_env.crowds.orca_obstacles import ORCAObstacles
+from pathplan_env.crowds.routing import orca_obstacles
+from pathplan_env.geometry.walls import swept_capsules
+from pathplan_env.robots.holonomic import reach_fraction
 
 
 def wall_contact_times(robot: np.ndarray, velocities: np.ndarray, segments: np.ndarray, robot_radius: float, margin: float,
@@ -47,7 +46,7 @@ def wall_contact_times(robot: np.ndarray, velocities: np.ndarray, segments: np.n
 def goal_horizons(robot: np.ndarray, velocities: np.ndarray, goal: np.ndarray, goal_radius: float, horizon: float) -> np.ndarray:
     """Each candidate velocity's (C, 2) horizon for the walls: ``horizon`` s, or the time at which,
     held, it brings the robot's centre within ``goal_radius`` of the goal if sooner. The episode ends
-    there (the env stops the step where the goal is reached, ``pathplan_env.kinematics.reach_fraction``,
+    there (the env stops the step where the goal is reached, ``pathplan_env.robots.holonomic.reach_fraction``,
     the env's own test): a wall beyond it is never touched."""
     x, y, gx, gy = float(robot[0]), float(robot[1]), float(goal[0]), float(goal[1])
     horizons = np.full(len(velocities), float(horizon))
@@ -99,7 +98,7 @@ def visible_waypoint(ctg, robot: np.ndarray, goal: np.ndarray, capsules: np.ndar
     of ``radius`` reaches from ``robot`` in a straight line clear of every capsule of ``capsules``;
     ``None`` when it reaches none. Of the way's points in sight this is the one that leaves the least
     distance to go (straight there, then along the way), the rule by which RVO2's roadmap example
-    picks the vertex to head for (and the ORCA humans theirs, ``pathplan_env.routing.route_targets``).
+    picks the vertex to head for (and the ORCA humans theirs, ``pathplan_env.crowds.routing.route_targets``).
     The points are tested from the goal back until one is clear (the way may pass out of sight and
     back into it): at most one straight sweep per cell of the way, a step. ``reach``: where the way
     starts when the robot's own cell is blocked (:func:`agents.planners.costtogo.descent`)."""
@@ -139,7 +138,7 @@ def geometry_of(segments: np.ndarray) -> SimpleNamespace:
 
 def orca_obstacles_of(segments: np.ndarray, memory: dict) -> ORCAObstacles:
     """The scene's walls and polygons as RVO2 obstacles, built as the ORCA humans' are
-    (``pathplan_env.routing.orca_obstacles``: the union of the polygons and the walls' outlines),
+    (``pathplan_env.crowds.routing.orca_obstacles``: the union of the polygons and the walls' outlines),
     from the observed capsule rows; once per episode (kept in ``memory``)."""
     key = np.ascontiguousarray(segments).tobytes()
     if memory.get("orca_obstacles_key") != key:

@@ -4,8 +4,9 @@
 beside it; :class:`NumpyPolicy` computes the same actions as ``model.predict`` (the mean when
 deterministic, within 1e-5 of SB3's: tested), so the main evaluation runs on a core install.
 Written by hand because the forward pass is three matrix products and torch is a multi-GB
-dependency for them. A policy with the lidar's convolution encoder (``agents.rl.lidar_encoder``)
-exports it too and runs it first (``agents.rl.numpy_conv``).
+dependency for them. A family with an encoder in front of the MLP subclasses it
+(``agents.rl.lidar.numpy_encoder.NumpyLidarPolicy``, ``agents.rl.obstacle_set.numpy_net.NumpySetPolicy``);
+``agents.rl.export.export_any_policy`` picks the exporter by the model's features extractor.
 """
 
 from __future__ import annotations
@@ -14,9 +15,13 @@ from pathlib import Path
 
 import numpy as np
 
-from .numpy_conv import PREFIX, NumpyConvEncoder, export_encoder
+from pathplan_env import _moved
+
+__getattr__ = _moved.names_of(__name__)  # the names of 0.1.0 that live elsewhere now
 
 _ACTIVATIONS = {"Tanh": np.tanh, "ReLU": lambda x: np.maximum(x, 0.0)}
+#: A key an encoder family writes -> the class that runs it (named, not imported: no family below here)
+_ENCODER_KEYS = {"encoder_layers": "agents.rl.lidar.numpy_encoder.NumpyLidarPolicy", "set_n_tokens": "agents.rl.obstacle_set.numpy_net.NumpySetPolicy"}
 
 
 class NumpyPolicy:
@@ -31,7 +36,10 @@ class NumpyPolicy:
             self.low, self.high = data["action_low"], data["action_high"]
             self.activation = _ACTIVATIONS[str(data["activation"])]
             self.observation_size = int(data["observation_size"])
-            self.encoder = NumpyConvEncoder(data) if PREFIX + "layers" in data else None
+            family = next((cls for key, cls in _ENCODER_KEYS.items() if key in data), None)
+        if family is not None and f"{type(self).__module__}.{type(self).__qualname__}" != family:
+            raise ValueError(f"path: {path} holds an encoder in front of the MLP: load it with {family}")
+        self.encoder = None  # a family's subclass sets its own
 
     def mean(self, features: np.ndarray) -> np.ndarray:
         x = np.asarray(features, dtype=np.float32)
@@ -52,24 +60,18 @@ class NumpyPolicy:
 
 
 def export_policy(model, path: str | Path) -> Path:
-    """Write ``model``'s (an SB3 PPO with an ``MlpPolicy``, its features flat or through the lidar's
-    convolution encoder) actor to ``path`` (``.npz``)."""
+    """Write ``model``'s (an SB3 PPO with an ``MlpPolicy`` on flat features) actor to ``path`` (``.npz``).
+    A model with an encoder exports with its family's exporter (``agents.rl.export.export_any_policy``)."""
     from stable_baselines3.common.torch_layers import FlattenExtractor
 
-    policy = model.policy
-    encoder = {}
-    if not isinstance(policy.features_extractor, FlattenExtractor):
-        from .lidar_encoder import LidarConvExtractor
-
-        if not isinstance(policy.features_extractor, LidarConvExtractor) or not policy.share_features_extractor:
-            raise ValueError(f"model: only a flat input or a shared LidarConvExtractor exports, got {type(policy.features_extractor).__name__}")
-        encoder = export_encoder(policy.features_extractor)
-    return write_actor(model, path, encoder)
+    if not isinstance(model.policy.features_extractor, FlattenExtractor):
+        raise ValueError(f"model: {type(model.policy.features_extractor).__name__} is not flat: export it with agents.rl.export.export_any_policy")
+    return write_actor(model, path, {})
 
 
 def write_actor(model, path: str | Path, encoder: dict) -> Path:
     """Write ``model``'s MLP actor head and the ``encoder``'s exported arrays to ``path`` (``.npz``):
-    every exporter's last step (:func:`export_policy`, ``agents.rl.set_numpy.export_set_policy``)."""
+    every exporter's last step (:func:`export_policy`, ``agents.rl.obstacle_set.numpy_net.export_set_policy``)."""
     import torch
 
     policy = model.policy

@@ -15,10 +15,9 @@ import time
 from functools import lru_cache
 from pathlib import Path
 
+from agents.base import Agent
+from agents.rl.numpy_policy import NumpyPolicy
 from pathplan_env.wrappers import egocentric_features, feature_size, relative_action_to_waypoint
-
-from ..base import Agent
-from .numpy_policy import NumpyPolicy
 
 MODELS_DIR = Path(__file__).parent.parent / "models"
 

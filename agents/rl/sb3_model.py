@@ -46,17 +46,9 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from pathplan_env.wrappers import (
-    FEATURE_LIMIT,
-    PER_OBSTACLE,
-    ROBOT_FEATURES,
-    egocentric_features,
-    feature_size,
-    relative_action_to_waypoint,
-)
-
-from ..base import Agent
-from .policy import RLAgent
+from agents.base import Agent
+from agents.rl.policy import RLAgent
+from pathplan_env.wrappers import FEATURE_LIMIT, PER_OBSTACLE, ROBOT_FEATURES, egocentric_features, feature_size, relative_action_to_waypoint
 
 #: rl-zoo3's algorithm names -> (module, class). sb3-contrib's need ``pip install sb3-contrib``.
 ALGORITHMS = {

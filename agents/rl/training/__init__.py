@@ -14,10 +14,10 @@ are imported when a run starts.
     meta = train(Args(total_timesteps=100_000, eval_freq=50_000, out="runs/quick"))
 """
 
-from .config import Args, field_docs
-from .demonstrations import Demonstrations, collect_demonstrations, discounted_returns
-from .outputs import learning_curve, run_metadata, ship, write_sidecars
-from .run import build_model, demonstration_env, make_env, train
+from agents.rl.training.config import Args, field_docs
+from agents.rl.training.demonstrations import Demonstrations, collect_demonstrations, discounted_returns
+from agents.rl.training.outputs import learning_curve, run_metadata, ship, write_sidecars
+from agents.rl.training.run import build_model, demonstration_env, make_env, train
 
 __all__ = [
     "Args", "Demonstrations", "build_model", "collect_demonstrations", "demonstration_env", "discounted_returns", "field_docs",

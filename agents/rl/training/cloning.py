@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import torch
 
-from .demonstrations import Demonstrations
+from agents.rl.training.demonstrations import Demonstrations
 
 
 def behaviour_cloning(

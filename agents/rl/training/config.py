@@ -13,13 +13,12 @@ import json
 import shlex
 from dataclasses import dataclass
 
-from pathplan_env.presets import PRESETS
-from pathplan_env.sensor_params import SensorParams
-from pathplan_env.splits import training_seed_base
+from agents.rl.lidar.features import check_lidar_settings
+from agents.rl.obstacle_set.features import check_n_tokens, check_pooling, parse_hidden
+from pathplan_env.scenarios.presets import PRESETS
+from pathplan_env.scenarios.splits import training_seed_base
+from pathplan_env.sensors.range_sensor import SensorParams
 from pathplan_env.zoo import PPO_SETTINGS
-
-from ..lidar_features import check_lidar_settings
-from ..set_features import check_n_tokens, check_pooling, parse_hidden
 
 #: How a run is started from a shell (``Args.command_line``).
 SCRIPT = "scripts/train_rl.py"
@@ -34,7 +33,7 @@ class Args:
     total_timesteps: int = PPO_SETTINGS.n_timesteps
     """PPO (or SAC) env steps after the warm start"""
     seed: int = 0
-    """run seed: torch, and the training episode seeds (pathplan_env.splits.training_seed_base)"""
+    """run seed: torch, and the training episode seeds (pathplan_env.scenarios.splits.training_seed_base)"""
     n_envs: int = PPO_SETTINGS.n_envs
     """parallel training envs"""
     vec_env: str = "dummy"
@@ -57,7 +56,7 @@ class Args:
     """what the policy sees: 'state' (the k nearest obstacles, an MLP), 'lidar' (a scan, a 1-D convolution encoder; ppo only)
     or 'set' (every obstacle as a token, an attention set encoder; ppo only)"""
     observation_params: str = ""
-    """JSON of the 'lidar' observation's parameters (pathplan_env.sensor_params: lidar_beams, lidar_range, ...); '' = the defaults"""
+    """JSON of the 'lidar' observation's parameters (pathplan_env.sensors.range_sensor: lidar_beams, lidar_range, ...); '' = the defaults"""
     lidar_bins: int = 90
     """the scan is min-pooled into this many bins (must divide lidar_beams)"""
     lidar_frames: int = 2

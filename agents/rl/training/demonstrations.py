@@ -21,9 +21,9 @@ import gymnasium as gym
 import numpy as np
 from tqdm import tqdm
 
-from pathplan_env.wrappers import EnvFacts, egocentric_features, waypoint_to_relative_action
-
-from ...base import make
+from agents.base import make
+from pathplan_env.facts import EnvFacts
+from pathplan_env.wrappers import egocentric_features, waypoint_to_relative_action
 
 
 @dataclass(frozen=True)
@@ -76,10 +76,10 @@ def collect_demonstrations(
     :param seed: the teacher's seed.
     :param learner_env: the twin env with the learner's observation (the same episode schedule as
         ``env``), stepped in lockstep; ``learner_features(obs, episode_start)`` (a stateful
-        ``agents.rl.lidar_features.LidarFeatureStack``, say) turns its observations into the
+        ``agents.rl.lidar.features.LidarFeatureStack``, say) turns its observations into the
         recorded features. ``None``: the features are ``egocentric_features`` of ``env``'s.
     :param features_of: ``features_of(obs, facts)`` records other features of ``env``'s own observations
-        (``agents.rl.set_features.set_features``, say) instead of ``egocentric_features``.
+        (``agents.rl.obstacle_set.features.set_features``, say) instead of ``egocentric_features``.
     """
     if (learner_env is None) != (learner_features is None):
         raise ValueError("learner_env and learner_features go together")

@@ -10,9 +10,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ...provenance import versions
-from ..policy import MODELS_DIR
-from .config import Args
+from agents.provenance import versions
+from agents.rl.policy import MODELS_DIR
+from agents.rl.training.config import Args
 
 #: Where a shipped learning curve goes (``docs/results/<algo>_learning_curve.png`` of the checkout).
 RESULTS_DIR = MODELS_DIR.parents[1] / "docs" / "results"
@@ -101,7 +101,7 @@ def ship(out: Path, algo: str, which: str, models_dir: Path = MODELS_DIR, result
     if algo == "ppo":
         from stable_baselines3 import PPO
 
-        from ..set_numpy import export_any_policy  # the set encoder's own export, numpy_policy's for the others
+        from agents.rl.export import export_any_policy  # each family's exporter
 
         export_any_policy(PPO.load(shipped, device="cpu"), shipped.with_suffix(".npz"))
     shutil.copyfile(out / "learning_curve.png", results_dir / f"{name}_learning_curve.png")

@@ -3,15 +3,15 @@
 The policy sees ``pathplan_env.wrappers.make_learning_env``'s egocentric features and acts in its
 relative-waypoint action space, the same transforms ``agents.make("ppo", env)`` applies at test time.
 Training episodes come from ``EpisodeSchedule`` streams of training seeds (disjoint from the
-validation and test splits of ``pathplan_env.splits``); the teacher's demonstrations take the second
+validation and test splits of ``pathplan_env.scenarios.splits``); the teacher's demonstrations take the second
 half of the run's seed block, the training envs the first.
 
-With ``observation='set'`` the policy sees ``agents.rl.set_features``' obstacle tokens through
-``agents.rl.set_encoder``'s attention pooling (the env's ``"state"`` observation; the teacher's
+With ``observation='set'`` the policy sees ``agents.rl.obstacle_set.features``' obstacle tokens through
+``agents.rl.obstacle_set.encoder``'s attention pooling (the env's ``"state"`` observation; the teacher's
 demonstrations are recorded as set features).
 
-With ``observation='lidar'`` the policy sees ``agents.rl.lidar_features``' goal-frame scan through
-``agents.rl.lidar_encoder``'s convolutions; the teacher still plays on ``"state"`` (a privileged
+With ``observation='lidar'`` the policy sees ``agents.rl.lidar.features``' goal-frame scan through
+``agents.rl.lidar.encoder``'s convolutions; the teacher still plays on ``"state"`` (a privileged
 teacher: ``demonstrations``), and ``scenarios`` may mix the random preset with wall families.
 """
 
@@ -26,15 +26,15 @@ from pathlib import Path
 import gymnasium as gym
 
 import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
-from pathplan_env.splits import TRAINING_SEEDS_PER_RUN, VALIDATION_SEED_BASE, training_seed_base
-from pathplan_env.wrappers import EnvFacts, EpisodeSchedule, make_learning_env
+from agents.rl.lidar.features import LidarFeatureStack, LidarLearningEnv
+from agents.rl.obstacle_set.features import SetLearningEnv, set_features
+from agents.rl.training.config import Args
+from agents.rl.training.demonstrations import collect_demonstrations, concatenate
+from agents.rl.training.outputs import learning_curve, run_metadata, ship, shipped_name, write_sidecars
+from pathplan_env.facts import EnvFacts
+from pathplan_env.scenarios.splits import TRAINING_SEEDS_PER_RUN, VALIDATION_SEED_BASE, training_seed_base
+from pathplan_env.wrappers import EpisodeSchedule, make_learning_env
 from pathplan_env.zoo import PPO_SETTINGS
-
-from ..lidar_features import LidarFeatureStack, LidarLearningEnv
-from ..set_features import SetLearningEnv, set_features
-from .config import Args
-from .demonstrations import collect_demonstrations, concatenate
-from .outputs import learning_curve, run_metadata, ship, shipped_name, write_sidecars
 
 
 def _training_env(args: Args, scenario: str = "random", observation: str | None = None) -> gym.Env:
@@ -120,12 +120,12 @@ def build_model(args: Args, env, log_dir: Path):
         settings = PPO_SETTINGS
         policy_kwargs = dict(net_arch=net_arch, activation_fn=getattr(torch.nn, settings.activation), log_std_init=args.log_std_init)
         if args.observation == "lidar":
-            from ..lidar_encoder import LidarConvExtractor
+            from agents.rl.lidar.encoder import LidarConvExtractor
 
             policy_kwargs |= dict(features_extractor_class=LidarConvExtractor,
                                   features_extractor_kwargs=dict(bins=args.lidar_bins, frames=args.lidar_frames, channels=args.conv_channels))  # fmt: skip
         if args.observation == "set":
-            from ..set_encoder import SetAttentionExtractor
+            from agents.rl.obstacle_set.encoder import SetAttentionExtractor
 
             policy_kwargs |= dict(features_extractor_class=SetAttentionExtractor,
                                   features_extractor_kwargs=dict(hidden=args.set_hidden, pooling=args.set_pooling))  # fmt: skip
@@ -153,8 +153,8 @@ def train(args: Args, command: str | None = None) -> dict:
     from stable_baselines3.common.callbacks import CallbackList, CheckpointCallback
     from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
 
-    from .callbacks import DeltaDCurriculum, SameEpisodesEval, WallClockBudget, validation_success
-    from .cloning import behaviour_cloning
+    from agents.rl.training.callbacks import DeltaDCurriculum, SameEpisodesEval, WallClockBudget, validation_success
+    from agents.rl.training.cloning import behaviour_cloning
 
     torch.set_num_threads(args.torch_threads)
     out = Path(args.out)

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 import pyrvo
 
-from pathplan_env.crowdnav import DT, TIME_LIMIT, crowdnav_test_case
+from pathplan_env.scenarios.crowdnav import DT, TIME_LIMIT, crowdnav_test_case
 
 HERE = Path(__file__).resolve().parent
 PARAMS = (10.0, 10, 5.0, 5.0)  # neighbour distance, max neighbours, time horizon, obstacle time horizon
@@ -88,7 +88,7 @@ def our_episode(preset: str, case: int) -> dict:
     """Our ``orca`` on the same case, as the harness plays it, with the tracks."""
     from agents.evaluation.entrants import resolve_agents, resolve_scenarios
     from agents.evaluation.episodes import episode_policy, make_episode_env
-    from pathplan_env.splits import heldout_seeds
+    from pathplan_env.scenarios.splits import heldout_seeds
 
     seed = heldout_seeds(0, case + 1)[case]
     env = make_episode_env(resolve_scenarios([preset])[0], DELTA_D, None, None, "crowdnav", case)

@@ -34,8 +34,8 @@ from agents.base import real_obstacles
 from agents.planners.prediction import predict_among, substeps_for
 from agents.planners.spacetime import SpacetimeModel
 from agents.planners.spacetime_search import SpacetimeProblem, replay
-from pathplan_env.splits import episode_seeds
-from pathplan_env.world import World
+from pathplan_env.scenarios.splits import episode_seeds
+from pathplan_env.world.simulation import World
 
 HERE = Path(__file__).parent
 LIMIT_RECORDS = HERE / "runs" / "baseline" / "episodes.jsonl.gz"
@@ -84,12 +84,12 @@ class ReplicaModel(SpacetimeModel):
 
 
 def pymunk_replica(state: np.ndarray, radii: np.ndarray, bounds, dt: float, steps: int, n: int) -> np.ndarray:
-    """(steps * n + 1, N, 4) states of a pymunk space built as ``pathplan_env.world.World`` builds its own."""
+    """(steps * n + 1, N, 4) states of a pymunk space built as ``pathplan_env.world.simulation.World`` builds its own."""
     import math
 
     import pymunk
 
-    from pathplan_env.substep_kernels import restore_speeds
+    from pathplan_env.world.substep_kernels import restore_speeds
 
     space = pymunk.Space()
     space.collision_bias, space.collision_slop = 1.0, 1e-4 * float(radii.min())

@@ -19,7 +19,7 @@ import numpy as np
 
 import agents
 import pathplan_env  # noqa: F401  (registers the env)
-from pathplan_env.splits import episode_seeds
+from pathplan_env.scenarios.splits import episode_seeds
 
 # every row names its options in full (the defaults are the last row's)
 BASE = {"violation": "contacts", "constraint": "penalty", "stall": 0}

@@ -17,7 +17,8 @@ import sys
 from dataclasses import asdict, fields
 from pathlib import Path
 
-from agents.evaluation.harness import LIMIT_AGENT, _key
+from agents.evaluation.records import LIMIT_AGENT
+from agents.evaluation.harness import _key
 from agents.evaluation.records import EpisodeResult
 
 _BOOLS, _INTS = {"success", "collision", "timeout"}, {"episode", "seed", "steps", "discomfort_steps"}

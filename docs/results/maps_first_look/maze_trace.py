@@ -21,7 +21,7 @@ from agents.base import real_obstacles
 from agents.evaluation.entrants import resolve_agents, resolve_scenarios
 from agents.evaluation.episodes import episode_policy, make_episode_env
 from agents.planners.costtogo import distance_to_goal
-from pathplan_env.splits import episode_seeds
+from pathplan_env.scenarios.splits import episode_seeds
 
 
 def trace(agent: str, scenario: str, delta_d: float, episode: int, split: str, split_seed: int, every: int, last: int,

@@ -11,8 +11,8 @@ import gymnasium as gym
 import agents
 import agents.reactive.orca as orca_agent
 import pathplan_env  # noqa: F401  (registers the env)
-from pathplan_env.orca import NO_OBSTACLES
-from pathplan_env.statics import capsules_clearance
+from pathplan_env.crowds.orca_obstacles import NO_OBSTACLES
+from pathplan_env.geometry.walls import capsules_clearance
 
 with_lines = orca_agent.orca_obstacles_of
 n = int(sys.argv[1]) if len(sys.argv) > 1 else 20

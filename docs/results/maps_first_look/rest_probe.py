@@ -25,7 +25,7 @@ import agents
 import pathplan_env  # noqa: F401  (registers the env)
 from agents.planners.costtogo import route, waypoints_on
 from agents.planners.objective import timed_path_cost, walk_along
-from pathplan_env.splits import episode_seeds
+from pathplan_env.scenarios.splits import episode_seeds
 
 
 def rest_charge(x: np.ndarray, scene) -> float:

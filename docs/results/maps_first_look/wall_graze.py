@@ -5,7 +5,7 @@ them (float32) and as the env holds them (float64).
 
 Flies the agent on an episode (maze-crowd validation by default) as the harness does and, at the step that ends in
 contact, prints the step's chord (robot -> the waypoint the env receives) and its smallest surface gap to
-the nearest wall rows, observed and exact (``pathplan_env.statics.swept_capsule``; negative: overlap).
+the nearest wall rows, observed and exact (``pathplan_env.geometry.walls.swept_capsule``; negative: overlap).
 """
 
 from __future__ import annotations
@@ -18,8 +18,8 @@ import pathplan_env  # noqa: F401  (registers the env)
 from agents.base import real_static_segments
 from agents.evaluation.entrants import resolve_agents, resolve_scenarios
 from agents.evaluation.episodes import episode_policy, make_episode_env
-from pathplan_env.splits import episode_seeds
-from pathplan_env.statics import swept_capsule
+from pathplan_env.scenarios.splits import episode_seeds
+from pathplan_env.geometry.walls import swept_capsule
 
 
 def main() -> None:

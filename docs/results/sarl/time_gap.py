@@ -25,9 +25,9 @@ import numpy as np
 import agents
 import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
 from agents.base import real_obstacles
-from agents.rl.sarl_kernel import lookahead_kernel
-from agents.rl.sarl_lookahead import N_SPEEDS, predict_humans, step_model
-from pathplan_env.splits import validation_seeds
+from agents.rl.sarl.kernel import lookahead_kernel
+from agents.rl.sarl.lookahead import N_SPEEDS, predict_humans, step_model
+from pathplan_env.scenarios.splits import validation_seeds
 
 #: the model studied here: sarl_crowdnav as shipped until session 14, trained with the robot's velocity (its sidecar beside it)
 STUDIED = Path(__file__).parent / "runs_s12" / "sarl_circle_best.npz"

@@ -19,8 +19,8 @@ from tqdm import tqdm
 import agents
 import pathplan_env  # noqa: F401  (registers the env)
 from agents.planners.steering import SURPRISES, TOLERANCE, SteeringCheck
-from pathplan_env.splits import episode_seeds
-from pathplan_env.wrappers import EnvFacts
+from pathplan_env.scenarios.splits import episode_seeds
+from pathplan_env.facts import EnvFacts
 
 BOUNCING = [("random", 0.25, {}), ("random", 1.0, {}), ("random", 2.0, {}), ("random", 2.0, {"n_obstacles": 30}),
             ("random", 4.0, {"n_obstacles": 50}), ("paper-case-1", 1.0, {}), ("paper-case-3", 1.0, {}), ("corridor", 1.0, {}),

@@ -1,0 +1,336 @@
+"""What goal-directed humans know of the walls: RVO2 obstacles for ORCA, and routes around the walls.
+
+Without routes, a human whose goal lies behind a wall heads straight at it and ORCA holds it pressed
+against the wall for ever. With them, each human steers toward its **next visible waypoint** on the
+shortest grid path to its goal:
+
+- a grid of :data:`GRID_CELL` cells over the arena; a cell is free when its centre keeps the humans'
+  largest radius plus :data:`ROUTE_MARGIN` from every wall, polygon and arena edge;
+- one Dijkstra (``scipy.sparse.csgraph``, 8-connected, no corner cutting) from a human's goal cell
+  gives each free cell its distance to that goal and its next cell toward it; it runs the first time
+  the human loses sight of its goal (most humans of an open corridor never need one);
+- per step (compiled, :func:`route_targets`), a human that sees its goal (the segment between them
+  stays in free cells) heads for it, as without walls; otherwise it walks its cell's chain toward the
+  goal and heads for the farthest chain cell it sees (string pulling), so paths cut across open
+  space instead of following the grid. Deterministic: no draw, no tie left to hashing.
+
+The target handed to the behaviours lies in the waypoint's direction at the remaining path length, so
+that CrowdNav's slow-down near the goal (``preferred_velocity``) applies at the goal, not at every
+waypoint.
+
+The static geometry reaches ORCA as RVO2 holds it (:func:`orca_obstacles`): the union of the polygons
+and the thick walls' outlines (round ends as half-octagons), exteriors counter-clockwise and holes
+clockwise; zero-thickness walls are two-vertex lines. Both are built once per geometry (cached: the
+maze's episodes share one).
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+from typing import NamedTuple
+
+import numba
+import numpy as np
+
+from pathplan_env.crowds.orca_obstacles import ORCAObstacles, obstacle_vertices
+from pathplan_env.geometry.walls import points_clearance
+
+#: Routing grid cell (m): a 1.2 m door leaves a 0.6 m free strip (6 cells) for a 0.3 m human.
+GRID_CELL = 0.1
+#: Free cells keep this much (m) beyond the humans' radius from the geometry: routes keep off walls.
+ROUTE_MARGIN = 0.05
+#: A sight line may start in blocked cells for this long (m): a human pushed into the margin.
+LEAVE = 0.15
+#: Chain cells tried per step when the goal is out of sight (the farthest one seen is the waypoint).
+LOOKAHEAD_CELLS = 120
+
+
+class Routes(NamedTuple):
+    """The compiled routing kernel's record: the grid and every routed human's Dijkstra result."""
+
+    x0: float  # m: the grid's lower-left corner
+    y0: float
+    cell: float  # m
+    rows: int
+    cols: int
+    free: np.ndarray  # (rows * cols,) bool
+    nearest: np.ndarray  # (rows * cols,) int64: the nearest free cell (itself when free)
+    dist: np.ndarray  # (routed, rows * cols) m to the goal; inf where unreachable
+    pred: np.ndarray  # (routed, rows * cols) int32: the next cell toward the goal; < 0 at the goal or unreachable
+    row_of: np.ndarray  # (n_obstacles,) int64: obstacle i's row in dist/pred, -1 if not routed
+    ready: np.ndarray  # (routed,) bool: whether the row's Dijkstra has run (rows are filled when first needed)
+    blocked_below: np.ndarray  # (rows + 1, cols + 1) int64: blocked cells below and left of each corner (a summed-area table)
+
+
+class HumanStatics(NamedTuple):
+    """What a world's goal-directed obstacles know of its static geometry (``World`` builds it once)."""
+
+    obstacles: ORCAObstacles  # for ORCA: RVO2's obstacle vertices
+    segments: np.ndarray  # (M, 5) capsule rows, for social force
+    routes: Routes
+    graph: object  # the grid's scipy CSR graph, for the rows' Dijkstra
+    goal_cells: np.ndarray  # (routed,) int64
+    # the compiled steps' arguments, built once per world, not per step (a tuple per call cost ~1 µs):
+    obstacle_fields: tuple  # tuple(obstacles)
+    routes_fields: tuple  # tuple(routes): its arrays are filled in place, so the tuple stays current
+    scratch_targets: np.ndarray  # (n_obstacles, 2): the routed step's targets, rows of ``idx`` written each step
+    missing: np.ndarray  # (n_obstacles,) int64: humans whose route row is not ready
+
+    def targets(self, idx: np.ndarray, state: np.ndarray, goals: np.ndarray) -> np.ndarray:
+        """``(n, 2)`` preferred-velocity targets of the humans ``idx`` (rows of others: their goals)."""
+        targets = goals.copy()
+        n_missing = _route_targets_fields(self.routes_fields, idx, state, goals, targets, self.missing)
+        if n_missing:  # the first loss of sight: run those humans' Dijkstra, then route again
+            self.fill_routes(n_missing)
+            _route_targets_fields(self.routes_fields, idx, state, goals, targets, self.missing)
+        return targets
+
+    def fill_routes(self, n_missing: int) -> None:
+        """Run the Dijkstra of the first ``n_missing`` humans of ``missing`` (their first loss of sight)."""
+        from scipy.sparse.csgraph import dijkstra
+
+        rows = self.routes.row_of[self.missing[:n_missing]]
+        dist, pred = dijkstra(self.graph, directed=False, indices=self.goal_cells[rows], return_predecessors=True)
+        self.routes.dist[rows], self.routes.pred[rows], self.routes.ready[rows] = dist, pred, True
+
+
+class _Grid(NamedTuple):
+    x0: float
+    y0: float
+    cell: float
+    rows: int
+    cols: int
+    free: np.ndarray
+    nearest: np.ndarray
+    graph: object  # scipy CSR: 8-connected free cells
+    blocked_below: np.ndarray  # (rows + 1, cols + 1) int64 (Routes.blocked_below)
+
+
+def _geometry_key(scenario) -> tuple:
+    return (scenario.bounds, scenario.walls, scenario.wall_thickness, scenario.polygons)
+
+
+@lru_cache(maxsize=16)
+def _grid(key: tuple, clearance: float, cell: float) -> _Grid:
+    """The free cells of a geometry for discs of ``clearance`` and their 8-connected graph."""
+    import scipy.ndimage
+    import scipy.sparse
+    import shapely
+
+    from pathplan_env.geometry.walls import segments_of
+
+    bounds, walls, thickness, polygons = key
+    xmin, ymin, xmax, ymax = bounds
+    cols, rows = max(1, math.ceil((xmax - xmin) / cell)), max(1, math.ceil((ymax - ymin) / cell))
+    xs, ys = np.meshgrid(xmin + (np.arange(cols) + 0.5) * cell, ymin + (np.arange(rows) + 0.5) * cell)
+    xs, ys = xs.ravel(), ys.ravel()
+    free = (xs - xmin >= clearance) & (xmax - xs >= clearance) & (ys - ymin >= clearance) & (ymax - ys >= clearance)
+    segments = segments_of(walls, thickness, polygons)
+    if len(segments):
+        free &= points_clearance(np.column_stack([xs, ys]), segments) >= clearance
+    for vertices in polygons:
+        free &= ~shapely.contains_xy(shapely.Polygon(vertices), xs, ys)
+    grid = free.reshape(rows, cols)
+    if grid.any():
+        _, (ni, nj) = scipy.ndimage.distance_transform_edt(~grid, return_indices=True)
+        nearest = (ni * cols + nj).ravel().astype(np.int64)
+    else:
+        nearest = np.arange(rows * cols, dtype=np.int64)
+    rr, cc = np.meshgrid(np.arange(rows), np.arange(cols), indexing="ij")
+    rr, cc = rr.ravel(), cc.ravel()
+    heads, tails, weights = [], [], []
+    for di, dj in ((0, 1), (1, 0), (1, 1), (1, -1)):
+        r2, c2 = rr + di, cc + dj
+        inside = (r2 < rows) & (c2 >= 0) & (c2 < cols)
+        a, b = (rr * cols + cc)[inside], (r2 * cols + c2)[inside]
+        ok = free[a] & free[b]
+        if di and dj:  # no corner cutting: both orthogonal neighbours free too
+            ok &= free[(rr * cols + c2)[inside]] & free[(r2 * cols + cc)[inside]]
+        heads.append(a[ok])
+        tails.append(b[ok])
+        weights.append(np.full(int(ok.sum()), cell * math.hypot(di, dj)))
+    head, tail, weight = np.concatenate(heads), np.concatenate(tails), np.concatenate(weights)
+    graph = scipy.sparse.csr_matrix((weight, (head, tail)), shape=(rows * cols, rows * cols))
+    blocked_below = np.zeros((rows + 1, cols + 1), np.int64)
+    blocked_below[1:, 1:] = (~grid).cumsum(axis=0).cumsum(axis=1)
+    return _Grid(xmin, ymin, cell, rows, cols, free, nearest, graph, blocked_below)
+
+
+@lru_cache(maxsize=16)
+def _orca_obstacles(key: tuple) -> ORCAObstacles:
+    """RVO2 vertex rings of a geometry (module docstring)."""
+    import shapely
+    from shapely.geometry.polygon import orient
+
+    _, walls, thickness, polygons = key
+    solids = [shapely.Polygon(p) for p in polygons]
+    lines = []
+    for a, b in walls:
+        if thickness > 0:
+            solids.append(shapely.LineString([a, b]).buffer(0.5 * thickness, quad_segs=2))
+        else:
+            lines.append([a, b])
+    rings = []
+    if solids:
+        union = shapely.union_all(solids).simplify(1e-6)
+        for part in getattr(union, "geoms", [union]):
+            part = orient(part, 1.0)  # exterior counter-clockwise, holes clockwise: the free side on each edge's right
+            for ring in (part.exterior, *part.interiors):
+                rings.append(list(ring.coords)[:-1])
+    return obstacle_vertices(rings + lines)
+
+
+def orca_obstacles(scenario) -> ORCAObstacles:
+    """The scenario's walls and polygons as RVO2 obstacles (cached per geometry)."""
+    return _orca_obstacles(_geometry_key(scenario))
+
+
+def human_statics(scenario, goals: np.ndarray, routed: np.ndarray, clearance: float) -> HumanStatics:
+    """Everything the goal-directed obstacles ``routed`` (indices, goals ``goals[i]``) need; free cells
+    keep ``clearance + ROUTE_MARGIN`` from the geometry."""
+    grid = _grid(_geometry_key(scenario), float(clearance) + ROUTE_MARGIN, GRID_CELL)
+    goal_cells, row_of = _goal_cells(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.nearest, goals, routed)
+    n_cells = grid.rows * grid.cols
+    dist, pred = np.empty((len(routed), n_cells)), np.empty((len(routed), n_cells), np.int32)
+    routes = Routes(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.free, grid.nearest, dist, pred, row_of, np.zeros(len(routed), np.bool_),
+                    grid.blocked_below)  # fmt: skip
+    obstacles = orca_obstacles(scenario)
+    return HumanStatics(obstacles, scenario.static_segments, routes, grid.graph, goal_cells, tuple(obstacles), tuple(routes), goals.copy(),
+                        np.empty(len(goals), np.int64))  # fmt: skip
+
+
+@lru_cache(maxsize=4)
+def _all_pairs(key: tuple, clearance: float, cell: float) -> tuple[_Grid, np.ndarray]:
+    from scipy.sparse.csgraph import dijkstra
+
+    grid = _grid(key, clearance, cell)
+    return grid, dijkstra(grid.graph, directed=False)
+
+
+def path_lengths(scenario, starts: np.ndarray, goals: np.ndarray, clearance: float, cell: float = 0.25) -> np.ndarray:
+    """Approximate shortest path lengths (m; inf if none) from ``starts[k]`` to ``goals[k]`` for a disc
+    of ``clearance`` around the scenario's geometry: all pairs of a ``cell`` grid, computed once per
+    geometry (for samplers of fixed maps: 1,600 cells on the maze)."""
+    grid, dist = _all_pairs(_geometry_key(scenario), float(clearance), float(cell))
+    ok = np.isfinite(starts).all(axis=1) & np.isfinite(goals).all(axis=1)
+    out = np.full(len(starts), np.inf)
+    a, b = grid.nearest[_cells_of(grid, starts[ok])], grid.nearest[_cells_of(grid, goals[ok])]
+    out[ok] = dist[a, b] if len(a) else out[ok]
+    return out
+
+
+def drivers_statics(scenario, drivers: list) -> HumanStatics:
+    """:func:`human_statics` for a world's drivers (``(behaviour, idx, goals, preferred)`` each, the
+    goals array shared): every goal-directed obstacle routed, free cells sized for the largest."""
+    routed = np.sort(np.concatenate([idx for _, idx, _, _ in drivers]))
+    radii = scenario.arrays()["radii"]
+    return human_statics(scenario, drivers[0][2], routed, float(radii[routed].max()))
+
+
+def _cells_of(grid, points: np.ndarray) -> np.ndarray:
+    """The grid cell of every row of ``points`` (m, 2): truncated toward zero as ``int()`` does (what
+    the per-point loop of before did), clamped into the grid."""
+    j = np.minimum(np.maximum(((points[:, 0] - grid.x0) / grid.cell).astype(np.int64), 0), grid.cols - 1)
+    i = np.minimum(np.maximum(((points[:, 1] - grid.y0) / grid.cell).astype(np.int64), 0), grid.rows - 1)
+    return i * grid.cols + j
+
+
+@numba.njit(cache=True)
+def _goal_cells(x0, y0, cell, rows, cols, nearest, goals, routed):
+    """``(goal_cells, row_of)`` of :func:`human_statics`: the nearest free cell to each routed human's
+    goal (:func:`_cells_of`'s truncation and clamps, as ``_cell``) and each obstacle's row (-1: not
+    routed). Compiled: numpy's dozen calls on 20 goals were a third of building the statics."""
+    goal_cells, row_of = np.empty(routed.shape[0], np.int64), np.full(goals.shape[0], -1, np.int64)
+    for r in range(routed.shape[0]):
+        i = routed[r]
+        j = min(max(int((goals[i, 0] - x0) / cell), 0), cols - 1)
+        k = min(max(int((goals[i, 1] - y0) / cell), 0), rows - 1)
+        goal_cells[r], row_of[i] = nearest[k * cols + j], r
+    return goal_cells, row_of
+
+
+@numba.njit(cache=True)
+def _cell(routes, x, y):
+    j = min(max(int((x - routes.x0) / routes.cell), 0), routes.cols - 1)
+    i = min(max(int((y - routes.y0) / routes.cell), 0), routes.rows - 1)
+    return i * routes.cols + j
+
+
+@numba.njit(cache=True)
+def _box_free(routes, ax, ay, bx, by):
+    """Whether every cell of the box with corners ``a`` and ``b``, one cell wider on every side, is
+    free (four reads of the summed-area table). Then every point sampled on the segment is: a
+    sample's cell index is monotone in its coordinate, and rounding moves a sample off the box by an
+    ulp, at most one cell."""
+    j0 = min(max(int((min(ax, bx) - routes.x0) / routes.cell) - 1, 0), routes.cols - 1)
+    j1 = min(max(int((max(ax, bx) - routes.x0) / routes.cell) + 1, 0), routes.cols - 1)
+    i0 = min(max(int((min(ay, by) - routes.y0) / routes.cell) - 1, 0), routes.rows - 1)
+    i1 = min(max(int((max(ay, by) - routes.y0) / routes.cell) + 1, 0), routes.rows - 1)
+    below = routes.blocked_below
+    return below[i1 + 1, j1 + 1] - below[i0, j1 + 1] - below[i1 + 1, j0] + below[i0, j0] == 0
+
+
+@numba.njit(cache=True)
+def _sees(routes, ax, ay, bx, by):
+    """Whether the segment from ``a`` to ``b`` stays in free cells beyond its first :data:`LEAVE`
+    metres (a human pressed into a wall's margin is at most ``ROUTE_MARGIN`` deep in it; a wall's far
+    side is a radius away, so this never sees through one)."""
+    if _box_free(routes, ax, ay, bx, by):  # the common case in open space: no sample to test
+        return True
+    length = math.hypot(bx - ax, by - ay)
+    n = int(length / (0.5 * routes.cell)) + 1
+    for k in range(n + 1):
+        t = k / n
+        if t * length > LEAVE and not routes.free[_cell(routes, ax + t * (bx - ax), ay + t * (by - ay))]:
+            return False
+    return True
+
+
+@numba.njit(cache=True)
+def route_targets(routes, idx, state, goals, targets, missing):
+    """Each human ``i`` in ``idx``: ``targets[i]`` = its goal if it sees it, else a point toward its
+    farthest visible waypoint at the remaining path length (module docstring). Humans whose route
+    row is not ready are listed in ``missing`` (their count returned) and left at their goal."""
+    n_missing = 0
+    for k in range(idx.shape[0]):
+        i = idx[k]
+        x, y, gx, gy = state[i, 0], state[i, 1], goals[i, 0], goals[i, 1]
+        targets[i, 0], targets[i, 1] = gx, gy
+        row = routes.row_of[i]
+        if row < 0 or _sees(routes, x, y, gx, gy):
+            continue
+        if not routes.ready[row]:
+            missing[n_missing] = i
+            n_missing += 1
+            continue
+        c = routes.nearest[_cell(routes, x, y)]
+        if not math.isfinite(routes.dist[row, c]):
+            continue  # no route: head straight for the goal (ORCA keeps it off the walls)
+        best, cur = c, c
+        for _ in range(LOOKAHEAD_CELLS):
+            nxt = routes.pred[row, cur]
+            if nxt < 0:
+                break
+            cx, cy = routes.x0 + (nxt % routes.cols + 0.5) * routes.cell, routes.y0 + (nxt // routes.cols + 0.5) * routes.cell
+            if not _sees(routes, x, y, cx, cy):
+                break
+            best, cur = nxt, nxt
+        wx = routes.x0 + (best % routes.cols + 0.5) * routes.cell
+        wy = routes.y0 + (best // routes.cols + 0.5) * routes.cell
+        d = math.hypot(wx - x, wy - y)
+        if d < 1e-9:
+            continue
+        remaining = d + routes.dist[row, best]
+        targets[i, 0], targets[i, 1] = x + (wx - x) / d * remaining, y + (wy - y) / d * remaining
+    return n_missing
+
+
+@numba.njit(cache=True)
+def _route_targets_fields(routes_fields, idx, state, goals, targets, missing):
+    """:func:`route_targets` with its :class:`Routes` passed as a plain tuple of its fields and rebuilt
+    here: numba types a NamedTuple argument in Python on every call (~5 µs, as long as the routing)."""
+    return route_targets(Routes(*routes_fields), idx, state, goals, targets, missing)
+
+
+__all__ = ["GRID_CELL", "HumanStatics", "ROUTE_MARGIN", "Routes", "drivers_statics", "human_statics", "path_lengths", "orca_obstacles", "route_targets"]

@@ -1,0 +1,173 @@
+"""An occupancy grid as the world sees it: hole-free polygons, clearance and free-space sampling.
+
+``OccupancyMap`` holds a grid (row 0 the lowest y) in world coordinates and its occupied region as
+``Scenario.polygons`` takes it (simple, no holes, counter-clockwise, the first vertex not repeated):
+the union of the cells' row runs (shapely, exact), shapely's topology-preserving simplification (the
+boundary stays within ``tolerance`` cells of the pixels' edges: half a cell by default), then each
+region with holes cut open (:func:`occupancy_polygons`). ``pathplan_env.scenarios.on_maps.scenario_kwargs`` draws a scene on it.
+Where grids come from is another module's job: ``ros_maps`` reads map_server files.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import shapely
+from shapely.geometry import LineString, Polygon
+from shapely.geometry.polygon import orient
+from shapely.ops import split
+
+#: Simplification (cells): half a cell keeps a lone pixel a square and every cell centre on its side of
+#: the boundary, and still straightens the one-pixel staircases of a SLAM map's slanted walls.
+DEFAULT_TOLERANCE = 0.5
+
+Polygon2 = tuple[tuple[float, float], ...]
+
+
+@dataclass(frozen=True, eq=False)
+class OccupancyMap:
+    """A loaded map: the occupancy grid and its polygons, in world coordinates (m).
+
+    ``occupied[i, j]`` (rows from the bottom: row 0 is the lowest y) covers
+    ``x in [x0 + j r, x0 + (j + 1) r]``, ``y in [y0 + i r, y0 + (i + 1) r]`` with ``r = resolution``
+    and ``(x0, y0) = origin``; it holds the unknown cells too when they count as occupied. ``unknown``
+    marks the cells that were neither free nor occupied in the image. ``polygons`` is the occupied
+    region as hole-free simple polygons (within half a cell of the grid at the default tolerance).
+    """
+
+    name: str
+    resolution: float
+    origin: tuple[float, float]
+    occupied: np.ndarray
+    unknown: np.ndarray
+    polygons: tuple[Polygon2, ...]
+
+    @property
+    def bounds(self) -> tuple[float, float, float, float]:
+        """``(xmin, ymin, xmax, ymax)``: the image's extent, what a scenario's arena is."""
+        rows, cols = self.occupied.shape
+        x0, y0 = self.origin
+        return (x0, y0, x0 + cols * self.resolution, y0 + rows * self.resolution)
+
+    def cell_centres(self) -> tuple[np.ndarray, np.ndarray]:
+        """The x and y of every cell's centre, each shaped like ``occupied``."""
+        rows, cols = self.occupied.shape
+        x0, y0 = self.origin
+        return np.meshgrid(x0 + (np.arange(cols) + 0.5) * self.resolution, y0 + (np.arange(rows) + 0.5) * self.resolution)
+
+    @cached_property
+    def geometry(self) -> shapely.MultiPolygon:
+        """The polygons as one prepared shapely geometry (what distances are measured to)."""
+        geometry = shapely.MultiPolygon([Polygon(p) for p in self.polygons])
+        shapely.prepare(geometry)
+        return geometry
+
+    def clearance(self, points) -> np.ndarray:
+        """Distance (m) from each point to the nearest polygon or edge of the bounds (0 inside a polygon)."""
+        pts = np.asarray(points, dtype=float).reshape(-1, 2)
+        xmin, ymin, xmax, ymax = self.bounds
+        to_edges = np.minimum.reduce([pts[:, 0] - xmin, xmax - pts[:, 0], pts[:, 1] - ymin, ymax - pts[:, 1]])
+        if not self.polygons:
+            return to_edges
+        return np.minimum(to_edges, shapely.distance(self.geometry, shapely.points(pts)))
+
+    @cached_property
+    def _free_distance(self) -> np.ndarray:
+        """Per cell, the distance (m) from its centre to the nearest occupied cell's centre or the border."""
+        from scipy.ndimage import distance_transform_edt
+
+        padded = np.pad(~self.occupied, 1, constant_values=False)  # the bounds count as walls
+        return distance_transform_edt(padded)[1:-1, 1:-1] * self.resolution
+
+    def sample_free(self, rng: np.random.Generator, n: int, clearance: float, *, avoid=(), min_separation: float = 0.0, max_batches: int = 200) -> np.ndarray:
+        """``n`` points, an ``(n, 2)`` array, uniform over the free space with ``clearance`` (m) to every
+        polygon and to the bounds, each at least ``min_separation`` from the others and at least ``d``
+        from every ``(point, d)`` in ``avoid``. Deterministic for the generator's state.
+
+        Cells are drawn among those whose centre-distance grid (``scipy.ndimage.distance_transform_edt``)
+        can hold such a point, a point uniformly inside the cell, and the exact clearance (shapely) decides.
+
+        :raises ValueError: if ``n`` or ``clearance`` is bad, or if ``max_batches`` batches of 64
+            candidates found too few points (the free space is too small for the request).
+        """
+        if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or n < 0:
+            raise ValueError(f"sample_free: n must be an integer >= 0, got {n!r}")
+        for label, value in (("clearance", clearance), ("min_separation", min_separation)):
+            if not (isinstance(value, (int, float, np.floating)) and math.isfinite(value) and value >= 0):
+                raise ValueError(f"sample_free: {label} must be a finite number >= 0, got {value!r}")
+        if n == 0:
+            return np.zeros((0, 2))
+        # a point is within 0.71 cell of its cell's centre and the polygons within (tolerance - 0.5) cell
+        # of an occupied centre: with tolerance <= 1.5 cells no valid point lies in a cell left out here
+        cells = np.flatnonzero(self._free_distance.ravel() >= clearance - 2.0 * self.resolution)
+        avoid = [(np.asarray(p, dtype=float), float(d)) for p, d in avoid]
+        chosen: list[np.ndarray] = []
+        cols = self.occupied.shape[1]
+        for _ in range(max_batches if len(cells) else 0):
+            picks = cells[rng.integers(len(cells), size=64)]
+            offsets = rng.random((64, 2))
+            pts = np.column_stack([picks % cols + offsets[:, 0], picks // cols + offsets[:, 1]]) * self.resolution + self.origin
+            for p in pts[self.clearance(pts) >= clearance]:
+                if all(math.dist(p, q) >= min_separation for q in chosen) and all(math.dist(p, q) >= d for q, d in avoid):
+                    chosen.append(p)
+                    if len(chosen) == n:
+                        return np.array(chosen)
+        raise ValueError(f"map {self.name!r}: found {len(chosen)} of {n} free points with clearance {clearance:g} m")
+
+
+def occupancy_polygons(occupied, *, resolution: float = 1.0, origin=(0.0, 0.0), tolerance: float = DEFAULT_TOLERANCE) -> tuple[Polygon2, ...]:
+    """The occupied cells of a grid (row 0 the lowest y) as hole-free simple polygons in world coordinates.
+
+    The cells' row runs are unioned (shapely, in integer cell units: exact), simplified with
+    ``tolerance`` cells (topology preserved, so the boundary stays within ``tolerance`` cells of the
+    pixels' edges), and every region with holes is cut by a vertical line through each hole until
+    none is left: a cut through a hole opens it, so a map's wall ring around its free space becomes a
+    few pieces rather than hundreds of cells, and the pieces' union is the region exactly.
+    """
+    occ = np.asarray(occupied, dtype=bool)
+    if occ.ndim != 2:
+        raise ValueError(f"occupancy_polygons: occupied must be a 2-D grid, got shape {occ.shape}")
+    check_tolerance(tolerance)
+    padded = np.zeros((occ.shape[0], occ.shape[1] + 2), dtype=np.int8)
+    padded[:, 1:-1] = occ
+    steps = np.diff(padded, axis=1)
+    rows, starts = np.nonzero(steps == 1)  # row-major order: the i-th start and the i-th end are one run
+    _, ends = np.nonzero(steps == -1)
+    if len(rows) == 0:
+        return ()
+    # tolerance 0 first drops the runs' collinear vertices, so that the tolerance pass anchors at true
+    # corners and a rectilinear map stays rectilinear (it only straightens steps of up to `tolerance`)
+    region = shapely.simplify(shapely.union_all(shapely.box(starts, rows, ends, rows + 1)), 0.0, preserve_topology=True)
+    if tolerance > 0:
+        region = shapely.simplify(region, tolerance, preserve_topology=True)
+    pieces = [piece for part in getattr(region, "geoms", [region]) for piece in _cut_holes(part)]
+    x0, y0 = (float(v) for v in origin)
+    out = []
+    for piece in pieces:
+        ring = orient(piece, 1.0).exterior.coords[:-1]  # counter-clockwise, the closing vertex dropped
+        out.append(tuple((round(x0 + x * resolution, 9), round(y0 + y * resolution, 9)) for x, y in ring))  # 0.15, not 0.15000000000000002
+    return tuple(out)
+
+
+def check_tolerance(tolerance) -> None:
+    if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float)) or not (math.isfinite(tolerance) and tolerance >= 0):
+        raise ValueError(f"tolerance must be a finite number of cells >= 0, got {tolerance!r}")
+
+
+def _cut_holes(polygon: Polygon) -> list[Polygon]:
+    pieces, stack = [], [polygon]
+    while stack:
+        part = stack.pop()
+        if not part.interiors:
+            pieces.append(part)
+            continue
+        x = Polygon(part.interiors[0]).point_on_surface().x  # a point inside the hole: the cut opens it
+        _, ymin, _, ymax = part.bounds
+        parts = [g for g in split(part, LineString([(x, ymin - 1.0), (x, ymax + 1.0)])).geoms if g.area > 0]
+        if len(parts) < 2:  # GEOS noding always opens the hole; never loop on a surprise
+            raise RuntimeError(f"occupancy_polygons: a cut at x={x} did not open a hole of {part.wkt[:80]}")
+        stack.extend(parts)
+    return pieces

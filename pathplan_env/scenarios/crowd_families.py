@@ -1,0 +1,347 @@
+"""Crowd families: the wall families with ORCA humans, and the maze from the shipped ROS map.
+
+``corridor-crowd``, ``doorway-crowd``, ``intersection-crowd`` and ``cluttered-room-crowd`` take the
+layout, the robot's start and goal of their bouncing family (``families.py``, the same draws) and put
+``n`` humans in it instead of bouncing obstacles: CrowdNav's humans (radius 0.3 m, ORCA with its
+parameters, the robot invisible to them), each with a goal across the scene, which they reach around
+the walls (ORCA with RVO2's obstacle lines, routes: ``routing.py``):
+
+- corridor: a two-way corridor, each human walking 8 m along it, either way;
+- doorway: people crossing the door both ways, from one room to a point of the other; the door is
+  2 m wide (the bouncing family's 1.2 m lets one 0.3 m human through at a time, and ORCA humans
+  meeting in it from both sides deadlock: 68 % of 4 humans through in 20 seeds);
+- intersection: from the end of one arm to the end of another;
+- cluttered room: between two points of the room at least 4 m apart, among its boxes.
+
+``maze`` (bouncing obstacles of radius 0.3 m) and ``maze-crowd`` (humans between free points 2 to 5 m
+apart, at most 9 m along the maze) are drawn on the shipped ROS-format maze map (``ros_maps``: the map's polygons, starts,
+goals and obstacles sampled in its free space with clearance).
+
+Humans start and end at least 0.8 m apart (CrowdNav's spacing rule: two radii plus its 0.2 m
+discomfort distance), 0.1 m clear of walls and polygons, and clear of the robot's start and goal by
+0.5 m beyond the two radii. ``make_scenario`` sets their preferred speed from Δd (0.25 unless told:
+0.75 m/s at dt 0.1 s) as for the bouncing families' speeds.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from functools import cache
+
+import numba
+import numpy as np
+
+from pathplan_env.arguments import check_count
+from pathplan_env.crowds.routing import path_lengths
+from pathplan_env.geometry.walls import polygon_shapes
+from pathplan_env.scenarios import wall_families as families
+from pathplan_env.scenarios.crowdnav import DISCOMFORT_DISTANCE, HUMAN_ORCA, HUMAN_RADIUS
+from pathplan_env.scenarios.scenario import Obstacle, Scenario
+
+#: Preferred speed at construction (m/s): what Δd 0.25 gives a 0.3 m human at dt 0.1 s (make_scenario sets it).
+HUMAN_SPEED = 0.25 * HUMAN_RADIUS / families.DT
+WALL_CLEARANCE = 0.1
+SPACING = 2 * HUMAN_RADIUS + DISCOMFORT_DISTANCE
+_CANDIDATES = 64
+
+
+#: Batches of candidates a human may draw beyond the first before a layout counts as too crowded.
+_MORE_BATCHES = 32
+
+
+def _humans(rng, n: int, layout: Scenario, draw: Callable) -> tuple[Obstacle, ...]:
+    """``n`` humans whose (start, goal) pairs come from ``draw(rng, k) -> (starts (k, 2), goals (k, 2))``:
+    each takes the first of its candidates that keeps the rules of the module docstring. A human
+    whose first ``_CANDIDATES`` all break them draws more batches (only then: a scene that fitted
+    the first time is drawn exactly as before).
+
+    :raises ValueError: naming ``n_obstacles`` when one finds no place.
+    """
+    starts, goals = draw(rng, n * _CANDIDATES)
+    rules = _rules(layout)
+    if polygon_shapes(layout):  # shapely's test up front; else each candidate is checked when reached
+        ok = _fitting(starts, goals, layout).astype(np.int8)
+    else:
+        ok = np.full(n * _CANDIDATES, -1, np.int8)
+    starts, goals, ok = starts.reshape(n, _CANDIDATES, 2), goals.reshape(n, _CANDIDATES, 2), ok.reshape(n, _CANDIDATES)
+    centers, ends = np.empty((n, 2)), np.empty((n, 2))
+    i = _place_spaced(starts, goals, ok, centers, ends, 0, SPACING, rules)
+    while i < n:  # human i found no place among its first candidates: more batches
+        for _ in range(_MORE_BATCHES):
+            mine_s, mine_g = draw(rng, _CANDIDATES)
+            fits = _fitting(mine_s, mine_g, layout) & _spaced(mine_s, mine_g, centers[:i], ends[:i])
+            if fits.any():
+                break
+        if not fits.any():
+            raise ValueError(f"n_obstacles: could not place {n} humans in the {layout.name!r} layout (placed {i})")
+        k = int(np.argmax(fits))
+        centers[i], ends[i] = mine_s[k], mine_g[k]
+        i = _place_spaced(starts, goals, ok, centers, ends, i + 1, SPACING, rules)
+    # valid by construction (inside the arena, clear of the walls, the robot and each other): not validated again
+    return tuple(Obstacle._from_checked(tuple(c), HUMAN_RADIUS, (0.0, 0.0), tuple(g), HUMAN_SPEED) for c, g in zip(centers.tolist(), ends.tolist()))
+
+
+@numba.njit(cache=True)
+def _place_spaced(starts, goals, ok, centers, ends, first, spacing, rules):
+    """Humans ``first..`` in turn take their first candidate ``k`` that fits (``ok[i, k]`` 1; -1: not yet
+    checked, then checked here by :func:`_fitting_kernel`'s test with ``rules``, :func:`_rules`) whose
+    start and goal keep ``spacing`` from every human placed (``centers``, ``ends``, filled in); returns
+    the index of the first human with no such candidate (``n`` when all are placed). Compiled: this loop
+    was most of a 20-human reset; the same ``hypot`` comparisons as :func:`_spaced`, so the same choices.
+    Checking a candidate only when it is reached (most humans take one of their first few) gives the
+    choices checking all of them first gave."""
+    box, reach, segments, robot, keep = rules
+    n, m = ok.shape
+    for i in range(first, n):
+        chosen = -1
+        for k in range(m):
+            if ok[i, k] < 0:
+                ok[i, k] = _fits(starts[i, k], goals[i, k], box, reach, segments, robot, keep)
+            if ok[i, k] == 0:
+                continue
+            clear = True
+            for j in range(i):
+                if (math.hypot(starts[i, k, 0] - centers[j, 0], starts[i, k, 1] - centers[j, 1]) < spacing
+                        or math.hypot(goals[i, k, 0] - ends[j, 0], goals[i, k, 1] - ends[j, 1]) < spacing):  # fmt: skip
+                    clear = False
+                    break
+            if clear:
+                chosen = k
+                break
+        if chosen < 0:
+            return i
+        centers[i, 0], centers[i, 1] = starts[i, chosen, 0], starts[i, chosen, 1]
+        ends[i, 0], ends[i, 1] = goals[i, chosen, 0], goals[i, chosen, 1]
+    return n
+
+
+def _fitting(starts: np.ndarray, goals: np.ndarray, layout: Scenario) -> np.ndarray:
+    """Which (start, goal) candidates a human fits: both free, the start clear of the robot's start and goal
+    (the arena, the walls and the robot in one compiled pass, the same comparisons as numpy's of before:
+    numpy's dozen passes over the candidates were a fifth of a crowd's reset; polygons by shapely)."""
+    import shapely
+
+    ok = _fitting_kernel(starts, goals, *_rules(layout))
+    for shape in polygon_shapes(layout):
+        ok &= ~shapely.contains_xy(shape, starts[:, 0], starts[:, 1]) & ~shapely.contains_xy(shape, goals[:, 0], goals[:, 1])
+    return ok
+
+
+def _rules(layout: Scenario) -> tuple:
+    """What :func:`_fits` reads of ``layout``: ``(box, reach, segments, robot, keep)``, the arena less
+    ``reach`` (a human's radius and wall clearance), the capsules, the robot's start and goal, and the
+    distance a human's start keeps from them."""
+    xmin, ymin, xmax, ymax = layout.bounds
+    reach = HUMAN_RADIUS + WALL_CLEARANCE
+    box = np.array([xmin + reach, ymin + reach, xmax - reach, ymax - reach])
+    keep = HUMAN_RADIUS + layout.robot_radius + families.START_CLEARANCE
+    segments = np.ascontiguousarray(layout.static_segments, np.float64).reshape(-1, 5)
+    return box, reach, segments, np.array([layout.start, layout.goal], np.float64), keep
+
+
+@numba.njit(cache=True)
+def _fitting_kernel(starts, goals, box, reach, segments, robot, keep):
+    """:func:`_fitting` without the polygons: inside ``box`` (the arena less ``reach``), farther than
+    ``reach`` from every capsule (``points_clearance``'s minimum), the start farther than ``keep`` from
+    each row of ``robot``. NaN coordinates fail the box, as in numpy."""
+    n = starts.shape[0]
+    ok = np.empty(n, np.bool_)
+    for p in range(n):
+        ok[p] = _fits(starts[p], goals[p], box, reach, segments, robot, keep)
+    return ok
+
+
+@numba.njit(cache=True, inline="always")
+def _fits(start, goal, box, reach, segments, robot, keep):
+    return (_free_point(start[0], start[1], box, reach, segments) and _free_point(goal[0], goal[1], box, reach, segments)
+            and _beyond(start[0] - robot[0, 0], start[1] - robot[0, 1], 0.0, keep)
+            and _beyond(start[0] - robot[1, 0], start[1] - robot[1, 1], 0.0, keep))  # fmt: skip
+
+
+@numba.njit(cache=True, inline="always")
+def _free_point(x, y, box, reach, segments):
+    if not (x >= box[0] and x <= box[2] and y >= box[1] and y <= box[3]):
+        return False
+    for i in range(segments.shape[0]):  # statics.point_segment's arithmetic, to the hypot
+        ax, ay, ex, ey = segments[i, 0], segments[i, 1], segments[i, 2] - segments[i, 0], segments[i, 3] - segments[i, 1]
+        ee = ex * ex + ey * ey
+        t = 0.0
+        if ee > 0.0:
+            t = min(max(((x - ax) * ex + (y - ay) * ey) / ee, 0.0), 1.0)
+        if not _beyond(x - ax - t * ex, y - ay - t * ey, segments[i, 4], reach):
+            return False
+    return True
+
+
+@numba.njit(cache=True, inline="always")
+def _beyond(dx, dy, minus, limit):
+    """``math.hypot(dx, dy) - minus > limit``, bit for bit, with libm's hypot (most of the check's time)
+    only when the squared distance is within a relative 1e-9 of the limit (their rounding is ~1e-16)."""
+    edge = limit + minus
+    if edge > 0.0:
+        q = dx * dx + dy * dy
+        if q > edge * edge * (1.0 + 1e-9):
+            return True
+        if q < edge * edge * (1.0 - 1e-9):
+            return False
+    return math.hypot(dx, dy) - minus > limit
+
+
+def _spaced(starts: np.ndarray, goals: np.ndarray, centers: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """Which candidates keep ``SPACING`` from the humans placed (``centers`` (m, 2), their goals ``ends``)."""
+    near_start = np.hypot(starts[:, None, 0] - centers[None, :, 0], starts[:, None, 1] - centers[None, :, 1]) < SPACING
+    near_goal = np.hypot(goals[:, None, 0] - ends[None, :, 0], goals[:, None, 1] - ends[None, :, 1]) < SPACING
+    return ~(near_start | near_goal).any(axis=1)
+
+
+def _crowd(rng, n: int, layout: Scenario, draw: Callable) -> Scenario:
+    """The layout (validated when it was built) with ``n`` humans (valid by construction), not validated
+    again, as the CrowdNav presets' scenes (``tests/test_speed_reset.py``: the same scenario as a validated one)."""
+    humans = _humans(rng, n, layout, draw)
+    arrays = {"positions": np.array([h.center for h in humans], np.float64).reshape(n, 2), "velocities": np.zeros((n, 2)),
+              "radii": np.full(n, HUMAN_RADIUS)}  # fmt: skip
+    fields = {name: getattr(layout, name) for name in Scenario.__dataclass_fields__}
+    scenario = Scenario._from_checked(arrays, **{**fields, "obstacles": humans, "behaviour": HUMAN_ORCA, "name": layout.name + "-crowd"})
+    object.__setattr__(scenario, "_polygon_shapes", polygon_shapes(layout))  # (shapely's, immutable: shared)
+    return scenario
+
+
+def _uniform(rng, box, k: int) -> np.ndarray:
+    xmin, ymin, xmax, ymax = box
+    return np.array([xmin, ymin]) + rng.random((k, 2)) * np.array([xmax - xmin, ymax - ymin])
+
+
+def corridor_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:
+    """The corridor with ``n`` (10) humans, each walking 8 m along it, either way (drawn)."""
+    n = 10 if n is None else check_count(n, "n_obstacles")
+    layout = families.corridor(rng, 0)
+
+    def draw(rng, k):
+        return _corridor_trips(rng.random(k), rng.random((k, 2)), rng.random(k))
+
+    return _crowd(rng, n, layout, draw)
+
+
+@numba.njit(cache=True)
+def _corridor_trips(way, unit, across):
+    """The corridor's (starts, goals) from its draws: ``way`` < 0.5 walks right to left, ``unit`` places
+    the start in the entry half (mirrored for a walk to the left), the goal 8 m along at height ``across``.
+    Compiled (numpy's ten passes were a tenth of a reset); the float operations numpy did, in its order
+    (``tests/test_speed_crowd_reset.py``)."""
+    k = way.shape[0]
+    starts, goals = np.empty((k, 2)), np.empty((k, 2))
+    for i in range(k):
+        sign = -1.0 if way[i] < 0.5 else 1.0
+        x = 0.8 + unit[i, 0] * (7.2 - 0.8)
+        starts[i, 0] = x if sign > 0 else 16.0 - x
+        starts[i, 1] = 1.5 + unit[i, 1] * (4.5 - 1.5)
+        goals[i, 0] = starts[i, 0] + 8.0 * sign
+        goals[i, 1] = 1.5 + 3.0 * across[i]
+    return starts, goals
+
+
+CROWD_DOOR_WIDTH = 2.0
+
+
+def doorway_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:
+    """The doorway with ``n`` (8) humans crossing it both ways, from a point of one room to one of the other."""
+    n = 8 if n is None else check_count(n, "n_obstacles")
+    layout = families.doorway(rng, 0, door_width=CROWD_DOOR_WIDTH)
+
+    def draw(rng, k):
+        a, b = _uniform(rng, (0.5, 0.5, 5.0, 7.5), k), _uniform(rng, (7.0, 0.5, 11.5, 7.5), k)
+        flip = (rng.random(k) < 0.5)[:, None]
+        return np.where(flip, b, a), np.where(flip, a, b)
+
+    return _crowd(rng, n, layout, draw)
+
+
+def intersection_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:
+    """The intersection with ``n`` (10) humans, each from the end of one arm to the end of another."""
+    n = 10 if n is None else check_count(n, "n_obstacles")
+    layout = families.intersection(rng, 0)
+    arms = np.array([(0.5, 5.4, 3.5, 8.6), (10.5, 5.4, 13.5, 8.6), (5.4, 0.5, 8.6, 3.5), (5.4, 10.5, 8.6, 13.5)])
+
+    def draw(rng, k):
+        first = rng.integers(4, size=k)
+        second = (first + 1 + rng.integers(3, size=k)) % 4
+        unit = rng.random((2, k, 2))
+        lo, hi = arms[:, :2], arms[:, 2:]
+        return lo[first] + unit[0] * (hi - lo)[first], lo[second] + unit[1] * (hi - lo)[second]
+
+    return _crowd(rng, n, layout, draw)
+
+
+def cluttered_room_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:
+    """The cluttered room with ``n`` (6) humans between points at least 4 m apart."""
+    n = 6 if n is None else check_count(n, "n_obstacles")
+    layout = families.cluttered_room(rng, 0)
+
+    def draw(rng, k):
+        starts, goals = _uniform(rng, (0.4, 0.4, 9.6, 9.6), k), _uniform(rng, (0.4, 0.4, 9.6, 9.6), k)
+        far = np.hypot(*(goals - starts).T) >= 4.0
+        goals[~far] = np.nan  # never free: the candidate is refused
+        return starts, goals
+
+    return _crowd(rng, n, layout, draw)
+
+
+# -- the maze: the shipped ROS map ----------------------------------------------------------
+MAZE_OBSTACLE_RADIUS = 0.3  # the maze's corridors are 1.6 m: the families' 0.5 m discs would block them
+#: Longest human trip in the maze (m, along the maze, ``routing.path_lengths``): 12 s at 0.75 m/s, so
+#: that the 20 s episode leaves time for the crowd's detours and waits.
+MAZE_TRIP = 9.0
+
+
+@cache
+def _maze_map():
+    from pathplan_env.maps.ros_maps import load_shipped_map
+
+    return load_shipped_map("maze")  # immutable: one load per process (~0.1 s)
+
+
+def maze(rng: np.random.Generator, n: int | None = None) -> Scenario:
+    """The shipped maze (a 6 x 6 maze of 1.6 m cells, 9.8 m square) with ``n`` (6) obstacles of radius
+    0.3 m at rest (``make_scenario`` gives them Δd), start and goal drawn by ``occupancy.scenario_kwargs``."""
+    from pathplan_env.scenarios.on_maps import scenario_kwargs
+
+    n = 6 if n is None else check_count(n, "n_obstacles")
+    kwargs = scenario_kwargs(_maze_map(), rng, n_obstacles=n, obstacle_radius=MAZE_OBSTACLE_RADIUS, robot_radius=families.ROBOT_RADIUS)
+    return Scenario(**kwargs, robot_radius=families.ROBOT_RADIUS, robot_speed=families.ROBOT_SPEED, dt=families.DT, name="maze")
+
+
+def maze_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:
+    """The maze with ``n`` (6) humans between free points 2 to 5 m apart (straight) and at most
+    :data:`MAZE_TRIP` (9 m) apart along the maze."""
+    n = 6 if n is None else check_count(n, "n_obstacles")
+    layout = maze(rng, 0)
+    occupancy = _maze_map()
+    clearance = HUMAN_RADIUS + WALL_CLEARANCE
+
+    # cells that may hold a human (as OccupancyMap.sample_free chooses them; _humans tests the exact clearance)
+    cells = np.flatnonzero(occupancy._free_distance.ravel() >= clearance - 2.0 * occupancy.resolution)
+    cols = occupancy.occupied.shape[1]
+
+    def draw(rng, k):
+        picks = cells[rng.integers(len(cells), size=k)]
+        starts = (np.column_stack([picks % cols, picks // cols]) + rng.random((k, 2))) * occupancy.resolution + occupancy.origin
+        angle, reach = 2.0 * np.pi * rng.random(k), 2.0 + 3.0 * rng.random(k)  # goals 2-5 m away (straight)
+        goals = starts + reach[:, None] * np.column_stack([np.cos(angle), np.sin(angle)])
+        goals[path_lengths(layout, starts, goals, clearance) > MAZE_TRIP] = np.nan
+        return starts, goals
+
+    return _crowd(rng, n, layout, draw)
+
+
+#: Every crowd family and the maze: ``(rng, n_obstacles or None for the family's own count) -> Scenario``.
+CROWD_FAMILIES: dict[str, Callable[[np.random.Generator, int | None], Scenario]] = {
+    "corridor-crowd": corridor_crowd,
+    "doorway-crowd": doorway_crowd,
+    "intersection-crowd": intersection_crowd,
+    "cluttered-room-crowd": cluttered_room_crowd,
+    "maze": maze,
+    "maze-crowd": maze_crowd,
+}
+
+__all__ = ["CROWD_FAMILIES", "cluttered_room_crowd", "corridor_crowd", "doorway_crowd", "intersection_crowd", "maze", "maze_crowd"]

@@ -1,0 +1,267 @@
+"""The simulated world: pymunk obstacles and walls, a kinematic robot, continuous contact detection.
+
+pymunk (Chipmunk) simulates the obstacles: frictionless, perfectly elastic discs that bounce off
+thick static walls on the arena's edges and off each other. Each obstacle keeps its own speed (so
+Δd stays exact): contacts change only directions. Obstacles with zero speed are kinematic bodies,
+immovable walls to the others. Chipmunk's overlap correction is off, so no obstacle ever moves
+farther than its speed allows in a step: Δd holds for displacements, not only for velocities.
+
+The robot is kinematic and never pushes an obstacle, so it is not a pymunk body: the env moves it
+in a straight line each step, and robot-obstacle contact is an exact swept-circle test against
+the obstacles' positions at every substep (Chipmunk does not sweep; a fast obstacle could
+otherwise cross the robot between two steps unseen).
+
+The scene's walls and polygons (``statics.py``) are static pymunk segments, so obstacles bounce off
+them as off the arena's edges (and keep their speed the same way); the robot's contact with them
+is the same exact swept test (``statics.static_stop``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pathplan_env.crowds.routing import drivers_statics
+from pathplan_env.geometry.contacts import NO_CONTACT
+from pathplan_env.geometry.walls import capsules_clearance, static_stop
+from pathplan_env.scenarios.scenario import Scenario
+from pathplan_env.world.chipmunk import READ_BODY, BatchBuffer, each_body, space_step
+from pathplan_env.world.space import SpaceKeeper
+from pathplan_env.world.substep_count import substeps_for
+from pathplan_env.world.substep_kernels import _clearance, _finish_substep, _gap_until, restore_speeds
+
+_NO_ROBOT = np.empty(0)  # what humans see of an invisible robot
+
+
+class World(SpaceKeeper):
+    """One episode's simulation, built from a :class:`Scenario` at every reset (its pymunk space new,
+    or the previous episode's lent whole: ``pathplan_env.world.space``).
+
+    Obstacle state moves between pymunk and numpy in one batch call per substep
+    (``pymunk.batch``), not one Python attribute access per body.
+    """
+
+    def __init__(self, scenario: Scenario, recycle: World | None = None):
+        """Build the world of ``scenario``; ``recycle`` (the previous episode's world, which is
+        emptied and unusable afterwards) lends its whole pymunk space if it fits the scenario (the
+        same arena, statics and moving obstacles), else its walls, statics and moving bodies where
+        they fit, since creating them was most of a reset. The episode is the same bit for bit
+        either way (tested)."""
+        self.scenario = scenario
+        self._diagonal = scenario.arena_diagonal  # the widest gap there is, read every step
+        data = scenario.arrays()
+        self.radii = data["radii"]
+        self.n_obstacles = len(self.radii)
+        self._speeds = np.hypot(data["velocities"][:, 0], data["velocities"][:, 1])
+        self._drivers = self._group_drivers(scenario)
+        self._robot_row = np.array([0.0, 0.0, 0.0, 0.0, scenario.robot_radius])  # what visible humans see
+        # the robot's state as Python floats: the env's per-step arithmetic on numpy scalars cost more
+        self.robot_xy = (float(scenario.start[0]), float(scenario.start[1]))
+        self.robot_velocity_xy = (0.0, 0.0)
+        #: A robot that turns (``pathplan_env.robots.unicycle``) keeps its heading (rad), forward speed (m/s)
+        #: and turn rate (rad/s) here; the holonomic robot leaves them 0 (sensors read the heading).
+        self.robot_heading, self.robot_forward_speed, self.robot_angular_velocity = 0.0, 0.0, 0.0
+        self.time = 0.0
+
+        top_speeds = self._speeds if not self._drivers else scenario.top_speeds()
+        self.substeps = substeps_for(top_speeds, self.radii, scenario.dt)
+        min_radius = min(self.radii.tolist()) if self.n_obstacles else 1.0
+
+        #: The scene's static geometry inside the arena as capsules, one row ``(x0, y0, x1, y1,
+        #: half_thickness)`` each (a wall; a polygon's edges with half-thickness 0). The arena's own
+        #: edges are not rows: they are ``scenario.bounds``. Read by sensors and planners.
+        self.static_segments = scenario.static_segments
+        self._has_statics = len(self.static_segments) > 0  # read every step: no walls, no cost
+        # what goal-directed obstacles know of the walls: RVO2 obstacles, routes (routing.py)
+        self._human_statics = drivers_statics(scenario, self._drivers) if self._drivers and self._has_statics else None
+        moving = [speed > 0 for speed in top_speeds.tolist()]  # a goal-directed obstacle is dynamic even at rest
+        if recycle is not None and recycle.space is None:  # (a world that lent its space has nothing left)
+            recycle = None
+        lent = recycle._lend_space(scenario, moving) if recycle is not None else None
+        if lent is not None:
+            self._take_space(lent, min_radius)
+        else:
+            self._build_space(scenario, recycle, moving, min_radius)
+        # positions and velocities in one batch write; the obstacles are the space's first bodies
+        self._pymunk_state[:, :2] = data["positions"]
+        self._pymunk_state[:, 2:] = data["velocities"]
+        self._write_bodies()
+        self.obstacle_state = self._pymunk_state.copy()  # (N, 4): x, y, vx, vy
+
+    @staticmethod
+    def _group_drivers(scenario: Scenario) -> list:
+        """``(behaviour, obstacle indices, goals, preferred speeds)`` per goal-directed behaviour; empty
+        for a scenario of bouncing obstacles (then stepping costs nothing extra)."""
+        if not scenario.goal_directed:
+            return []
+        groups: dict = {}
+        for i in range(scenario.n_obstacles):
+            behaviour = scenario.behaviour_of(i)
+            if behaviour.goal_directed:
+                groups.setdefault(behaviour, []).append(i)
+        n = scenario.n_obstacles
+        goals = np.array([ob.goal if ob.goal is not None else ob.center for ob in scenario.obstacles], np.float64).reshape(n, 2)
+        preferred = np.array([ob.preferred_speed for ob in scenario.obstacles], np.float64)
+        return [(behaviour, np.array(idx, np.int64), goals, preferred) for behaviour, idx in groups.items()]
+
+    def _steer(self) -> None:
+        """Goal-directed obstacles choose this step's velocities (all from the same snapshot); the
+        speed each chose is the one bounces keep for the step."""
+        if self.scenario.robot_visible:
+            (x, y), (vx, vy) = self.robot_xy, self.robot_velocity_xy
+            robot = self._robot_row
+            robot[0], robot[1], robot[2], robot[3] = x, y, vx, vy
+        else:
+            robot = _NO_ROBOT
+        state, dt = self.obstacle_state, self.scenario.dt
+        for behaviour, idx, goals, preferred in self._drivers:
+            behaviour.steer(idx, state, self._pymunk_state, self._speeds, self.radii, goals, preferred, robot, dt, self._human_statics)
+        self._write_bodies()
+
+    # -- stepping ------------------------------------------------------------------------------
+    @property
+    def robot_position(self) -> np.ndarray:
+        return np.array(self.robot_xy)
+
+    @property
+    def robot_velocity(self) -> np.ndarray:
+        return np.array(self.robot_velocity_xy)
+
+    def step(self, dx: float, dy: float, goal_fraction: float = NO_CONTACT) -> tuple[float, float]:
+        """Advance by one ``dt``: move the robot by ``(dx, dy)``, obstacles by physics.
+
+        The robot stops where its episode ends: at ``goal_fraction`` of the move (where it reaches the
+        goal; ``NO_CONTACT`` if it does not) or where it first touches an obstacle, whichever comes
+        first. The obstacles finish the step; the robot rests at that point with zero velocity.
+
+        Walls and polygons count as obstacles: the robot also stops where it first touches one.
+
+        :return: ``(min_gap, contact_fraction)``: the smallest surface gap to any obstacle, wall or
+            polygon during the step up to that point (m; 0 on contact, the arena's diagonal with
+            none), and the fraction of the step at which the first contact began (``NO_CONTACT``,
+            > 1, if none before the goal).
+        """
+        dt, n = self.scenario.dt, self.substeps
+        if self._drivers:
+            self._steer()
+        x0, y0 = self.robot_xy
+        min_gap, first_contact = self._diagonal, NO_CONTACT  # no gap is wider: finite with no obstacles
+        static_contact = False
+        if self._has_statics:
+            # the loop below stops at the walls' first contact as at the goal (an obstacle touched earlier still comes first)
+            goal_fraction, static_contact, gap = static_stop(x0, y0, dx, dy, goal_fraction, self.scenario.robot_radius, self.static_segments)
+            min_gap = min(min_gap, gap)
+        ax, ay = x0, y0
+        moving = True
+        goal_substep = min(n, max(1, math.ceil(goal_fraction * n))) if goal_fraction <= 1.0 else 0
+        space, array, request = self.space._space, self._buffer._float_arr, self._request
+        for k in range(1, n + 1):
+            # Chipmunk's step itself: Space.step's extra work (deferred adds and removals, post-step
+            # callbacks, mass checks of new bodies) never applies here: nothing is added or removed
+            # after construction, and every dynamic body has mass r^2 > 0 and infinite moment
+            space_step(space, dt / n)
+            array.num = 0  # _read_bodies, inlined on the hot path
+            each_body(space, READ_BODY, request)
+            if moving:
+                bx, by = (x0 + dx, y0 + dy) if k == n else (x0 + (k / n) * dx, y0 + (k / n) * dy)
+                if k == goal_substep:  # the gap counts up to the goal only (before the states move on)
+                    goal_here = min(goal_fraction * n - (k - 1), 1.0)  # where in this substep
+                    gap = _gap_until(ax, ay, bx, by, goal_here, self.scenario.robot_radius, self.obstacle_state, self._pymunk_state, self.radii)
+            else:
+                bx, by = ax, ay
+            sweep_gap, t, restored = _finish_substep(
+                self.obstacle_state, self._pymunk_state, ax, ay, bx, by, self.scenario.robot_radius, self.radii, self._speeds
+            )
+            if restored:
+                self._write_bodies()
+            if not moving:
+                continue
+            if t <= 1.0 and (k - 1 + t) / n <= goal_fraction:  # contact first: the robot stops touching
+                first_contact = (k - 1 + t) / n
+                min_gap = min(min_gap, 0.0)  # every gap is positive before the first contact
+                bx, by = ax + t * (bx - ax), ay + t * (by - ay)
+                moving = False
+            elif k == goal_substep:  # at the goal, or where it touches a wall: the robot stops there
+                if static_contact:
+                    first_contact, min_gap = goal_fraction, 0.0
+                else:
+                    min_gap = min(min_gap, gap)
+                bx, by = x0 + goal_fraction * dx, y0 + goal_fraction * dy
+                moving = False
+            elif sweep_gap < min_gap:
+                min_gap = sweep_gap
+            ax, ay = bx, by
+        self.robot_xy = (ax, ay)
+        self.robot_velocity_xy = (dx / dt, dy / dt) if moving else (0.0, 0.0)
+        self.time += dt
+        return float(min_gap), float(first_contact)
+
+    def begin_step(self) -> None:
+        """The start of a step driven from outside :meth:`step` (a robot flying arcs): goal-directed
+        obstacles choose their velocities."""
+        if self._drivers:
+            self._steer()
+
+    def advance_obstacles(self) -> tuple[np.ndarray, np.ndarray]:
+        """One physics substep of the obstacles: ``(before, after)``, their (N, 4) states (``after`` as
+        Chipmunk left it). The caller tests the robot between them and then restores the speeds into
+        ``after`` and copies it into ``before`` (``_finish_substep``), calling :meth:`write_bodies` if
+        any was restored: the obstacles' half of :meth:`step`'s substep, unchanged."""
+        space_step(self.space._space, self.scenario.dt / self.substeps)
+        self._buffer._float_arr.num = 0
+        each_body(self.space._space, READ_BODY, self._request)
+        return self.obstacle_state, self._pymunk_state
+
+    def write_bodies(self) -> None:
+        """Write the restored obstacle states back into pymunk (after :meth:`advance_obstacles`)."""
+        self._write_bodies()
+
+    def obstacle_trajectory(self, n_steps: int) -> np.ndarray:
+        """Advance the obstacles by ``n_steps`` steps and return their state at every substep.
+
+        The robot never moves an obstacle, so unless goal-directed obstacles see it
+        (``Scenario.robot_visible``), the obstacles of a fresh world built from an episode's scenario
+        follow this trajectory whatever the robot does: it is the future that the privileged
+        clairvoyant oracle reads. ``out[s]`` is the (N, 4) state after ``s`` substeps
+        (``out[0]`` now); the robot does not move.
+        """
+        n, dt = self.substeps, self.scenario.dt
+        out = np.empty((n_steps * n + 1, self.n_obstacles, 4))
+        out[0] = self.obstacle_state
+        space, array, request = self.space._space, self._buffer._float_arr, self._request
+        for s in range(1, n_steps * n + 1):  # World.step's obstacle half, substep for substep
+            if self._drivers and (s - 1) % n == 0:
+                self._steer()  # (a visible robot is seen resting where it is)
+            space_step(space, dt / n)
+            array.num = 0
+            each_body(space, READ_BODY, request)
+            restored = restore_speeds(self.obstacle_state, self._pymunk_state, self._speeds)  # (no robot to sweep)
+            if restored:
+                self._write_bodies()
+            out[s] = self.obstacle_state
+        self.time += n_steps * dt
+        return out
+
+    def clearance(self) -> float:
+        """Current smallest surface gap between the robot and any obstacle, wall or polygon (the
+        arena diagonal with none)."""
+        x, y = self.robot_xy
+        gap = self.scenario.arena_diagonal
+        if self.n_obstacles:
+            gap = min(gap, _clearance(self.obstacle_state, self.radii, x, y, self.scenario.robot_radius))
+        if self._has_statics:
+            gap = min(gap, capsules_clearance(x, y, self.scenario.robot_radius, self.static_segments))
+        return gap
+
+    # -- pickling: pymunk's Space pickles itself; the batch buffer and its view are rebuilt ----
+    def __getstate__(self):
+        state = self.__dict__.copy()
+        for key in ("_buffer", "_pymunk_state", "_request"):
+            del state[key]
+        return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        self._buffer = BatchBuffer()
+        self._attach_state_view()

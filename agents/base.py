@@ -74,9 +74,11 @@ class Agent:
     """A policy on DynamicObstacle-v0 with SB3's ``predict`` contract.
 
     Subclasses implement :meth:`plan`, which maps one observation (and this env's memory) to a
-    waypoint in the world. ``predict`` handles batched observations from vector envs, per-env memory
-    reset by ``episode_start``, the waypoint-to-action mapping, and timing (``last_plan_seconds``).
-    Agents read only the observation and the env's static public facts (:class:`EnvFacts`).
+    waypoint in the world, or, for a robot driven otherwise (the unicycle's velocity targets),
+    :meth:`act`, which maps it to the action itself. ``predict`` handles batched observations from
+    vector envs, per-env memory reset by ``episode_start``, and timing (``last_plan_seconds``), once
+    for every agent. Agents read only the observation and the env's static public facts
+    (:class:`EnvFacts`: its robot and its limits too).
     """
 
     name = "agent"
@@ -98,6 +100,10 @@ class Agent:
         """The waypoint (x, y) for one observation. ``memory`` is this env's scratch space for the episode."""
         raise NotImplementedError
 
+    def act(self, obs: dict[str, np.ndarray], memory: dict[str, Any]) -> np.ndarray:
+        """The action for one observation: by default :meth:`plan`'s waypoint as the env's action."""
+        return self.waypoint_to_action(self.plan(obs, memory))
+
     # -- SB3 contract --------------------------------------------------------------------------
     def predict(self, observation, state=None, episode_start=None, deterministic: bool = False):
         batched = np.ndim(observation["robot_position"]) == 2
@@ -108,13 +114,13 @@ class Agent:
             for i, start in enumerate(np.atleast_1d(episode_start)):
                 if start:
                     self._memory[i] = {}
-        waypoints = np.empty((n, 2))
+        actions = []
         for i in range(n):  # one plan per env of the batch
             obs = {k: v[i] for k, v in observation.items()} if batched else observation
             begin = time.perf_counter()
-            waypoints[i] = self.plan(obs, self._memory[i])
+            actions.append(self.act(obs, self._memory[i]))
             self.last_plan_seconds = time.perf_counter() - begin
-        actions = self.waypoint_to_action(waypoints)
+        actions = np.stack(actions).astype(np.float32)
         return (actions if batched else actions[0]), state
 
     def reset(self) -> None:

@@ -89,7 +89,7 @@ class DynamicObstacleEnv(gym.Env):
 
     ``V`` is the arena diagonal divided by ``dt`` (crossing the arena in one step): no speed is higher.
     Static public facts for planners: ``env.unwrapped.bounds``, ``dt``, ``robot_radius``, ``robot_speed``,
-    ``goal_radius`` (``pathplan_env.facts.EnvFacts``), ``robot_step_length`` and ``arena``
+    ``goal_radius``, ``robot`` and ``robot_limits`` (``pathplan_env.facts.EnvFacts``), ``robot_step_length`` and ``arena``
     (``pathplan_env.arena.Arena``: the box where the robot's disc fits). ``env.unwrapped.world`` is the
     simulator's state, read by privileged oracles only.
 
@@ -234,6 +234,7 @@ class DynamicObstacleEnv(gym.Env):
     dt = property(lambda self: self.scenario.dt, doc="The control period (s): one step advances the world by it.")
     robot_radius = property(lambda self: self.scenario.robot_radius, doc="The robot's radius (m).")
     robot_speed = property(lambda self: self.scenario.robot_speed, doc="The robot's top speed (m/s).")
+    robot_limits = property(lambda self: self.action_type.limits_for(self.scenario), doc="The robot's limits beyond its top speed (None: none).")
     goal_radius = property(lambda self: self.scenario.goal_radius, doc="The goal is reached within this distance (m).")
     proximity_distance = property(lambda self: self.reward_weights.proximity_distance, doc="Where the proximity term starts (m).")
 

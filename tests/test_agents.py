@@ -39,16 +39,31 @@ def test_straight_cannot_pass_the_paper_obstacles(case):
     assert info["collision"]
 
 
-@pytest.mark.parametrize("name", [p for p in PLANNERS if p != "oracle-clairvoyant"] + ["straight"])
-def test_evaluate_policy_runs_every_agent_on_a_vector_env(name):
-    env = gym.make("DynamicObstacle-v0", scenario="paper-case-1", delta_d=0)
-    agent = agents.make(name, env, seed=0)
+# privileged oracles read the one env they were made for: they refuse a batch (tests/test_spacetime.py)
+ONE_ENV_ONLY = {"oracle-clairvoyant", "oracle-clairvoyant-unicycle", "tracked-oracle-clairvoyant"}
+VECTOR_CASES = [(name, "holonomic") for name in [*PLANNERS, "straight", "ppo", "ppo-set", "sarl", "sarl-random", "sarl-crossings"]]
+VECTOR_CASES += [(name, "unicycle") for name in sorted(agents.UNICYCLE_AGENTS)]
+
+
+@pytest.mark.parametrize("name, robot", [case for case in VECTOR_CASES if case[0] not in ONE_ENV_ONLY])
+def test_evaluate_policy_runs_every_agent_on_a_two_env_vector_env(name, robot):
+    """SB3's evaluate_policy on a 2-env DummyVecEnv, the agent made from the vector env itself: batched
+    observations, per-env memory reset by episode_start, the robot read from the env's public facts."""
     from stable_baselines3.common.vec_env import DummyVecEnv
 
-    vec = DummyVecEnv([lambda: gym.make("DynamicObstacle-v0", scenario="paper-case-1", delta_d=0)] * 2)
-    mean, _ = evaluate_policy(agent, vec, n_eval_episodes=2, warn=False)
-    assert math.isfinite(mean)
+    vec = DummyVecEnv([lambda: gym.make("DynamicObstacle-v0", scenario="paper-case-1", delta_d=0.25, robot=robot)] * 2)
+    agent = agents.make(name, vec, seed=0)
+    assert isinstance(agent, agents.Agent)
+    rewards, lengths = evaluate_policy(agent, vec, n_eval_episodes=4, return_episode_rewards=True, warn=False)
+    assert len(rewards) == 4 and all(math.isfinite(r) for r in rewards) and min(lengths) >= 1
     assert agent.last_plan_seconds > 0
+    # a batch's actions are each env's own: the first env's row equals the action for its observation alone
+    obs = vec.reset()
+    fresh = agents.make(name, vec, seed=0)
+    batch, _ = fresh.predict(obs, deterministic=True)
+    single = agents.make(name, vec, seed=0).predict({k: v[0] for k, v in obs.items()}, deterministic=True)[0]
+    assert batch.shape == (2, *vec.action_space.shape)
+    np.testing.assert_array_equal(batch[0], single)
 
 
 def test_same_seed_same_actions():

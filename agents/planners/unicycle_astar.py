@@ -12,10 +12,9 @@ to be). It reads only the observation and public facts (``pathplan_env.robots.un
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
+from agents.base import Agent
 from agents.planners.spacetime import SpacetimeModel
 from agents.planners.spacetime_search import BUDGET
 from agents.planners.unicycle_search import UnicycleModel, UnicycleProblem, replay, search, settings
@@ -25,7 +24,7 @@ from pathplan_env.robots.unicycle import arena_edges, limits_of
 
 def unicycle_model(env) -> UnicycleModel:
     """The env's unicycle limits as the search's record. :raises ValueError: an env whose robot is no unicycle."""
-    limits, dt = limits_of(env), float(env.unwrapped.dt)
+    limits, dt = limits_of(env), EnvFacts.of(env).dt
     return UnicycleModel(limits.min_speed, limits.max_speed, limits.max_turn_rate, limits.max_acceleration * dt,
                          limits.max_angular_acceleration * dt, dt)  # fmt: skip
 
@@ -37,7 +36,7 @@ def observed_start(obs) -> np.ndarray:
     return np.array([x, y, float(obs["robot_heading"][0]), v, float(obs["robot_angular_velocity"][0])])
 
 
-class UnicycleAStarAgent:
+class UnicycleAStarAgent(Agent):
     """Space-time A* over the unicycle's moves on predicted obstacles (the module's doc).
 
     :param horizon_steps: steps predicted and searched (a node this deep is a leaf).
@@ -56,8 +55,8 @@ class UnicycleAStarAgent:
                  speed_steps=(-1.0, 0.0, 1.0), turn_steps=(-1.0, -0.5, 0.0, 0.5, 1.0), cell: float = 0.05,
                  heading_bin: float = 0.1, h_weight: float = 3.0, max_expansions: int = 2000, retry_factor: int = 20,
                  keep_plan_steps: int = 10, prediction: str = "physics", cone_degrees: float = 20.0):  # fmt: skip
+        super().__init__(env, seed=seed)
         self.model = unicycle_model(env)
-        self.facts = EnvFacts.of(env)
         self.spacetime = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees)
         self.settings = settings(speed_steps, turn_steps, horizon_steps, cell, heading_bin, max_expansions, h_weight)
         for name, value in (("retry_factor", retry_factor), ("keep_plan_steps", keep_plan_steps)):
@@ -65,37 +64,23 @@ class UnicycleAStarAgent:
                 raise ValueError(f"{name} must be a positive integer, got {value!r}")
         self.retry_factor, self.keep_plan_steps = int(retry_factor), int(keep_plan_steps)
         self.edges = arena_edges(self.facts.bounds)
-        self.memory: dict = {}
-        self.last_plan: np.ndarray | None = None
-        self.last_plan_seconds = 0.0
         self.last_outcome: int | None = None
 
-    def reset(self) -> None:
-        """Forget the episode (its plan and cost-to-go)."""
-        self.memory = {}
+    def act(self, obs, memory) -> np.ndarray:
+        return self.plan(obs, memory)
 
-    def predict(self, observation, state=None, episode_start=None, deterministic: bool = False):
-        if np.ndim(observation["robot_position"]) != 1:
-            raise ValueError("astar-unicycle plans for one env at a time: give it one observation, not a batch")
-        if episode_start is not None and np.any(episode_start):
-            self.reset()
-        begin = time.perf_counter()
-        action = self.plan(observation)
-        self.last_plan_seconds = time.perf_counter() - begin
-        return action, state
-
-    def problem(self, obs) -> UnicycleProblem:
+    def problem(self, obs, memory: dict) -> UnicycleProblem:
         """The search's problem for one observation: the predicted obstacles, walls plus the arena's edges."""
         trajectory, n, radii, _, goal = self.spacetime.predict_scene(obs)
-        segments, ctg = self.spacetime.statics(obs, self.memory)
+        segments, ctg = self.spacetime.statics(obs, memory)
         statics = np.ascontiguousarray(np.vstack([segments.reshape(-1, 5), self.edges]))
         f = self.facts
         return UnicycleProblem(trajectory, n, f.robot_radius, radii, observed_start(obs), goal, f.goal_radius, self.model, statics, ctg)
 
-    def plan(self, obs) -> np.ndarray:
-        """The action for one observation (the module's doc)."""
-        problem = self.problem(obs)
-        actions, poses = self.memory.get("actions"), self.memory.get("poses")
+    def plan(self, obs, memory: dict) -> np.ndarray:
+        """The action (not a waypoint) for one observation; ``memory`` keeps this env's plan and cost-to-go."""
+        problem = self.problem(obs, memory)
+        actions, poses = memory.get("actions"), memory.get("poses")
         keep = False
         if actions is not None and len(actions) > 0:
             free, reached = replay(problem, actions)
@@ -110,10 +95,10 @@ class UnicycleAStarAgent:
             self.last_outcome = int(result.outcome)
             actions, poses = result.actions, result.poses
         if len(actions) == 0:  # every move is predicted to touch: brake hard, straighten the turn
-            self.memory.pop("actions", None)
+            memory.pop("actions", None)
             self.last_plan = problem.start[None, :2].copy()
             return np.array([-1.0, 0.0], np.float32)
-        self.memory["actions"], self.memory["poses"] = actions[1:], poses[1:]
+        memory["actions"], memory["poses"] = actions[1:], poses[1:]
         self.last_plan = poses[:, :2].copy()
         return actions[0].copy()
 

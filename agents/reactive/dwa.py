@@ -16,12 +16,9 @@ It reads only the observation and public facts (``pathplan_env.robots.unicycle.l
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
-from agents.base import real_obstacles
-from pathplan_env.facts import EnvFacts
+from agents.base import Agent, real_obstacles
 from pathplan_env.robots.unicycle import limits_of, to_action
 
 
@@ -35,7 +32,7 @@ def arc_positions(x, y, heading, v, w, t):
     return np.stack([x + chord * np.cos(mid), y + chord * np.sin(mid)], -1)
 
 
-class DWAAgent:
+class DWAAgent(Agent):
     """Fox et al.'s dynamic window approach on the unicycle (the module's doc).
 
     :param horizon: seconds each pair is held in the prediction.
@@ -46,24 +43,17 @@ class DWAAgent:
 
     def __init__(self, env, seed: int | None = None, *, horizon: float = 2.0, n_speeds: int = 7, n_turns: int = 21,
                  weights=(0.5, 1.0, 0.2), margin: float = 0.02):  # fmt: skip
-        self.limits, self.facts = limits_of(env), EnvFacts.of(env)
+        super().__init__(env, seed=seed)
+        self.limits = limits_of(env)
         if not horizon > 0 or int(n_speeds) < 2 or int(n_turns) < 2 or margin < 0:
             raise ValueError(f"horizon > 0, n_speeds >= 2, n_turns >= 2, margin >= 0 expected, got {horizon}, {n_speeds}, {n_turns}, {margin}")
         self.horizon, self.n_speeds, self.n_turns = float(horizon), int(n_speeds), int(n_turns)
         self.weights, self.margin = np.asarray(weights, np.float64), float(margin)
         dt = self.facts.dt
         self.times = np.arange(1, int(round(self.horizon / dt * 2)) + 1) * (dt / 2)  # every half step
-        self.last_plan: np.ndarray | None = None
-        self.last_plan_seconds = 0.0
 
-    def reset(self) -> None:
-        """Stateless: nothing to forget."""
-
-    def predict(self, observation, state=None, episode_start=None, deterministic: bool = False):
-        begin = time.perf_counter()
-        action = self.choose(observation)
-        self.last_plan_seconds = time.perf_counter() - begin
-        return action, state
+    def act(self, obs, memory) -> np.ndarray:
+        return self.choose(obs)  # stateless: nothing in memory
 
     def choose(self, observation) -> np.ndarray:
         """The action of one observation (the module's doc)."""

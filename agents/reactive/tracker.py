@@ -16,11 +16,11 @@ import math
 
 import numpy as np
 
-from agents.base import make
+from agents.base import Agent, make
 from pathplan_env.robots.unicycle import limits_of, to_action
 
 
-class TrackedAgent:
+class TrackedAgent(Agent):
     """A waypoint planner (``planner``, any registered name; ``overrides`` go to it) driven by pure pursuit.
 
     :param lookahead_steps: which point of the plan to pursue (steps ahead, at least one).
@@ -29,28 +29,25 @@ class TrackedAgent:
     def __init__(self, env, seed: int | None = None, *, planner: str = "astar-spacetime", lookahead_steps: int = 2, **overrides):
         if int(lookahead_steps) != lookahead_steps or lookahead_steps < 1:
             raise ValueError(f"lookahead_steps must be a positive integer, got {lookahead_steps!r}")
+        super().__init__(env, seed=seed)
         self.limits = limits_of(env)
         self.planner = make(planner, env, seed=seed, **overrides)
+        if not isinstance(self.planner, Agent) or type(self.planner).predict is not Agent.predict:
+            raise ValueError(f"planner: {planner!r} does not plan one observation at a time (Agent.plan), so it cannot be tracked")
         self.lookahead_steps = int(lookahead_steps)
-        self.dt = env.unwrapped.dt
-        self.last_plan: np.ndarray | None = None
-        self.last_plan_seconds = 0.0
+        self.dt = self.facts.dt
 
-    def reset(self) -> None:
-        if hasattr(self.planner, "reset"):
-            self.planner.reset()
-
-    def predict(self, observation, state=None, episode_start=None, deterministic: bool = False):
-        action, _ = self.planner.predict(observation, state, episode_start, deterministic)
-        self.last_plan_seconds = getattr(self.planner, "last_plan_seconds", 0.0)
-        robot = np.asarray(observation["robot_position"], np.float64)
-        waypoint = self.planner.arena.action_to_waypoint(action) if hasattr(self.planner, "arena") else np.asarray(observation["goal"], np.float64)
-        plan = getattr(self.planner, "last_plan", None)
+    def act(self, obs, memory) -> np.ndarray:
+        # the planner's own memory for this env lives inside ours: episode_start clears both
+        action = self.planner.act(obs, memory.setdefault("planner", {}))
+        robot = np.asarray(obs["robot_position"], np.float64)
+        waypoint = self.planner.arena.action_to_waypoint(action)
+        plan = self.planner.last_plan
         plan = np.vstack([robot, waypoint]) if plan is None or len(plan) < 2 else np.asarray(plan, np.float64)[:, :2]
         self.last_plan = plan
         target = plan[min(self.lookahead_steps, len(plan) - 1)]
         speed = min(float(np.hypot(*(waypoint - robot))) / self.dt, self.limits.max_speed, self.brake_speed(plan))
-        return to_action(*self.steer(robot, float(observation["robot_heading"][0]), target, speed), self.limits), state
+        return to_action(*self.steer(robot, float(obs["robot_heading"][0]), target, speed), self.limits)
 
     def brake_speed(self, plan: np.ndarray) -> float:
         """The fastest speed from which the robot can still slow to the plan's speed at every later

@@ -46,6 +46,10 @@ class ActionType:
     def __init__(self, arena: Arena):
         self.arena = arena
 
+    def limits_for(self, scenario):
+        """The robot's limits in ``scenario`` beyond its top speed (``None``: it has none)."""
+        return None
+
     def space(self) -> spaces.Space:
         """The action space (built once, when the env is made)."""
         raise NotImplementedError

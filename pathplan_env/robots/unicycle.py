@@ -28,6 +28,7 @@ import numpy as np
 from gymnasium import spaces
 
 from pathplan_env.arena import Arena
+from pathplan_env.facts import EnvFacts
 from pathplan_env.robots.actions import ACTION_TYPES, ActionType, parse_action
 from pathplan_env.robots.arc_contact import DURATION, RADIUS
 from pathplan_env.robots.unicycle_step import END_VY, PARAMS, ROBOT_SIZE, STATE_SIZE, fly_substep
@@ -152,6 +153,9 @@ class UnicycleAction(ActionType):
     def check(self, scenario) -> None:
         resolve_limits(self.params, scenario)
 
+    def limits_for(self, scenario) -> UnicycleLimits:
+        return resolve_limits(self.params, scenario)
+
     def robot_entries(self, dt: float) -> dict[str, spaces.Box]:
         return {
             "robot_heading": spaces.Box(-math.pi, math.pi, shape=(1,), dtype=np.float32),
@@ -266,15 +270,15 @@ def pose(x: float, y: float, heading: float, speed: float, turn_rate: float, dur
 
 
 def limits_of(env) -> UnicycleLimits:
-    """The unicycle limits of an env (or a wrapped one) for its current scenario: a static public fact,
-    what agents that drive a unicycle read.
+    """The unicycle limits of an env (a wrapped or a vector one) for its current scenario: a static
+    public fact (``EnvFacts.robot_limits``), what agents that drive a unicycle read.
 
     :raises ValueError: for an env whose robot is no unicycle.
     """
-    base = env.unwrapped
-    if not isinstance(getattr(base, "action_type", None), UnicycleAction):
-        raise ValueError(f"env: its robot is {getattr(base, 'robot', '?')!r}, not 'unicycle' (gym.make(..., robot='unicycle'))")
-    return resolve_limits(base.action_type.params, base.scenario)
+    facts = EnvFacts.of(env)
+    if not isinstance(facts.robot_limits, UnicycleLimits):
+        raise ValueError(f"env: its robot is {facts.robot!r}, not 'unicycle' (gym.make(..., robot='unicycle'))")
+    return facts.robot_limits
 
 
 ACTION_TYPES[UnicycleAction.name] = UnicycleAction

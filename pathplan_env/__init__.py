@@ -49,4 +49,4 @@ __all__ = [
     "sample_random_scenario",
     "shortest_path",
 ]
-__version__ = "0.1.0"
+__version__ = "0.2.0.dev0"

@@ -14,7 +14,7 @@ name, so it works from an installed wheel), and ``hyperparams/ppo.yml`` is gener
 
     python -m pathplan_env.zoo > hyperparams/ppo.yml
 
-(``tests/test_zoo.py`` checks the committed file equals that output). rl-zoo3 has no place for
+(``tests/env/test_zoo.py`` checks the committed file equals that output). rl-zoo3 has no place for
 training's behaviour-cloning warm start, Δd curriculum and seed schedule: it trains on the
 registered env's defaults (Δd = 0.25, 8 obstacles).
 """
@@ -104,7 +104,7 @@ _YAML_HEADER = """\
 # absent, `-c pathplan_env.zoo` gives the same.
 #
 # Generated: edit pathplan_env/zoo.py, then `python -m pathplan_env.zoo > hyperparams/ppo.yml`
-# (tests/test_zoo.py checks this file equals that output).
+# (tests/env/test_zoo.py checks this file equals that output).
 #
 #   pip install -e ".[zoo]"
 #   python -m rl_zoo3.train --algo ppo --env DynamicObstacleFlat-v0 --gym-packages pathplan_env -c hyperparams/ppo.yml -f logs/

@@ -1,4 +1,9 @@
 import os
+import sys
+from pathlib import Path
+
+# the tests mirror the code in folders; the helpers they share (rollouts.py) live here
+sys.path.insert(0, str(Path(__file__).parent))
 
 # pygame must never need a display or a sound card in the tests
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")

@@ -9,7 +9,7 @@ the graph, Dijkstra's ties and the polyline are the reference's), and only the y
 formulas, each against only the shapes that can reach it: a shape farther than the tested
 circle's or edge's bounding box plus its reach cannot contain any of its points, so skipping it
 leaves every answer unchanged. Equality with the reference is tested on random scenes
-(tests/test_walls_oracle_static.py).
+(tests/agents/oracles/test_static_tangent_graph.py).
 """
 
 from __future__ import annotations

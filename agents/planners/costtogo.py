@@ -15,7 +15,7 @@ stand for, which :data:`GRID_STRETCH` divides out; a cell's diagonal is subtract
 place in its cell and the goal's. Where the field says less than the straight line, the straight
 line is used. Not a proof: snapping each corner of the true path to the lattice can add about a
 cell per corner (30 random wall scenes against ``geometry.shortest_path``'s exact length: at most
-0.12 m over, 1.3 % under; ``tests/test_wall_agents.py``). Blocked bands are at least
+0.12 m over, 1.3 % under; ``tests/agents/planners/test_wall_agents.py``). Blocked bands are at least
 ``2 (robot radius - half a cell diagonal - a cell)`` thick (a polygon's edges, half-thickness 0,
 close its interior off), so with cells of a quarter of the robot radius no knight move jumps one.
 """

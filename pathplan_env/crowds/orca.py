@@ -7,7 +7,7 @@ the preferred one inside all of them and the speed circle (a 2D linear program; 
 the velocity that violates them least). Written here rather than called through a binding because
 the ORCA humans run it once per human per step inside the env's step, where a binding's per-call
 cost (a simulator per agent, dozens of calls) would exceed the env's whole budget; it is checked
-against pyrvo (RVO2's maintained binding) in ``tests/test_crowds.py``. RVO2 computes in float32,
+against pyrvo (RVO2's maintained binding) in ``tests/crowds/test_crowds.py``. RVO2 computes in float32,
 we in float64: the two agree to float32's precision.
 
 The kernel takes named records, as RVO2's ``Agent`` holds its fields: the deciding agent

@@ -6,7 +6,7 @@ hard half-plane of permitted velocities (a vertex or edge already touched: a lin
 otherwise the velocity projected on the edge's truncated velocity obstacle: its cut-off line or circles,
 or its legs, which never point into a convex neighbouring edge). This module ports that case for
 case; ``orca.py`` solves the linear program over these lines and the agents'. Checked against pyrvo
-in ``tests/test_humans_walls.py``.
+in ``tests/crowds/test_humans_and_walls.py``.
 """
 
 from __future__ import annotations

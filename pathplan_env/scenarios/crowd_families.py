@@ -197,7 +197,7 @@ def _spaced(starts: np.ndarray, goals: np.ndarray, centers: np.ndarray, ends: np
 
 def _crowd(rng, n: int, layout: Scenario, draw: Callable) -> Scenario:
     """The layout (validated when it was built) with ``n`` humans (valid by construction), not validated
-    again, as the CrowdNav presets' scenes (``tests/test_speed_reset.py``: the same scenario as a validated one)."""
+    again, as the CrowdNav presets' scenes (``tests/scenarios/test_family_scenes.py``: the same scenario as a validated one)."""
     humans = _humans(rng, n, layout, draw)
     arrays = {"positions": np.array([h.center for h in humans], np.float64).reshape(n, 2), "velocities": np.zeros((n, 2)),
               "radii": np.full(n, HUMAN_RADIUS)}  # fmt: skip
@@ -228,7 +228,7 @@ def _corridor_trips(way, unit, across):
     """The corridor's (starts, goals) from its draws: ``way`` < 0.5 walks right to left, ``unit`` places
     the start in the entry half (mirrored for a walk to the left), the goal 8 m along at height ``across``.
     Compiled (numpy's ten passes were a tenth of a reset); the float operations numpy did, in its order
-    (``tests/test_speed_crowd_reset.py``)."""
+    (``tests/scenarios/test_crowd_families_fitting.py``)."""
     k = way.shape[0]
     starts, goals = np.empty((k, 2)), np.empty((k, 2))
     for i in range(k):

@@ -83,7 +83,7 @@ def _scenario(rng, n: int, regions: list[Box], **fields) -> Scenario:
     preset's scenes (validating the layout was a fifth of a crowd family's reset): each family draws
     its start and goal clear of its walls and polygons, which lie in the arena and are simple (its
     docstring), and the obstacles lie inside the regions, clear of everything. ``fields`` are
-    normalised already (float tuples). ``tests/test_speed_reset.py`` checks every family's scenes
+    normalised already (float tuples). ``tests/scenarios/test_family_scenes.py`` checks every family's scenes
     against validated ones."""
     layout = Scenario._from_checked(dict(_NO_OBSTACLES), robot_radius=ROBOT_RADIUS, robot_speed=ROBOT_SPEED, dt=DT, goal_radius=ROBOT_RADIUS,
                                     **fields)  # fmt: skip

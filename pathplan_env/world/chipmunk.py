@@ -1,7 +1,7 @@
 """pymunk driven through Chipmunk directly, where pymunk's Python layers cost a reset or a step
 too much: bodies and shapes added and removed with pymunk's bookkeeping mirrored, a batch buffer
 that frees its C arrays, and the C functions the world calls every substep. Tested against pymunk's
-own views (``tests/test_sturdy.py``: recycled worlds keep pymunk's bookkeeping)."""
+own views (``tests/env/test_sturdy.py``: recycled worlds keep pymunk's bookkeeping)."""
 
 from __future__ import annotations
 

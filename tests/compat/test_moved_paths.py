@@ -1,4 +1,4 @@
-"""Every public import path of 0.1.0 still works and names the same object as its new home
+"""Every public import path of 0.1.0 (a module's ``__all__`` where it declares one) still works and names the same object as its new home
 (``tests/data/public_paths_0.1.0.json``: module -> {name: [its module now, its name there]}, written when
 the package was reshaped into rooms). Shipped models pickle classes under those paths."""
 

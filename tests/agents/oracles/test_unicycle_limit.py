@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import gymnasium as gym
 import pytest
-from test_unicycle_search import RESTING, WALLED, _fly
+from rollouts import RESTING, WALLED
+from rollouts import fly_unicycle as _fly
 
 import agents
 import pathplan_env  # noqa: F401

@@ -5,6 +5,8 @@ from __future__ import annotations
 import gymnasium as gym
 import numpy as np
 import pytest
+from rollouts import RESTING, WALLED
+from rollouts import fly_unicycle as _fly
 
 import agents
 import pathplan_env  # noqa: F401
@@ -12,29 +14,9 @@ from agents.oracles.clairvoyant_unicycle import UnicycleClairvoyantOracle
 from agents.planners.unicycle_search import settings
 from pathplan_env import Obstacle, Scenario
 
-#: A wall across the straight line from start to goal; the goal lies behind it.
-WALLED = Scenario(bounds=(0.0, 0.0, 10.0, 10.0), start=(2.0, 5.0), goal=(8.0, 5.0), walls=(((5.0, 2.5), (5.0, 7.5)),), name="walled")
-#: Resting discs on the way (Δd 0: nothing moves).
-RESTING = Scenario(bounds=(0.0, 0.0, 10.0, 10.0), start=(1.0, 5.0), goal=(9.0, 5.0), name="resting",
-                   obstacles=(Obstacle((4.0, 5.0), 0.8), Obstacle((6.5, 4.2), 0.6), Obstacle((6.5, 6.0), 0.5)))  # fmt: skip
-
 
 def _unicycle(scenario, **kwargs):
     return gym.make("DynamicObstacle-v0", scenario=scenario, robot="unicycle", **kwargs)
-
-
-def _fly(agent, env, seed):
-    """One episode: ``(info, driven poses after every step, the plans' poses as held at each step, actions)``."""
-    agent.reset()
-    obs, info = env.reset(seed=seed)
-    world, driven, actions = env.unwrapped.world, [], []
-    while True:
-        action, _ = agent.predict(obs, deterministic=True)
-        actions.append(np.array(action))
-        obs, _, terminated, truncated, info = env.step(action)
-        driven.append((*world.robot_xy, world.robot_heading, world.robot_forward_speed, world.robot_angular_velocity))
-        if terminated or truncated:
-            return info, np.array(driven), np.array(actions)
 
 
 @pytest.mark.parametrize(("scenario", "delta_d", "seed"), [(RESTING, None, 0), ("random", 0.5, 3)])

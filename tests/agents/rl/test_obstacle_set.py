@@ -23,7 +23,7 @@ from agents.rl.training import Args, build_model, make_env
 from pathplan_env.facts import EnvFacts
 from pathplan_env.scenarios.splits import heldout_seeds
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 N_TOKENS = 12
 
 

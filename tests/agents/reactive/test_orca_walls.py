@@ -15,7 +15,7 @@ from agents.reactive.walls import geometry_of, orca_obstacles_of
 from pathplan_env.crowds.routing import orca_obstacles
 from pathplan_env.geometry.walls import capsules_clearance
 
-CASES = Path(__file__).resolve().parents[1] / "docs/results/crowdnav_cases/episodes.csv"
+CASES = Path(__file__).resolve().parents[3] / "docs/results/crowdnav_cases/episodes.csv"
 
 
 @pytest.mark.parametrize("preset", ["doorway", "intersection", "cluttered-room", "maze"])

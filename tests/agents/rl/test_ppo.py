@@ -29,7 +29,7 @@ from pathplan_env.scenarios.splits import (  # fmt: skip
 )
 from pathplan_env.wrappers import EpisodeSchedule, make_learning_env
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 sys.path.insert(0, str(ROOT / "scripts"))
 import train_rl  # noqa: E402  (the command line over agents.rl.training)
 

@@ -154,7 +154,7 @@ def test_same_seed_same_rollout_and_different_seed_differs():
 
 
 def test_same_seed_same_rollout_in_a_fresh_process():
-    code = "from tests.test_env import rollout_digest; print(rollout_digest(11, delta_d=1.0))"
+    code = "from tests.env.test_contract import rollout_digest; print(rollout_digest(11, delta_d=1.0))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
     assert out == rollout_digest(11, delta_d=1.0)
 

@@ -341,7 +341,7 @@ def test_unicycle_agents_need_a_unicycle():
         agents.make("dwa", gym.make("DynamicObstacle-v0"))
 
 
-def test_the_harness_runs_the_unicycle_without_the_limit(tmp_path):  # with it: tests/test_unicycle_search.py
+def test_the_harness_runs_the_unicycle_without_the_limit(tmp_path):  # with it: tests/agents/planners/test_unicycle_search.py
     from agents.evaluation import evaluate
 
     summary = evaluate(["dwa"], ["random"], [0.25], 2, tmp_path / "b", env_options={"robot": "unicycle"}, limit=False, plots=False)

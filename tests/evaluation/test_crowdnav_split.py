@@ -16,10 +16,10 @@ from agents.evaluation.run_diff import diff_runs
 from pathplan_env.scenarios.crowdnav import PRESET_LAYOUTS, crowdnav_test_case
 from pathplan_env.scenarios.splits import episode_seeds, heldout_seeds
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
 import evaluate as evaluate_script
 
-DATA = Path(__file__).resolve().parent / "data"
+DATA = Path(__file__).resolve().parents[1] / "data"
 CROWDNAV_DELTA_D = 1.0 * 0.25 / 0.3
 SMALL = dict(workers=1, plots=False, limit=False)
 

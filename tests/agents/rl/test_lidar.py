@@ -23,7 +23,7 @@ from agents.rl.numpy_policy import NumpyPolicy
 from agents.rl.training import Args, build_model, collect_demonstrations, demonstration_env, make_env
 from pathplan_env.facts import EnvFacts
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 BINS, FRAMES = 90, 2
 
 

@@ -14,7 +14,7 @@ from pathplan_env.maps.occupancy import occupancy_polygons
 from pathplan_env.maps.ros_maps import SHIPPED_MAPS, MapFileError, load_ros_map, load_shipped_map, shipped_map_path
 from pathplan_env.scenarios.on_maps import scenario_kwargs
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 FIELDS = {"resolution": 0.5, "origin": [-1.0, 2.0, 0.0], "occupied_thresh": 0.65, "free_thresh": 0.196, "negate": 0}
 
 

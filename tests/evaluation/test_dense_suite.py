@@ -66,7 +66,7 @@ def test_the_dense_plot_reads_each_cells_count_from_the_runs_config(tmp_path, ca
     import sys
     from pathlib import Path
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
     import plot_dense
 
     rows = [{"agent": a, "scenario": s, "delta_d": 2.0, "success_over_limit": v}

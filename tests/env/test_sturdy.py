@@ -127,7 +127,7 @@ def test_memory_stays_flat_over_resets():
     import sys
     from pathlib import Path
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
     from soak import resident_mib
 
     env = gym.make("DynamicObstacle-v0")
@@ -165,7 +165,7 @@ def test_a_script_given_bad_input_says_so_in_one_line(tmp_path, command, named):
     from pathlib import Path
 
     script, *args = command.split()
-    path = Path(__file__).resolve().parents[1] / "scripts" / script
+    path = Path(__file__).resolve().parents[2] / "scripts" / script
     out = subprocess.run([sys.executable, str(path), *args, *(["--out", str(tmp_path)] if script == "evaluate.py" else [])],
                          cwd=tmp_path, capture_output=True, text=True, timeout=300)  # fmt: skip
     assert out.returncode != 0 and "Traceback" not in out.stderr, out.stderr[-1500:]

@@ -115,7 +115,7 @@ def test_the_lost_episode_picture_is_drawn(tmp_path):
     import sys
     from pathlib import Path
 
-    script = Path(__file__).resolve().parents[1] / "scripts" / "plot_lost_episode.py"
+    script = Path(__file__).resolve().parents[3] / "scripts" / "plot_lost_episode.py"
     out = subprocess.run([sys.executable, str(script), "--out", str(tmp_path / "lost.png")], capture_output=True, text=True, timeout=600)
     assert out.returncode == 0, out.stderr[-2000:]
     assert "lost within" in out.stdout and (tmp_path / "lost.png").stat().st_size > 10_000

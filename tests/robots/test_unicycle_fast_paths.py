@@ -4,7 +4,7 @@ One compiled call a substep reads the arc's ends computed once a step, the obsta
 restored without a swept test of a zero robot, the state observation writes the heading and turn
 rate into its own rows, and the random preset draws in Python floats: each is checked here against
 the slower composition it replaces (the episodes themselves are pinned by the digests in
-``tests/test_unicycle.py``, ``tests/test_env.py`` and ``tests/test_speed_digests.py``).
+``tests/robots/test_unicycle.py``, ``tests/env/test_contract.py`` and ``tests/regression/test_preset_digests.py``).
 """
 
 from __future__ import annotations

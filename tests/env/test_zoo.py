@@ -13,7 +13,7 @@ import yaml
 from agents.rl.training import Args
 from pathplan_env.zoo import PPO_SETTINGS, PPOSettings, hyperparams, hyperparams_yaml
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_flat_env_passes_the_checkers_with_a_box_observation():

@@ -5,7 +5,7 @@
 
 from functools import partial
 
-from agents.base import Agent, available, make, register, rollout
+from agents.base import Agent, available, make, register, robots_of, rollout
 from agents.oracles import ClairvoyantOracle, StaticOracleAgent
 from agents.planners import MetaheuristicAgent, SpacetimeAStarAgent, SpacetimeMetaheuristicAgent
 from agents.planners.spacetime import CROWD_SETTINGS as ASTAR_CROWD_SETTINGS
@@ -25,14 +25,14 @@ register("straight", StraightAgent)
 register("velocity-obstacle", VelocityObstacleAgent)
 register("orca", ORCAAgent)
 register("oracle-static", StaticOracleAgent)
-register("oracle-clairvoyant", ClairvoyantOracle)  # privileged: reads the simulator
+register("oracle-clairvoyant", ClairvoyantOracle, robots=("holonomic", "unicycle"))  # privileged: reads the simulator (the unicycle's own search on a unicycle)
 register("ppo", partial(trained_agent, algo="ppo"))  # the shipped PPO; with path=: a train_rl.py model, or any PPO .zip
 register("ppo-lidar", LidarRLAgent)  # the shipped lidar PPO (1-D conv encoder): observation="lidar"; with path=: a train_rl.py --observation lidar model
 register("ppo-set", SetRLAgent)  # the set-encoder PPO (attention over every obstacle); with path=: a train_rl.py --observation set model
 register("sarl", SARLAgent)  # value network with attention + lookahead on predicted humans (two steps, RGL), a grid search when all stand (sarl_crowdnav.npz)
 register("sarl-random", partial(SARLAgent, model="sarl_random"))  # the same trained on random scenes, bouncing obstacles (sarl_random.npz, setting per sidecar)
 register("sarl-crossings", partial(SARLAgent, model="sarl_crowdnav_crossings"))  # the same trained on CrowdNav's circle and square crossings by turns
-register("sb3", SB3Agent)  # any SB3 model file as it comes, path= required (agents.rl.sb3_model)
+register("sb3", SB3Agent, robots=("holonomic", "unicycle"))  # any SB3 model file as it comes, path= required (agents.rl.sb3_model)
 register("astar-spacetime", SpacetimeAStarAgent)
 # for crowds that steer: a cone of predicted futures, a wider margin, and an escape when every plan ends in contact
 register("astar-crowd", partial(SpacetimeAStarAgent, **ASTAR_CROWD_SETTINGS))
@@ -51,29 +51,28 @@ register("abc-spacetime", partial(SpacetimeMetaheuristicAgent, optimizer="abc", 
 # and held the robot back in the maze's corridors (docs/results/maps_first_look/README.md)
 register("pso-crowd", partial(SpacetimeMetaheuristicAgent, optimizer="pso", **CROWD_SETTINGS))
 register("abc-crowd", partial(SpacetimeMetaheuristicAgent, optimizer="abc", population=40, **CROWD_SETTINGS))
+UNICYCLE = ("unicycle",)
 # the unicycle (robot="unicycle"): the dynamic window approach, and any waypoint planner driven by pure pursuit
-register("dwa", DWAAgent)
-register("astar-unicycle", UnicycleAStarAgent)  # space-time A* over the unicycle's own moves (agents.planners.unicycle_search)
+register("dwa", DWAAgent, robots=UNICYCLE)
+register("astar-unicycle", UnicycleAStarAgent, robots=UNICYCLE)  # space-time A* over the unicycle's own moves (agents.planners.unicycle_search)
 # for crowds that steer, as astar-crowd: a cone of three predicted futures per obstacle and a 15 % margin
-register("astar-unicycle-crowd", partial(UnicycleAStarAgent, prediction="cone", margin=0.15, retry_factor=5))
-register("tracked", TrackedAgent)  # agents.make("tracked", env, planner="pso-spacetime")
+register("astar-unicycle-crowd", partial(UnicycleAStarAgent, prediction="cone", margin=0.15, retry_factor=5), robots=UNICYCLE)
+register("tracked", TrackedAgent, robots=UNICYCLE)  # agents.make("tracked", env, planner="pso-spacetime")
 for _planner in ("astar-spacetime", "astar-crowd", "pso-spacetime", "abc-spacetime", "pso", "abc", "velocity-obstacle", "orca",
                  "oracle-static", "straight"):  # fmt: skip
-    register(f"tracked-{_planner}", partial(TrackedAgent, planner=_planner))
+    register(f"tracked-{_planner}", partial(TrackedAgent, planner=_planner), robots=UNICYCLE)
 # the paper's optimisers on the unicycle's own control sequence
-register("pso-unicycle", partial(UnicycleMetaheuristicAgent, optimizer="pso"))
-register("abc-unicycle", partial(UnicycleMetaheuristicAgent, optimizer="abc", population=40))  # 20 food sources
+register("pso-unicycle", partial(UnicycleMetaheuristicAgent, optimizer="pso"), robots=UNICYCLE)
+register("abc-unicycle", partial(UnicycleMetaheuristicAgent, optimizer="abc", population=40), robots=UNICYCLE)  # 20 food sources
 # for crowds that steer (CrowdNav's circle crossing): the cone of predicted futures and a 10 % margin
-register("pso-unicycle-crowd", partial(UnicycleMetaheuristicAgent, optimizer="pso", prediction="cone", margin=0.1))
-register("abc-unicycle-crowd", partial(UnicycleMetaheuristicAgent, optimizer="abc", population=40, prediction="cone", margin=0.1))
-#: The registered agents that drive only a unicycle (``gym.make(..., robot="unicycle")``).
-UNICYCLE_AGENTS = frozenset(
-    name for name in available() if name == "dwa" or name.startswith(("tracked", "astar-unicycle", "pso-unicycle", "abc-unicycle"))
-)
+register("pso-unicycle-crowd", partial(UnicycleMetaheuristicAgent, optimizer="pso", prediction="cone", margin=0.1), robots=UNICYCLE)
+register("abc-unicycle-crowd", partial(UnicycleMetaheuristicAgent, optimizer="abc", population=40, prediction="cone", margin=0.1), robots=UNICYCLE)
+#: The registered agents that drive only a unicycle (``gym.make(..., robot="unicycle")``): read from the registry.
+UNICYCLE_AGENTS = frozenset(name for name in available() if robots_of(name) == UNICYCLE)
 
 __all__ = [
     "Agent", "ClairvoyantOracle", "DWAAgent", "TrackedAgent", "UnicycleAStarAgent", "MetaheuristicAgent", "ORCAAgent", "RLAgent",
     "SpacetimeAStarAgent", "SpacetimeMetaheuristicAgent", "StaticOracleAgent", "StraightAgent", "UNICYCLE_AGENTS",
     "UnicycleMetaheuristicAgent", "VelocityObstacleAgent",
-    "available", "make", "register", "rollout",
+    "available", "make", "register", "robots_of", "rollout",
 ]  # fmt: skip

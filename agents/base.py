@@ -151,9 +151,10 @@ def rollout(agent: Agent, env, seed: int | None = None) -> dict:
 
 # -- registry ---------------------------------------------------------------------------------
 _REGISTRY: dict[str, Callable[..., Agent]] = {}
+_ROBOTS: dict[str, tuple[str, ...]] = {}
 
 
-def register(name: str, factory: Callable[..., Any]) -> None:
+def register(name: str, factory: Callable[..., Any], *, robots: tuple[str, ...] = ("holonomic",)) -> None:
     """Make ``factory`` buildable as ``agents.make(name, env, seed=..., **overrides)`` and
     evaluable by name (``evaluate([name], ...)``, ``scripts/evaluate.py --agents name`` when the
     registering module is imported).
@@ -170,14 +171,27 @@ def register(name: str, factory: Callable[..., Any]) -> None:
         agents.register("potential-field", PotentialField)
         agents.make("potential-field", env, seed=0)
 
+    ``robots`` names the robot models (``gym.make(..., robot=...)``) the agent drives: what
+    :func:`robots_of` answers, so that a harness or a benchmark picks the env by data, not by name.
+
     :raises ValueError: an empty name, a name with ``@``, ``:``, ``=`` or ``,`` (the command line's
-        separators), or a factory that is not callable.
+        separators), a factory that is not callable, or no robot named.
     """
     if not isinstance(name, str) or not name.strip() or any(c in name for c in "@:=,"):
         raise ValueError(f"name must be a non-empty string without '@', ':', '=' or ',', got {name!r}")
     if not callable(factory):
         raise ValueError(f"factory must be callable (a class or a function), got {factory!r}")
+    robots = (robots,) if isinstance(robots, str) else tuple(robots)
+    if not robots or not all(isinstance(robot, str) and robot for robot in robots):
+        raise ValueError(f"robots must name at least one robot model, got {robots!r}")
     _REGISTRY[name] = factory
+    _ROBOTS[name] = robots
+
+
+def robots_of(name: str) -> tuple[str, ...]:
+    """The robot models the agent registered as ``name`` drives (``("holonomic",)``, ``("unicycle",)``, or both)."""
+    factory(name)  # the same error for an unknown name
+    return _ROBOTS[name]
 
 
 def factory(name: str) -> Callable[..., Any]:

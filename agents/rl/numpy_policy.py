@@ -25,7 +25,18 @@ _ENCODER_KEYS = {"encoder_layers": "agents.rl.lidar.numpy_encoder.NumpyLidarPoli
 
 
 class NumpyPolicy:
-    """The actor of an exported policy: ``predict(features, deterministic, rng) -> actions``."""
+    """The actor of an exported policy: ``predict(features, deterministic, rng) -> actions``.
+
+    A family with an encoder subclasses it with ``encoder_key`` (a key its export writes),
+    ``encoder_kind`` (for the error when it is missing) and :meth:`encoder_of`.
+    """
+
+    encoder_key: str | None = None
+    encoder_kind = ""
+
+    def encoder_of(self, data):
+        """The numpy encoder in front of the MLP, built from the export's arrays (none here)."""
+        return None
 
     def __init__(self, path: str | Path):
         with np.load(path) as data:
@@ -37,9 +48,11 @@ class NumpyPolicy:
             self.activation = _ACTIVATIONS[str(data["activation"])]
             self.observation_size = int(data["observation_size"])
             family = next((cls for key, cls in _ENCODER_KEYS.items() if key in data), None)
-        if family is not None and f"{type(self).__module__}.{type(self).__qualname__}" != family:
-            raise ValueError(f"path: {path} holds an encoder in front of the MLP: load it with {family}")
-        self.encoder = None  # a family's subclass sets its own
+            if family is not None and f"{type(self).__module__}.{type(self).__qualname__}" != family:
+                raise ValueError(f"path: {path} holds an encoder in front of the MLP: load it with {family}")
+            if self.encoder_key is not None and self.encoder_key not in data:
+                raise ValueError(f"path: {path} holds no {self.encoder_kind} encoder (export a PPO trained with --observation {self.encoder_kind})")
+            self.encoder = self.encoder_of(data)
 
     def mean(self, features: np.ndarray) -> np.ndarray:
         x = np.asarray(features, dtype=np.float32)

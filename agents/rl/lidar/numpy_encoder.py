@@ -72,18 +72,13 @@ def export_encoder(extractor) -> dict[str, np.ndarray]:
     return arrays
 
 
-__all__ = ["NumpyConvEncoder", "conv1d_circular", "export_encoder"]
-
-
 class NumpyLidarPolicy(NumpyPolicy):
     """:class:`~agents.rl.numpy_policy.NumpyPolicy` whose features go through the exported convolution encoder first."""
 
-    def __init__(self, path: str | Path):
-        super().__init__(path)
-        with np.load(path) as data:
-            if PREFIX + "layers" not in data:
-                raise ValueError(f"path: {path} holds no lidar encoder (export a PPO trained with --observation lidar)")
-            self.encoder = NumpyConvEncoder(data)
+    encoder_key, encoder_kind = PREFIX + "layers", "lidar"
+
+    def encoder_of(self, data) -> NumpyConvEncoder:
+        return NumpyConvEncoder(data)
 
 
 def export_lidar_policy(model, path: str | Path) -> Path:
@@ -95,3 +90,6 @@ def export_lidar_policy(model, path: str | Path) -> Path:
     if not isinstance(policy.features_extractor, LidarConvExtractor) or not policy.share_features_extractor:
         raise ValueError(f"model: expected a shared LidarConvExtractor, got {type(policy.features_extractor).__name__}")
     return write_actor(model, path, export_encoder(policy.features_extractor))
+
+
+__all__ = ["NumpyConvEncoder", "NumpyLidarPolicy", "conv1d_circular", "export_encoder", "export_lidar_policy"]

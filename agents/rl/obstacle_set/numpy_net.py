@@ -86,12 +86,10 @@ def export_set_encoder(extractor) -> dict[str, np.ndarray]:
 class NumpySetPolicy(NumpyPolicy):
     """:class:`NumpyPolicy` whose features go through the exported set encoder first."""
 
-    def __init__(self, path: str | Path):
-        super().__init__(path)
-        with np.load(path) as data:
-            if PREFIX + "n_tokens" not in data:
-                raise ValueError(f"path: {path} holds no set encoder (export a PPO trained with --observation set)")
-            self.encoder = NumpySetEncoder(data)
+    encoder_key, encoder_kind = PREFIX + "n_tokens", "set"
+
+    def encoder_of(self, data) -> NumpySetEncoder:
+        return NumpySetEncoder(data)
 
 
 def export_set_policy(model, path: str | Path) -> Path:

@@ -32,7 +32,7 @@ from agents.planners.costtogo import CostToGo, distance_to_goal
 from agents.planners.objective import INFEASIBLE, TWO_PI, objective
 from pathplan_env.geometry.contacts import NO_CONTACT
 from pathplan_env.geometry.walls import point_segment
-from pathplan_env.robots.arc_contact import Arc, arc_capsule, arc_disc_between, arc_goal, arc_point
+from pathplan_env.robots.arc_contact import Arc, ArcPiece, arc_capsule, arc_disc_between, arc_goal, arc_point
 from pathplan_env.robots.unicycle_step import DV, MAX_SPEED, MAX_TURN_RATE, MIN_SPEED, PARAMS_SIZE, pose, step_velocity
 
 #: Metres added to a reach disc's radius (far above rounding, far below any clearance): an obstacle it
@@ -169,8 +169,8 @@ def _obstacle_contacts(arc, end_x, end_y, step, goal_f, scene, depth, first_touc
                 ready = True
             for j in range(1, n + 1):
                 a, b = first + j - 1, first + j
-                gap, u = arc_disc_between(arc, (j - 1) / n, j / n, sx[j - 1], sy[j - 1], sx[j], sy[j], sub_length, sub_delta,
-                                          traj[a, o, 0], traj[a, o, 1], traj[b, o, 0], traj[b, o, 1], contact)  # fmt: skip
+                piece = ArcPiece((j - 1) / n, j / n, sx[j - 1], sy[j - 1], sx[j], sy[j], sub_length, sub_delta)
+                gap, u = arc_disc_between(arc, piece, traj[a, o, 0], traj[a, o, 1], traj[b, o, 0], traj[b, o, 1], contact)
                 if u <= 1.0 and (j - 1 + u) / n <= goal_f:  # a contact before the goal counts
                     if first_touch[o] < 0.0:
                         first_touch[o] = step + (j - 1 + u) / n

@@ -79,6 +79,30 @@ def _bound(arc, f0, f1):
     return length, length * abs(arc.turn_rate * span) / 8.0
 
 
+class ArcPiece(NamedTuple):
+    """The piece of an arc from fraction ``f0`` to ``f1``: its ends ``a``, ``b`` (``arc_point`` at both),
+    its length and chord bound ``δ = L |φ| / 8`` (``_bound``), computed once and tested against every
+    obstacle and capsule of a substep."""
+
+    f0: float
+    f1: float
+    ax: float
+    ay: float
+    bx: float
+    by: float
+    length: float
+    delta: float
+
+
+@numba.njit(cache=True, inline="always")
+def arc_piece(arc, f0, f1):
+    """The :class:`ArcPiece` of ``arc`` from ``f0`` to ``f1``."""
+    ax, ay, _ = arc_point(arc, f0)
+    bx, by, _ = arc_point(arc, f1)
+    length, delta = _bound(arc, f0, f1)
+    return ArcPiece(f0, f1, ax, ay, bx, by, length, delta)
+
+
 @numba.njit(cache=True)
 def arc_disc(arc, f0, f1, oax, oay, obx, oby, reach):
     """The robot on the arc from fraction ``f0`` to ``f1`` against a disc moving from ``oa`` to ``ob``
@@ -87,16 +111,14 @@ def arc_disc(arc, f0, f1, oax, oay, obx, oby, reach):
     :return: ``(gap, u_contact)``: a gap no larger than the true smallest one (within ``δ`` of it;
         exact on a straight move; ``<= 0`` on contact) and the first contact's ``u`` (``NO_CONTACT``: none).
     """
-    ax, ay, _ = arc_point(arc, f0)
-    bx, by, _ = arc_point(arc, f1)
-    length, delta = _bound(arc, f0, f1)
-    return arc_disc_between(arc, f0, f1, ax, ay, bx, by, length, delta, oax, oay, obx, oby, reach)
+    return arc_disc_between(arc, arc_piece(arc, f0, f1), oax, oay, obx, oby, reach)
 
 
 @numba.njit(cache=True)
-def arc_disc_between(arc, f0, f1, ax, ay, bx, by, length, delta, oax, oay, obx, oby, reach):
-    """:func:`arc_disc` given the piece's ends ``a``, ``b`` and its length and chord bound ``L |φ| / 8``
-    (computed once for every obstacle of a substep, by the env and by planners that roll the robot out)."""
+def arc_disc_between(arc, piece, oax, oay, obx, oby, reach):
+    """:func:`arc_disc` on an :class:`ArcPiece` (computed once for every obstacle of a substep, by the
+    env and by planners that roll the robot out)."""
+    f0, f1, ax, ay, bx, by, length, delta = piece
     tol = CONTACT_TOLERANCE * reach
     chord_gap, u = swept_pair(ax, ay, bx, by, reach + delta + tol, oax, oay, obx, oby, 0.0)
     if u > 1.0:
@@ -130,15 +152,13 @@ def arc_disc_between(arc, f0, f1, ax, ay, bx, by, length, delta, oax, oay, obx, 
 def arc_capsule(arc, f_end, robot_radius, x0, y0, x1, y1, half):
     """The robot on the arc from fraction 0 to ``f_end`` against a static capsule (segment ``x0 y0 x1 y1``,
     half-thickness ``half``): ``(gap, f_contact)`` as :func:`arc_disc`, the contact as a fraction of the arc."""
-    ax, ay, _ = arc_point(arc, 0.0)
-    bx, by, _ = arc_point(arc, f_end)
-    length, delta = _bound(arc, 0.0, f_end)
-    return _arc_capsule(arc, f_end, ax, ay, bx, by, length, delta, robot_radius, x0, y0, x1, y1, half)
+    return _arc_capsule(arc, arc_piece(arc, 0.0, f_end), robot_radius, x0, y0, x1, y1, half)
 
 
 @numba.njit(cache=True)
-def _arc_capsule(arc, f_end, ax, ay, bx, by, length, delta, robot_radius, x0, y0, x1, y1, half):
-    """:func:`arc_capsule` given the arc's ends and ``_bound`` (computed once for every capsule)."""
+def _arc_capsule(arc, piece, robot_radius, x0, y0, x1, y1, half):
+    """:func:`arc_capsule` on the :class:`ArcPiece` from 0 to ``f_end`` (computed once for every capsule)."""
+    _, f_end, ax, ay, bx, by, length, delta = piece
     reach = robot_radius + half
     tol = CONTACT_TOLERANCE * reach
     chord_gap, u = swept_capsule(ax, ay, bx, by, robot_radius + delta + tol, x0, y0, x1, y1, half)
@@ -168,12 +188,9 @@ def arc_capsules(arc, f_end, robot_radius, segments):
     """:func:`arc_capsule` against ``(M, 5)`` capsule rows: ``(min_gap, f_contact)`` (``(inf, NO_CONTACT)`` with none)."""
     min_gap = np.inf
     f_contact = NO_CONTACT
-    ax, ay, _ = arc_point(arc, 0.0)
-    bx, by, _ = arc_point(arc, f_end)
-    length, delta = _bound(arc, 0.0, f_end)
+    piece = arc_piece(arc, 0.0, f_end)
     for i in range(segments.shape[0]):
-        gap, f = _arc_capsule(arc, f_end, ax, ay, bx, by, length, delta, robot_radius, segments[i, 0], segments[i, 1], segments[i, 2], segments[i, 3],
-                              segments[i, 4])  # fmt: skip
+        gap, f = _arc_capsule(arc, piece, robot_radius, segments[i, 0], segments[i, 1], segments[i, 2], segments[i, 3], segments[i, 4])
         min_gap = min(min_gap, gap)
         f_contact = min(f_contact, f)
     return min_gap, f_contact
@@ -201,27 +218,25 @@ def step_statics(robot, segments, goal_x, goal_y, goal_radius):
     """:class:`StepStatics`' values of the arc ``robot`` (an :class:`Arc`'s values as an array plus the robot
     radius, see :func:`_arc`) against the capsules, in one call."""
     arc, radius = _arc(robot)
-    ax, ay, _ = arc_point(arc, 0.0)
-    bx, by, _ = arc_point(arc, 1.0)
-    length, delta = _bound(arc, 0.0, 1.0)
-    return step_statics_between(arc, radius, ax, ay, bx, by, length, delta, segments, goal_x, goal_y, goal_radius)
+    return step_statics_between(arc, radius, arc_piece(arc, 0.0, 1.0), segments, goal_x, goal_y, goal_radius)
 
 
 @numba.njit(cache=True)
-def step_statics_between(arc, radius, ax, ay, bx, by, length, delta, segments, goal_x, goal_y, goal_radius):
-    """:func:`step_statics` given the whole arc's ends (``arc_point`` at 0 and 1) and ``_bound(arc, 0, 1)``:
-    :func:`arc_goal` then :func:`arc_capsules` up to the goal, the same operations without computing
-    the ends again (each is three sines and cosines)."""
-    goal = arc_disc_between(arc, 0.0, 1.0, ax, ay, bx, by, length, delta, goal_x, goal_y, goal_x, goal_y, goal_radius)[1]
+def step_statics_between(arc, radius, whole, segments, goal_x, goal_y, goal_radius):
+    """:func:`step_statics` given the whole arc's :class:`ArcPiece` (0 to 1): :func:`arc_goal` then
+    :func:`arc_capsules` up to the goal, the same operations without computing the ends again (each
+    is three sines and cosines)."""
+    goal = arc_disc_between(arc, whole, goal_x, goal_y, goal_x, goal_y, goal_radius)[1]
     f_end = min(goal, 1.0)
+    piece = whole
     if f_end != 1.0:  # the goal part-way: the walls count up to there
         bx, by, _ = arc_point(arc, f_end)
         length, delta = _bound(arc, 0.0, f_end)
+        piece = ArcPiece(0.0, f_end, whole.ax, whole.ay, bx, by, length, delta)
     gap = np.inf
     wall = NO_CONTACT
     for i in range(segments.shape[0]):
-        g, f = _arc_capsule(arc, f_end, ax, ay, bx, by, length, delta, radius, segments[i, 0], segments[i, 1], segments[i, 2], segments[i, 3],
-                            segments[i, 4])  # fmt: skip
+        g, f = _arc_capsule(arc, piece, radius, segments[i, 0], segments[i, 1], segments[i, 2], segments[i, 3], segments[i, 4])
         gap = min(gap, g)
         wall = min(wall, f)
     if wall > 1.0:
@@ -250,18 +265,14 @@ def arc_substep(robot, k, n, u_end, state, new_state, radii, speeds):
     arc, robot_radius = _arc(robot)
     f0 = (k - 1) / n
     f1 = f0 + u_end / n
-    ax = ay = bx = by = length = delta = 0.0
-    if u_end >= 0.0:
-        ax, ay, _ = arc_point(arc, f0)
-        bx, by, _ = arc_point(arc, f1)
-        length, delta = _bound(arc, f0, f1)
-    return arc_substep_between(arc, robot_radius, f0, f1, ax, ay, bx, by, length, delta, u_end, state, new_state, radii, speeds)
+    piece = arc_piece(arc, f0, f1) if u_end >= 0.0 else ArcPiece(f0, f1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    return arc_substep_between(arc, robot_radius, piece, u_end, state, new_state, radii, speeds)
 
 
 @numba.njit(cache=True)
-def arc_substep_between(arc, robot_radius, f0, f1, ax, ay, bx, by, length, delta, u_end, state, new_state, radii, speeds):
-    """:func:`arc_substep` given the piece's fractions ``f0 = (k - 1) / n`` and ``f1 = f0 + u_end / n``, its
-    ends (``arc_point`` at both) and ``_bound(arc, f0, f1)``, for a caller that has them already."""
+def arc_substep_between(arc, robot_radius, piece, u_end, state, new_state, radii, speeds):
+    """:func:`arc_substep` given the substep's :class:`ArcPiece` (``f0 = (k - 1) / n``, ``f1 = f0 + u_end / n``),
+    for a caller that has it already (unused when the robot rests, ``u_end < 0``)."""
     min_gap = np.inf
     u_contact = NO_CONTACT
     if u_end >= 0.0:
@@ -269,7 +280,7 @@ def arc_substep_between(arc, robot_radius, f0, f1, ax, ay, bx, by, length, delta
             oax, oay = state[i, 0], state[i, 1]
             obx = oax + u_end * (new_state[i, 0] - oax)
             oby = oay + u_end * (new_state[i, 1] - oay)
-            gap, u = arc_disc_between(arc, f0, f1, ax, ay, bx, by, length, delta, oax, oay, obx, oby, robot_radius + radii[i])
+            gap, u = arc_disc_between(arc, piece, oax, oay, obx, oby, robot_radius + radii[i])
             min_gap = min(min_gap, gap)
             if u <= 1.0:
                 u_contact = min(u_contact, u * u_end)
@@ -277,5 +288,7 @@ def arc_substep_between(arc, robot_radius, f0, f1, ax, ay, bx, by, length, delta
     return min_gap, u_contact, restored
 
 
-__all__ = ["Arc", "CONTACT_TOLERANCE", "StepStatics", "arc_capsule", "arc_capsules", "arc_disc", "arc_disc_between", "arc_goal", "arc_point",
-           "arc_substep", "arc_substep_between", "step_statics", "step_statics_between"]  # fmt: skip
+__all__ = [
+    "Arc", "ArcPiece", "CONTACT_TOLERANCE", "StepStatics", "arc_capsule", "arc_capsules", "arc_disc", "arc_disc_between", "arc_goal",
+    "arc_piece", "arc_point", "arc_substep", "arc_substep_between", "step_statics", "step_statics_between",
+]  # fmt: skip

@@ -24,7 +24,20 @@ import math
 import numba
 
 from pathplan_env.geometry.contacts import NO_CONTACT
-from pathplan_env.robots.arc_contact import DURATION, HEADING, SPEED, TURN_RATE, X, Y, _arc, _bound, arc_point, arc_substep_between, step_statics_between
+from pathplan_env.robots.arc_contact import (
+    DURATION,
+    HEADING,
+    SPEED,
+    TURN_RATE,
+    ArcPiece,
+    X,
+    Y,
+    _arc,
+    _bound,
+    arc_point,
+    arc_substep_between,
+    step_statics_between,
+)
 
 #: Columns of the episode's ``params`` (``state[PARAMS:]``) :func:`begin_arc` reads: the action's mapping, the
 #: per-step velocity changes (``max_acceleration * dt``, ``max_angular_acceleration * dt``), the goal,
@@ -111,8 +124,8 @@ def begin_arc(a0, a1, command, x, y, heading, speed, turn_rate, params, segments
     x1, y1, heading1 = arc_point(arc, 1.0)  # (pose(x, y, heading, a0, a1, duration, 1.0): the same operations)
     length, delta = _bound(arc, 0.0, 1.0)
     log[A_X], log[A_Y], log[B_X], log[B_Y], log[B_HEADING], log[B_LENGTH], log[B_DELTA] = ax, ay, x1, y1, heading1, length, delta
-    goal_fraction, wall, wall_gap = step_statics_between(arc, radius, ax, ay, x1, y1, length, delta, segments, params[GOAL_X], params[GOAL_Y],
-                                                         params[GOAL_RADIUS])  # fmt: skip
+    whole = ArcPiece(0.0, 1.0, ax, ay, x1, y1, length, delta)
+    goal_fraction, wall, wall_gap = step_statics_between(arc, radius, whole, segments, params[GOAL_X], params[GOAL_Y], params[GOAL_RADIUS])
     log[GOAL], log[WALL], log[STOP] = goal_fraction, wall, _py_min(goal_fraction, wall)  # NO_CONTACT (> 1) if neither
     log[MIN_GAP], log[FIRST_CONTACT], log[MOVING] = _py_min(params[DIAGONAL], wall_gap), NO_CONTACT, 1.0
     log[ARC_SPEED], log[ARC_TURN_RATE], log[ARC_END_X], log[ARC_END_Y] = a0, a1, x1, y1
@@ -171,7 +184,8 @@ def arc_substep_logged(state, k, n, before, after, radii, speeds):
             length, delta = log[B_LENGTH], log[B_DELTA]
         else:
             length, delta = _bound(arc, f0, f1)
-    gap, u, restored = arc_substep_between(arc, radius, f0, f1, ax, ay, bx, by, length, delta, u_end, before, after, radii, speeds)
+    piece = ArcPiece(f0, f1, ax, ay, bx, by, length, delta)
+    gap, u, restored = arc_substep_between(arc, radius, piece, u_end, before, after, radii, speeds)
     if moving:
         if u <= 1.0:  # an obstacle first (at or before the goal and the walls): the robot stops touching
             log[FIRST_CONTACT], log[MIN_GAP], log[MOVING] = (k - 1 + u) / n, 0.0, 0.0

@@ -15,7 +15,7 @@ import gymnasium as gym
 import numpy as np
 
 import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
-from pathplan_env.robots.arc_contact import Arc, _bound, arc_capsules, arc_goal, arc_point, step_statics_between
+from pathplan_env.robots.arc_contact import Arc, ArcPiece, _bound, arc_capsules, arc_goal, arc_point, step_statics_between
 from pathplan_env.robots.unicycle import arena_edges
 from pathplan_env.scenarios.presets import (
     _CANDIDATES,
@@ -54,7 +54,7 @@ def test_step_statics_between_is_the_goal_then_the_walls():
         ax, ay, _ = arc_point(arc, 0.0)
         bx, by, _ = arc_point(arc, 1.0)
         length, delta = _bound(arc, 0.0, 1.0)
-        goal, wall, gap = step_statics_between(arc, 0.2, ax, ay, bx, by, length, delta, segments, gx, gy, 0.2)
+        goal, wall, gap = step_statics_between(arc, 0.2, ArcPiece(0.0, 1.0, ax, ay, bx, by, length, delta), segments, gx, gy, 0.2)
         expected_goal = arc_goal(arc, gx, gy, 0.2)
         expected_gap, expected_wall = arc_capsules(arc, min(expected_goal, 1.0), 0.2, segments)
         assert goal == expected_goal

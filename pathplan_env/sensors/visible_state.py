@@ -127,8 +127,10 @@ def _circle_circle(cx, cy, r, qx, qy, q, sensor, window, out, count):
 
 
 @numba.njit(cache=True)
-def _circle_segment(cx, cy, r, ax, ay, bx, by, sensor, window, out, count):
-    """Directions of the points where circle ``(c, r)`` meets the segment ``a``-``b``."""
+def _circle_segment(circle, segment, sensor, window, out, count):
+    """Directions of the points where ``circle`` ``(cx, cy, r)`` meets ``segment`` ``(ax, ay, bx, by)``."""
+    cx, cy, r = circle
+    ax, ay, bx, by = segment
     ex, ey = bx - ax, by - ay
     fx, fy = ax - cx, ay - cy
     qa, qb, qc = ex * ex + ey * ey, fx * ex + fy * ey, fx * fx + fy * fy - r * r
@@ -150,14 +152,14 @@ def _crossings(shapes, j, k, sensor, window, out, count):
         return _circle_circle(cx, cy, r, shapes.centres[k, 0], shapes.centres[k, 1], shapes.radii[k], sensor, window, out, count)
     ax, ay, bx, by, h = shapes.segments[k - n]
     if h == 0.0:
-        return _circle_segment(cx, cy, r, ax, ay, bx, by, sensor, window, out, count)
+        return _circle_segment((cx, cy, r), (ax, ay, bx, by), sensor, window, out, count)
     count = _circle_circle(cx, cy, r, ax, ay, h, sensor, window, out, count)
     count = _circle_circle(cx, cy, r, bx, by, h, sensor, window, out, count)
     length = math.hypot(bx - ax, by - ay)
     if length > 0.0:
         nx, ny = -(by - ay) * h / length, (bx - ax) * h / length
-        count = _circle_segment(cx, cy, r, ax + nx, ay + ny, bx + nx, by + ny, sensor, window, out, count)
-        count = _circle_segment(cx, cy, r, ax - nx, ay - ny, bx - nx, by - ny, sensor, window, out, count)
+        count = _circle_segment((cx, cy, r), (ax + nx, ay + ny, bx + nx, by + ny), sensor, window, out, count)
+        count = _circle_segment((cx, cy, r), (ax - nx, ay - ny, bx - nx, by - ny), sensor, window, out, count)
     return count
 
 

@@ -1,14 +1,16 @@
-"""The agent interface (SB3's ``predict`` contract) and the registry behind ``agents.make``."""
+"""The agent interface (SB3's ``predict`` contract); the registry behind ``agents.make`` is :mod:`agents.registry`."""
 
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
+from pathplan_env import _moved
 from pathplan_env.facts import EnvFacts
+
+__getattr__ = _moved.names_of(__name__)  # make, register, ... of 0.1.0: agents.registry now
 
 
 def real_obstacles(obs: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -147,67 +149,3 @@ def rollout(agent: Agent, env, seed: int | None = None) -> dict:
         obs, _, terminated, truncated, info = env.step(action)
         if terminated or truncated:
             return info
-
-
-# -- registry ---------------------------------------------------------------------------------
-_REGISTRY: dict[str, Callable[..., Agent]] = {}
-_ROBOTS: dict[str, tuple[str, ...]] = {}
-
-
-def register(name: str, factory: Callable[..., Any], *, robots: tuple[str, ...] = ("holonomic",)) -> None:
-    """Make ``factory`` buildable as ``agents.make(name, env, seed=..., **overrides)`` and
-    evaluable by name (``evaluate([name], ...)``, ``scripts/evaluate.py --agents name`` when the
-    registering module is imported).
-
-    ``factory`` is called as ``factory(env, seed=seed, **overrides)`` and returns anything with
-    SB3's ``predict``: an :class:`Agent` subclass, or any class of your own. The harness sends the
-    factory itself to its worker processes, so a registration made under
-    ``if __name__ == "__main__":`` reaches them too (define the factory at module level)::
-
-        class PotentialField:
-            def __init__(self, env, seed=None): ...
-            def predict(self, observation, state=None, episode_start=None, deterministic=False): ...
-
-        agents.register("potential-field", PotentialField)
-        agents.make("potential-field", env, seed=0)
-
-    ``robots`` names the robot models (``gym.make(..., robot=...)``) the agent drives: what
-    :func:`robots_of` answers, so that a harness or a benchmark picks the env by data, not by name.
-
-    :raises ValueError: an empty name, a name with ``@``, ``:``, ``=`` or ``,`` (the command line's
-        separators), a factory that is not callable, or no robot named.
-    """
-    if not isinstance(name, str) or not name.strip() or any(c in name for c in "@:=,"):
-        raise ValueError(f"name must be a non-empty string without '@', ':', '=' or ',', got {name!r}")
-    if not callable(factory):
-        raise ValueError(f"factory must be callable (a class or a function), got {factory!r}")
-    robots = (robots,) if isinstance(robots, str) else tuple(robots)
-    if not robots or not all(isinstance(robot, str) and robot for robot in robots):
-        raise ValueError(f"robots must name at least one robot model, got {robots!r}")
-    _REGISTRY[name] = factory
-    _ROBOTS[name] = robots
-
-
-def robots_of(name: str) -> tuple[str, ...]:
-    """The robot models the agent registered as ``name`` drives (``("holonomic",)``, ``("unicycle",)``, or both)."""
-    factory(name)  # the same error for an unknown name
-    return _ROBOTS[name]
-
-
-def factory(name: str) -> Callable[..., Any]:
-    """The factory registered as ``name``."""
-    if name not in _REGISTRY:
-        raise ValueError(f"unknown agent {name!r}; available: {available()}")
-    return _REGISTRY[name]
-
-
-def available() -> list[str]:
-    """Names accepted by :func:`make`."""
-    return sorted(_REGISTRY)
-
-
-def make(name: str, env, seed: int | None = None, **overrides) -> Agent:
-    """Build the agent ``name`` for ``env`` (an env, wrapped env or vector env); ``overrides`` go to its constructor."""
-    agent = factory(name)(env, seed=seed, **overrides)
-    agent.name = name
-    return agent

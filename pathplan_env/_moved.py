@@ -74,6 +74,7 @@ MOVED_NAMES = {
     "agents.rl.set_numpy": {"export_any_policy": "agents.rl.export"},
     "agents.rl.numpy_policy": {name: "agents.rl.lidar.numpy_encoder" for name in ("NumpyConvEncoder", "PREFIX", "export_encoder")},
     "pathplan_env.env": {"MAX_REWARD_WEIGHT": "pathplan_env.rewards"},
+    "agents.base": {name: "agents.registry" for name in ("available", "factory", "make", "register", "robots_of")},
     "pathplan_env.wrappers": {"Arena": "pathplan_env.arena", "STEPS_PER_LENGTH_UNIT": "pathplan_env.facts"},
 }
 

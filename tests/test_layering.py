@@ -25,14 +25,17 @@ def test_the_contracts_are_the_ones_we_mean():
     tomllib = pytest.importorskip("tomllib", reason="Python 3.11+")
     config = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["importlinter"]
     kinds = sorted(contract["type"] for contract in config["contracts"])
-    assert kinds == ["acyclic_siblings", "forbidden", "forbidden", "layers", "layers", "layers"]
+    assert kinds == ["acyclic_siblings", "forbidden", "forbidden", "forbidden", "layers", "layers", "layers"]
     forbidden = {tuple(c["source_modules"]): c["forbidden_modules"] for c in config["contracts"] if c["type"] == "forbidden"}
     assert forbidden[("pathplan_env",)] == ["agents"]
     assert any("agents.planners" in sources and targets == ["agents.evaluation"] for sources, targets in forbidden.items())
+    assert {"agents.planners", "agents.families", "agents.presets"} <= set(forbidden[("agents.base", "agents.registry")])
     layered = {tuple(c["containers"]): c["layers"] for c in config["contracts"] if c["type"] == "layers"}
     rooms = {room.strip() for layer in layered[("pathplan_env",)] for room in layer.split("|")}
     assert {"geometry", "world", "robots", "sensors", "crowds", "maps", "scenarios", "env"} <= rooms
     assert layered[("agents.rl",)][-1] == "numpy_policy"  # the shared numpy MLP imports no family
+
+
 def test_ruff_is_clean():
     ruff = shutil.which("ruff", path=str(Path(sys.executable).parent)) or shutil.which("ruff")
     if ruff is None:

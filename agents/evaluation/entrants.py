@@ -177,14 +177,14 @@ def _agent_from_text(text: str, argument: str) -> AgentSpec:
 
     known = agents.available()  # the factories themselves travel with the jobs: a registration in __main__ too
     if text in known:
-        return AgentSpec(text, "factory", agents.base.factory(text), name=text)
+        return AgentSpec(text, "factory", agents.registry.factory(text), name=text)
     name, at, model = text.partition("@")
     if at:
         if name not in known:
             raise ValueError(f"{argument}: {text!r}: unknown agent {name!r}; available: {known}")
         if not Path(model).exists():
             raise ValueError(f"{argument}: {text!r}: no model file {model}")
-        return AgentSpec(text, "factory", agents.base.factory(name), name=name, kwargs={"path": str(Path(model).resolve())})
+        return AgentSpec(text, "factory", agents.registry.factory(name), name=name, kwargs={"path": str(Path(model).resolve())})
     module, colon, attribute = text.rpartition(":")
     if colon and module and attribute and not module.endswith(("\\", "/")):
         if module.endswith(".py"):

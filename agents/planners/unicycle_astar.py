@@ -12,6 +12,8 @@ to be). It reads only the observation and public facts (``pathplan_env.robots.un
 
 from __future__ import annotations
 
+from types import MappingProxyType
+
 import numpy as np
 
 from agents.base import Agent
@@ -20,6 +22,10 @@ from agents.planners.spacetime_search import BUDGET
 from agents.planners.unicycle_search import UnicycleModel, UnicycleProblem, replay, search, settings
 from pathplan_env.facts import EnvFacts
 from pathplan_env.robots.unicycle import arena_edges, limits_of
+
+#: ``tuning="crowd"`` (``astar-unicycle-crowd``), for crowds that steer as ``astar-crowd``: a cone of three
+#: predicted futures per obstacle, a 15 % margin, and fewer retries of a failed search.
+CROWD_SETTINGS = MappingProxyType({"prediction": "cone", "margin": 0.15, "retry_factor": 5})
 
 
 def unicycle_model(env) -> UnicycleModel:

@@ -18,6 +18,7 @@ only the observation and public facts (the robot's limits, ``pathplan_env.robots
 from __future__ import annotations
 
 import math
+from types import MappingProxyType
 
 import numpy as np
 
@@ -28,10 +29,12 @@ from agents.planners.spacetime import SpacetimeModel
 from agents.planners.unicycle_rollout import UnicycleScene, broad_phase, rollout, unicycle_params
 from pathplan_env.robots.unicycle import arena_edges, command, limits_of, next_velocity, pose
 
-#: Constant controls ``(a_v, a_ω)`` among the warm-start rows: turns at full and at the lowest target speed.
+#: ``tuning="crowd"`` (``pso-unicycle-crowd``), for crowds that steer (CrowdNav's circle crossing): the cone
+#: of predicted futures and a 10 % margin.
+CROWD_SETTINGS = MappingProxyType({"prediction": "cone", "margin": 0.1})
 #: Placeholders for the broad phase's fields until :func:`~.unicycle_rollout.broad_phase` fills them.
 _NO_DISCS, _NO_GROUPS = np.zeros((0, 0, 3)), np.zeros(0, np.int64)
-
+#: Constant controls ``(a_v, a_ω)`` among the warm-start rows: turns at full and at the lowest target speed.
 TURNS = tuple((a_v, a_w) for a_v in (1.0, -1.0) for a_w in (-1.0, -0.5, 0.5, 1.0))
 
 

@@ -1,6 +1,7 @@
 """Driving a unicycle along any waypoint planner's plan: pure pursuit (Coulter 1992).
 
-``tracked-<planner>`` (or ``agents.make("tracked", env, planner=...)``) runs the planner unchanged on
+``tracked-<planner>`` (``drive="pure-pursuit"`` on any waypoint family, or
+``agents.make("tracked", env, planner=...)``) runs the planner unchanged on
 the unicycle's observation, reads the waypoint it would fly to and its ``last_plan`` (points, one a
 step for the space-time planners), and steers the unicycle toward the plan point ``lookahead_steps``
 ahead: curvature ``κ = 2 sin(α) / d`` for a target at distance ``d`` and bearing ``α`` off the
@@ -16,22 +17,29 @@ import math
 
 import numpy as np
 
-from agents.base import Agent, make
+from agents.base import Agent
+from agents.registry import make
 from pathplan_env.robots.unicycle import limits_of, to_action
 
 
 class TrackedAgent(Agent):
-    """A waypoint planner (``planner``, any registered name; ``overrides`` go to it) driven by pure pursuit.
+    """A waypoint planner driven by pure pursuit: ``planner`` is a registered name (``overrides`` go
+    to it, driving directly) or a factory ``planner(env, seed=seed, **overrides)``.
 
     :param lookahead_steps: which point of the plan to pursue (steps ahead, at least one).
     """
 
-    def __init__(self, env, seed: int | None = None, *, planner: str = "astar-spacetime", lookahead_steps: int = 2, **overrides):
+    def __init__(self, env, seed: int | None = None, *, planner="astar-spacetime", lookahead_steps: int = 2, **overrides):
         if int(lookahead_steps) != lookahead_steps or lookahead_steps < 1:
             raise ValueError(f"lookahead_steps must be a positive integer, got {lookahead_steps!r}")
         super().__init__(env, seed=seed)
         self.limits = limits_of(env)
-        self.planner = make(planner, env, seed=seed, **overrides)
+        if isinstance(planner, str):
+            self.planner = make(planner, env, seed=seed, drive="direct", **overrides)
+        elif callable(planner):
+            self.planner = planner(env, seed=seed, **overrides)
+        else:
+            raise ValueError(f"planner must be an agent's name or a factory, got {planner!r}")
         if not isinstance(self.planner, Agent) or type(self.planner).predict is not Agent.predict:
             raise ValueError(f"planner: {planner!r} does not plan one observation at a time (Agent.plan), so it cannot be tracked")
         self.lookahead_steps = int(lookahead_steps)

@@ -21,10 +21,10 @@ def test_the_unicycle_agents_are_the_ones_registered_for_it():
 @pytest.fixture
 def forget_test_names():
     yield
-    from agents import base
+    from agents import registry
 
-    for name in [n for n in base._REGISTRY if n.startswith("test-registry-")]:
-        del base._REGISTRY[name], base._ROBOTS[name]
+    for name in [n for n in registry._FAMILIES if n.startswith("test-registry-")]:
+        del registry._FAMILIES[name]
 
 
 def test_a_registration_names_its_robots(forget_test_names):

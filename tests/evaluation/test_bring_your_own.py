@@ -247,7 +247,7 @@ def test_register_refuses_names_the_command_line_could_not_name():
         agents.register("not-callable", 3)
     assert "not-callable" not in agents.available()
     with pytest.raises(ValueError, match="unknown agent"):
-        agents.base.factory("no-such-agent")
+        agents.registry.factory("no-such-agent")
 
 
 def test_review_cases_a_new_user_would_hit(tmp_path):

@@ -21,7 +21,7 @@ import gymnasium as gym
 import numpy as np
 from tqdm import tqdm
 
-from agents.base import make
+from agents.registry import make
 from pathplan_env.facts import EnvFacts
 from pathplan_env.wrappers import egocentric_features, waypoint_to_relative_action
 

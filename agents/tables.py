@@ -1,0 +1,75 @@
+"""The agent tables of the README and ``docs/agents.md``, written from the registry between
+markers (``python scripts/agent_tables.py``; a test checks the committed ones are current)."""
+
+from __future__ import annotations
+
+from agents.planners import spacetime, spacetime_metaheuristic, unicycle_astar, unicycle_metaheuristic
+from agents.registry import families, presets, robots_of
+
+#: What ``tuning="crowd"`` sets, by family and plan: the constants the factories read.
+CROWD_TUNINGS = (
+    ("pso, abc", "spacetime", spacetime_metaheuristic.CROWD_SETTINGS),
+    ("pso, abc", "controls", unicycle_metaheuristic.CROWD_SETTINGS),
+    ("astar", "spacetime", spacetime.CROWD_SETTINGS),
+    ("astar", "controls", unicycle_astar.CROWD_SETTINGS),
+)
+
+
+def _settings(parameters) -> str:
+    return ", ".join(f"`{key}={value!r}`" for key, value in parameters.items()) or "(defaults)"
+
+
+def _cell(text: str) -> str:
+    return text.replace("|", "\\|")  # a pipe inside a cell would end it
+
+
+def family_table() -> str:
+    """The README's table: one row per family, what it is and its presets."""
+    rows = ["| family | what | presets |", "|---|---|---|"]
+    named = {}
+    for name, preset in presets().items():
+        named.setdefault(preset.family, []).append(f"`{name}`")
+    for name, family in families().items():
+        rows.append(f"| `{name}` | {_cell(family.summary)} | {', '.join(named.get(name, [])) or '—'} |")
+    return "\n".join(rows) + "\n"
+
+
+def parameter_table() -> str:
+    """One row per family: the parameters that choose what it is, and the robots it drives."""
+    rows = ["| family | parameters that choose it | robot |", "|---|---|---|"]
+    for name, family in families().items():
+        axes = "; ".join(f"`{axis}`: {meaning}" for axis, meaning in family.axes.items()) or "—"
+        rows.append(f"| `{name}` | {_cell(axes)} | {', '.join(family.every_robot)} |")
+    return "\n".join(rows) + "\n"
+
+
+def preset_table() -> str:
+    """One row per preset: its family, the parameters it sets, its robot and note."""
+    rows = ["| preset | family | parameters | robot | note |", "|---|---|---|---|---|"]
+    for name, preset in presets().items():
+        rows.append(f"| `{name}` | `{preset.family}` | {_cell(_settings(preset.parameters))} | {', '.join(robots_of(name))} | {_cell(preset.note)} |")
+    return "\n".join(rows) + "\n"
+
+
+def tuning_table() -> str:
+    """What ``tuning="crowd"`` sets for each family and plan."""
+    rows = ["| family | plan | `tuning=\"crowd\"` sets |", "|---|---|---|"]
+    rows += [f"| {family} | `{plan}` | {_settings(settings)} |" for family, plan, settings in CROWD_TUNINGS]
+    return "\n".join(rows) + "\n"
+
+
+#: The generated sections by marker: ``<!-- agent families: scripts/agent_tables.py -->`` ... ``<!-- end of agent families -->``.
+SECTIONS = {"agent families": family_table, "agent parameters": parameter_table, "agent presets": preset_table, "agent tunings": tuning_table}
+
+
+def filled(text: str, source: str) -> str:
+    """``text`` (a Markdown page, named ``source`` in errors) with every marked section written anew."""
+    for marker, table in SECTIONS.items():
+        begin, end = f"<!-- {marker}: scripts/agent_tables.py -->\n", f"<!-- end of {marker} -->\n"
+        if begin not in text:
+            continue
+        head, rest = text.split(begin, 1)
+        if end not in rest:
+            raise ValueError(f"{source}: {begin.strip()} without {end.strip()}")
+        text = head + begin + table() + end + rest.split(end, 1)[1]
+    return text

@@ -7,57 +7,34 @@ from typing import Any
 
 import numpy as np
 
+from agents.observation import Observation
 from pathplan_env import _moved
 from pathplan_env.facts import EnvFacts
 
 __getattr__ = _moved.names_of(__name__)  # make, register, ... of 0.1.0: agents.registry now
 
 
-def real_obstacles(obs: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Centres (N, 2), velocities (N, 2) and radii (N,) of the unpadded obstacles, float64."""
-    mask = np.asarray(obs["obstacle_mask"]) > 0
-    return (
-        np.ascontiguousarray(obs["obstacle_positions"][mask], dtype=np.float64),
-        np.ascontiguousarray(obs["obstacle_velocities"][mask], dtype=np.float64),
-        np.ascontiguousarray(obs["obstacle_radii"][mask], dtype=np.float64),
-    )
+def real_obstacles(obs) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Centres (N, 2), velocities (N, 2) and radii (N,) of the unpadded obstacles, float64 copies
+    (an agent's planner reads ``obs.obstacles``, parsed once a step: :class:`~agents.observation.Observation`)."""
+    return tuple(np.array(rows) for rows in Observation.of(obs).obstacles)
 
 
-_NO_SEGMENTS = np.zeros((0, 5))
-
-
-def real_static_segments(obs: dict[str, np.ndarray], covering: bool = False) -> np.ndarray:
+def real_static_segments(obs, covering: bool = False) -> np.ndarray:
     """The scene's walls and polygon edges as ``(M, 5)`` float64 capsule rows ``(x0, y0, x1, y1,
     half_thickness)`` (``World.static_segments``' layout), from the observation's ``static_segments``
     and ``static_mask``; none when the observation has no such entries (a scene without geometry).
+    A copy of ``obs.walls`` (``obs.covering_walls`` with ``covering``) of :class:`~agents.observation.Observation`.
 
     The honest channel for the map: the env's "state" (and "visible-state") observation carries the
     static geometry whenever the env's scene has any, so an agent knows the walls as a robot knows
     its map, without reading the simulator.
 
-    ``covering``: each row's half-thickness grows by the rounding's bound (:func:`covering_rows`), so that the observed
+    ``covering``: each row's half-thickness grows by the rounding's bound (:func:`agents.observation.covering_rows`), so that the observed
     capsule contains the env's own (float64) one; what a planner's contact test must read (an
     optimiser settles on its constraint's boundary, and the float32 walls are off by ~6e-7 m at 10 m)."""
-    if "static_segments" not in obs:
-        return _NO_SEGMENTS
-    mask = np.asarray(obs["static_mask"]) > 0
-    rows = np.ascontiguousarray(np.asarray(obs["static_segments"])[mask], dtype=np.float64)
-    return covering_rows(obs, rows) if covering else rows
-
-
-def covering_rows(obs: dict[str, np.ndarray], rows: np.ndarray) -> np.ndarray:
-    """A copy of the observed wall rows ``rows`` with each half-thickness grown by how far the row may
-    be from the env's exact one, plus the step's own rounding (the observation and the action are float32)."""
-    if len(rows) == 0:
-        return rows
-    eps = float(np.finfo(np.asarray(obs["static_segments"]).dtype).eps)  # 2 half-ulps: 2^-23 for float32
-    robot = float(np.hypot(*np.asarray(obs.get("robot_position", (0.0, 0.0)), np.float64)))
-    ends = np.maximum(np.hypot(rows[:, 0], rows[:, 1]), np.hypot(rows[:, 2], rows[:, 3]))
-    # each of the wall's ends, the observed robot and the float32 action's waypoint moves by <= one
-    # half-ulp of its magnitude (<= scale), the half-thickness by one of its own: 2 eps covers all four
-    covered = np.array(rows, np.float64)
-    covered[:, 4] += eps * (2.0 * np.maximum(ends, robot) + rows[:, 4])
-    return covered
+    parsed = Observation.of(obs)
+    return np.array(parsed.covering_walls if covering else parsed.walls)
 
 
 def point_along(path: np.ndarray, distance: float) -> np.ndarray:
@@ -75,7 +52,9 @@ def point_along(path: np.ndarray, distance: float) -> np.ndarray:
 class Agent:
     """A policy on DynamicObstacle-v0 with SB3's ``predict`` contract.
 
-    Subclasses implement :meth:`plan`, which maps one observation (and this env's memory) to a
+    Subclasses implement :meth:`plan`, which maps one observation (an
+    :class:`~agents.observation.Observation`: the env's dict with its obstacles and walls parsed
+    once a step, ``obs.obstacles``, ``obs.walls``) and this env's memory to a
     waypoint in the world, or, for a robot driven otherwise (the unicycle's velocity targets),
     :meth:`act`, which maps it to the action itself. ``predict`` handles batched observations from
     vector envs, per-env memory reset by ``episode_start``, and timing (``last_plan_seconds``), once
@@ -118,7 +97,7 @@ class Agent:
                     self._memory[i] = {}
         actions = []
         for i in range(n):  # one plan per env of the batch
-            obs = {k: v[i] for k, v in observation.items()} if batched else observation
+            obs = Observation({k: v[i] for k, v in observation.items()} if batched else observation)  # parsed once a step
             begin = time.perf_counter()
             actions.append(self.act(obs, self._memory[i]))
             self.last_plan_seconds = time.perf_counter() - begin

@@ -74,7 +74,8 @@ MOVED_NAMES = {
     "agents.rl.set_numpy": {"export_any_policy": "agents.rl.export"},
     "agents.rl.numpy_policy": {name: "agents.rl.lidar.numpy_encoder" for name in ("NumpyConvEncoder", "PREFIX", "export_encoder")},
     "pathplan_env.env": {"MAX_REWARD_WEIGHT": "pathplan_env.rewards"},
-    "agents.base": {name: "agents.registry" for name in ("available", "factory", "make", "register", "robots_of")},
+    "agents.base": {**{name: "agents.registry" for name in ("available", "factory", "make", "register", "robots_of")},
+                    "covering_rows": "agents.observation"},
     "pathplan_env.wrappers": {"Arena": "pathplan_env.arena", "STEPS_PER_LENGTH_UNIT": "pathplan_env.facts"},
 }
 

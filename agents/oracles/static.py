@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from agents.base import Agent, point_along, real_obstacles, real_static_segments
+from agents.base import Agent, point_along
+from agents.base import real_obstacles as real_obstacles  # 0.1.0 public path
+from agents.base import real_static_segments as real_static_segments
+from agents.observation import Observation
 from agents.oracles.tangent_graph import shortest_path
 
 
@@ -25,12 +28,12 @@ class StaticOracleAgent(Agent):
     def plan(self, obs, memory):
         robot = np.asarray(obs["robot_position"], np.float64)
         goal = np.asarray(obs["goal"], np.float64)
-        centers, _, radii = real_obstacles(obs)
+        centers, _, radii = Observation.of(obs).obstacles
         inflated = radii + self.facts.robot_radius + self.margin
         # never plan around a disc the robot or the goal is already inside: shrink it to fit
         for point in (robot, goal):
             inflated = np.minimum(inflated, np.hypot(*(centers - point).T) - 1e-6)
-        capsules = real_static_segments(obs, covering=True)  # walls covering the env's exact (float64) ones
+        capsules = np.array(Observation.of(obs).covering_walls)  # (a copy, grown below) walls covering the env's exact (float64) ones
         capsules[:, 4] += self.facts.robot_radius + self.margin
         for point in (robot, goal):  # as the discs: never plan around a wall the robot or goal is inside
             capsules[:, 4] = np.minimum(capsules[:, 4], _segment_distances(point, capsules) - 1e-6)

@@ -242,7 +242,7 @@ def waypoints_on(path: np.ndarray, k: int) -> np.ndarray:
 
 
 def observed_cost_to_go(obs: dict, facts, memory: dict, clearance: float = 0.0) -> tuple[np.ndarray, CostToGo]:
-    """The scene's walls and polygon edges from an observation (:func:`agents.base.real_static_segments`)
+    """The scene's walls and polygon edges from an observation (``Observation.walls``, :mod:`agents.observation`)
     and the cost-to-go to its goal around them and the obstacles at rest (zero velocity: the env's
     kinematic bodies, which never move), for an agent with :class:`~pathplan_env.facts.EnvFacts`
     ``facts``; computed once while they stay the same (kept in the agent's ``memory``).
@@ -250,10 +250,10 @@ def observed_cost_to_go(obs: dict, facts, memory: dict, clearance: float = 0.0) 
     :param clearance: > 0: the field on the same grid for the robot's disc grown by ``clearance`` and
         :func:`grid_slack`, so that every free cell's centre keeps ``clearance`` from the walls and
         the resting obstacles (narrow ways close)."""
-    from agents.base import real_obstacles, real_static_segments
+    from agents.observation import Observation
 
-    segments = real_static_segments(obs)
-    centers, velocities, radii = real_obstacles(obs)
+    parsed = Observation.of(obs)
+    segments, (centers, velocities, radii) = parsed.walls, parsed.obstacles
     still = (velocities == 0.0).all(axis=1)
     goal = np.asarray(obs["goal"], np.float64)
     key = (segments.tobytes(), centers[still].tobytes(), radii[still].tobytes(), goal.tobytes())

@@ -11,7 +11,10 @@ from typing import Any
 
 import numpy as np
 
-from agents.base import Agent, point_along, real_obstacles, real_static_segments
+from agents.base import Agent, point_along
+from agents.base import real_obstacles as real_obstacles  # 0.1.0 public path
+from agents.base import real_static_segments as real_static_segments
+from agents.observation import Observation
 from agents.planners.bee_colony import ABCSettings, abc_run
 from agents.planners.constraints import constraint_rule
 from agents.planners.objective import Scene, TimedScene
@@ -103,8 +106,8 @@ class MetaheuristicAgent(Agent):
     def scene(self, obs: dict[str, np.ndarray]) -> Scene:
         """The objective's problem; the scene's walls and polygon edges (from the observation) are
         capsules inflated as the discs are, so that a path cutting into one pays Eq. 4 too."""
-        centers, velocities, radii = real_obstacles(obs)
-        capsules = real_static_segments(obs, covering=True)  # walls covering the env's exact (float64) ones
+        centers, velocities, radii = Observation.of(obs).obstacles
+        capsules = np.array(Observation.of(obs).covering_walls)  # (a copy, grown below) walls covering the env's exact (float64) ones
         capsules[:, 4] += self.facts.robot_radius + self.margin
         return Scene(
             robot=np.asarray(obs["robot_position"], np.float64),

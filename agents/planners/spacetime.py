@@ -23,7 +23,10 @@ from types import MappingProxyType
 
 import numpy as np
 
-from agents.base import Agent, covering_rows, real_obstacles, real_static_segments
+from agents.base import Agent
+from agents.base import real_obstacles as real_obstacles  # 0.1.0 public path
+from agents.base import real_static_segments as real_static_segments
+from agents.observation import Observation, covering_rows
 from agents.planners.costtogo import CostToGo, observed_cost_to_go
 from agents.planners.prediction import predict_among, substeps_for
 from agents.planners.spacetime_anytime import PARTIAL_RULES, partial_plan
@@ -64,8 +67,8 @@ class SpacetimeModel:
 
     def predict_scene(self, obs):
         """``(trajectory, substeps, contact_radii, robot, goal)`` for one observation."""
-        centers, velocities, radii = real_obstacles(obs)
-        segments = real_static_segments(obs)  # the obstacles bounce off walls as off the arena's edges
+        parsed = Observation.of(obs)
+        (centers, velocities, radii), segments = parsed.obstacles, parsed.walls  # the obstacles bounce off walls as off the arena's edges
         n = substeps_for(velocities, radii, self.facts.dt)
         if self.prediction == "cone":  # three futures per obstacle: its heading and turned either way
             parts = []

@@ -14,7 +14,8 @@ from types import MappingProxyType
 
 import numpy as np
 
-from agents.base import real_obstacles
+from agents.base import real_obstacles as real_obstacles  # 0.1.0 public path
+from agents.observation import Observation
 from agents.planners.costtogo import around_obstacles, route, route_bends, waypoints_on
 from agents.planners.metaheuristic import MetaheuristicAgent
 from agents.planners.objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, TimedScene, walk_along
@@ -135,7 +136,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         segments, ctg = model.statics(obs, {} if memory is None else memory)
         trajectory, n, radii, robot, goal = model.predict_scene(obs)
         if obstacle_field and ctg.field.size:  # the rest goes round the obstacles where the prediction leaves them
-            own = np.resize(real_obstacles(obs)[2], len(radii))  # their own radii (the cone repeats them)
+            own = np.resize(Observation.of(obs).obstacles.radii, len(radii))  # their own radii (the cone repeats them)
             ctg = around_obstacles(ctg, goal, self.facts.goal_radius, self.model.arena.box, segments, self.facts.robot_radius,
                                    trajectory[self.model.horizon_steps * n, :, :2], own)  # fmt: skip
         # each obstacle's path length in each step: pairs farther apart than both can travel are skipped

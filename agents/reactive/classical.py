@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from agents.base import Agent, real_obstacles
+from agents.base import Agent
+from agents.base import real_obstacles as real_obstacles  # 0.1.0 public path
+from agents.observation import Observation
 from agents.reactive.walls import aim, goal_horizons, wall_contact_times
 
 #: Where the velocity obstacle's preferred velocity heads among walls: the way's point in sight, or its first corner.
@@ -75,7 +77,7 @@ class VelocityObstacleAgent(Agent):
         dist = np.hypot(*(goal - robot))
         heading = target - robot
         preferred = heading / max(np.hypot(*heading), 1e-9) * min(self.facts.robot_speed, dist / self.facts.dt)
-        centers, velocities, radii = real_obstacles(obs)
+        centers, velocities, radii = Observation.of(obs).obstacles
         deviation = np.hypot(*(self.candidates - preferred).T)
         if len(radii):
             ttc = self.time_to_collision(robot, self.candidates, centers, velocities, radii).min(axis=1)

@@ -18,7 +18,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from agents.base import Agent, real_obstacles
+from agents.base import Agent
+from agents.observation import Observation
 from pathplan_env.robots.unicycle import limits_of, to_action
 
 
@@ -100,14 +101,15 @@ class DWAAgent(Agent):
         xmin, ymin, xmax, ymax = f.bounds
         x, y = path[..., 0], path[..., 1]
         touching = (x - xmin < reach_wall) | (xmax - x < reach_wall) | (y - ymin < reach_wall) | (ymax - y < reach_wall)
-        centres, velocities, radii = real_obstacles(observation)
+        parsed = Observation.of(observation)
+        centres, velocities, radii = parsed.obstacles
         if len(radii):
             future = centres[None] + self.times[:, None, None] * velocities[None]  # (T, N, 2)
             reach = radii + f.robot_radius + self.margin
             dx = path[:, :, None, 0] - future[None, :, :, 0]
             dy = path[:, :, None, 1] - future[None, :, :, 1]
             touching |= (dx * dx + dy * dy < reach * reach).any(axis=-1)
-        segments = np.asarray(observation.get("static_segments", np.empty((0, 5))), np.float64).reshape(-1, 5)
+        segments = parsed.walls
         for x0, y0, x1, y1, half in segments:  # a few walls at most
             ab = np.array([x1 - x0, y1 - y0])
             rel = path - (x0, y0)

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from agents.base import Agent, real_obstacles
+from agents.base import Agent
+from agents.base import real_obstacles as real_obstacles  # 0.1.0 public path
+from agents.observation import Observation
 from agents.reactive.walls import aim, orca_obstacles_of, wall_contact_times
 from pathplan_env.crowds.behaviours import ORCA, SLOW_DOWN_TIME
 from pathplan_env.crowds.orca import ORCAAgentState, orca_velocity, orca_velocity_among, preferred_velocity
@@ -50,7 +52,7 @@ class ORCAAgent(Agent):
         x, y = (float(v) for v in obs["robot_position"])
         vx, vy = (float(v) for v in obs["robot_velocity"])
         gx, gy = (float(v) for v in obs["goal"])
-        centers, velocities, radii = real_obstacles(obs)
+        centers, velocities, radii = Observation.of(obs).obstacles
         speed = self.facts.robot_speed
         segments, (ax, ay) = aim(obs, self.facts, memory)
         if (ax, ay) == (gx, gy):

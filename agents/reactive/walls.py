@@ -18,7 +18,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from agents.base import real_obstacles
+from agents.base import real_obstacles as real_obstacles  # 0.1.0 public path
+from agents.observation import Observation
 from agents.planners.costtogo import descent, grid_slack, observed_cost_to_go, route
 from pathplan_env.crowds.orca_obstacles import ORCAObstacles
 from pathplan_env.crowds.routing import orca_obstacles
@@ -79,7 +80,7 @@ def aim(obs: dict, facts, memory: dict, clearance: float | None = None) -> tuple
     if ctg.field.size == 0:
         return segments, goal
     if clearance is not None:
-        centers, velocities, radii = real_obstacles(obs)
+        centers, velocities, radii = Observation.of(obs).obstacles
         still = (velocities == 0.0).all(axis=1)  # the resting obstacles the ways go round, as zero-length capsules
         sight = np.vstack([segments, np.column_stack([centers[still], centers[still], radii[still]])])
         clear = observed_cost_to_go(obs, facts, memory, clearance)[1]

@@ -11,7 +11,8 @@ import pytest
 
 import agents
 import pathplan_env  # noqa: F401  (registers the env)
-from agents.base import covering_rows, real_static_segments
+from agents.base import real_static_segments
+from agents.observation import covering_rows
 
 
 def _point_segment(p: np.ndarray, rows: np.ndarray) -> np.ndarray:

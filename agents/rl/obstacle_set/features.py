@@ -33,7 +33,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from agents.base import real_obstacles, real_static_segments
+from agents.observation import Observation
 from agents.planners.prediction import predict_among, substeps_for
 from pathplan_env.facts import EnvFacts
 from pathplan_env.wrappers import FEATURE_LIMIT, relative_action_to_waypoint
@@ -101,7 +101,7 @@ def _one(obs, facts: EnvFacts, n_tokens: int) -> np.ndarray:
     ex = to_goal / goal_dist if goal_dist > 1e-9 else np.array([1.0, 0.0])
     rot = np.array([[ex[0], -ex[1]], [ex[1], ex[0]]])  # row vectors @ rot: world -> goal frame
 
-    centres, velocities, radii = real_obstacles(obs)
+    centres, velocities, radii = Observation.of(obs).obstacles
     gap = np.hypot(*(centres - pos).T) - radii - facts.robot_radius
     order = np.argsort(gap, kind="stable")  # nearest first; also the order the predictor sees them in
     centres, velocities, radii, gap = centres[order], velocities[order], radii[order], gap[order]
@@ -111,7 +111,7 @@ def _one(obs, facts: EnvFacts, n_tokens: int) -> np.ndarray:
         horizon = max(PREDICTION_STEPS)
         substeps = substeps_for(velocities, radii, facts.dt)
         bounds = np.asarray(facts.bounds, np.float64)
-        future = predict_among(centres, velocities, radii, bounds, real_static_segments(obs), facts.dt, horizon, substeps)
+        future = predict_among(centres, velocities, radii, bounds, Observation.of(obs).walls, facts.dt, horizon, substeps)
         predicted = future[[s * substeps for s in PREDICTION_STEPS], :k, :2] - pos  # (H, k, 2)
         tokens = np.concatenate([
             (centres[:k] - pos) @ rot / L, velocities[:k] @ rot / v, radii[:k, None] / L, gap[:k, None] / L,

@@ -22,7 +22,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from agents.base import real_obstacles, real_static_segments
+from agents.base import real_obstacles as real_obstacles  # 0.1.0 public path
+from agents.base import real_static_segments as real_static_segments
+from agents.observation import Observation
 from agents.planners.prediction import predict_among, substeps_for
 from agents.rl.sarl.kernel import StepModel, lookahead_kernel, wall_ray
 from agents.rl.sarl.local_map import MAP_DIM, local_maps
@@ -150,11 +152,11 @@ def observed_joint_state(obs: dict, facts: EnvFacts, features: SARLFeatures = CR
 def predict_humans(obs: dict, facts: EnvFacts, horizons: tuple[int, ...] = ()):
     """The present humans now and one step ahead: positions, velocities (N, 2) each, next positions and velocities, radii,
     and ``ahead`` (N, 1 + K, 2): the next positions, then the predicted positions ``horizons`` steps after the next one."""
-    pos, vel, radii = real_obstacles(obs)
+    pos, vel, radii = Observation.of(obs).obstacles
     n_steps = 1 + max(horizons, default=0)
     if len(radii) == 0:
         return pos, vel, pos, vel, radii, np.zeros((0, 1 + len(horizons), 2))
-    segments = real_static_segments(obs)
+    segments = Observation.of(obs).walls
     substeps = substeps_for(vel, radii, facts.dt)
     states = predict_among(pos, vel, radii, np.asarray(facts.bounds, np.float64), segments, facts.dt, n_steps, substeps)
     nxt = states[substeps]

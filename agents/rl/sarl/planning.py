@@ -21,7 +21,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from agents.base import real_obstacles, real_static_segments
+from agents.base import real_obstacles as real_obstacles  # 0.1.0 public path
+from agents.base import real_static_segments as real_static_segments
+from agents.observation import Observation
 from agents.planners.prediction import predict_among, substeps_for
 from agents.rl.sarl.kernel import lookahead_kernel
 from agents.rl.sarl.lookahead import CROWDNAV_FEATURES, CROWDNAV_REWARD, SELF_VELOCITY, CrowdNavReward, SARLFeatures, best_action, step_model, with_local_maps
@@ -52,11 +54,11 @@ def two_step_scores(obs: dict, facts: EnvFacts, velocities: np.ndarray, values, 
                     velocity_features: tuple[float, float] | None = None) -> np.ndarray:  # fmt: skip
     """Every move's two-step score (A,), -inf outside the ``width`` best by the one-step score (a scene with humans)."""
     check_width(width)
-    pos, vel, radii = real_obstacles(obs)
+    pos, vel, radii = Observation.of(obs).obstacles
     robot, goal = (np.asarray(obs[k], np.float64) for k in ("robot_position", "goal"))
     horizons = features.horizons
     substeps = substeps_for(vel, radii, facts.dt)
-    states = predict_among(pos, vel, radii, np.asarray(facts.bounds, np.float64), real_static_segments(obs), facts.dt,
+    states = predict_among(pos, vel, radii, np.asarray(facts.bounds, np.float64), Observation.of(obs).walls, facts.dt,
                            2 + max(horizons, default=0), substeps)  # fmt: skip
     model = step_model(facts, reward, features)
     velocities = np.asarray(velocities, np.float64)

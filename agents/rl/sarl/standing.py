@@ -26,7 +26,9 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from agents.base import real_obstacles, real_static_segments
+from agents.base import real_obstacles as real_obstacles  # 0.1.0 public path
+from agents.base import real_static_segments as real_static_segments
+from agents.observation import Observation
 from agents.rl.sarl.lookahead import CROWDNAV_FEATURES, CROWDNAV_REWARD, SELF_VELOCITY, CrowdNavReward, SARLFeatures, joint_state, lookahead, predict_humans
 from pathplan_env.facts import EnvFacts
 from pathplan_env.geometry.contacts import point_segment_distance
@@ -58,7 +60,7 @@ class StandingGrid(NamedTuple):
 
 def all_standing(obs: dict, facts: EnvFacts) -> bool:
     """Whether the observation shows humans and every one moves slower than ``STANDING_SPEED`` × the robot's speed."""
-    _, vel, radii = real_obstacles(obs)
+    _, vel, radii = Observation.of(obs).obstacles
     return len(radii) > 0 and float(np.hypot(vel[:, 0], vel[:, 1]).max()) < STANDING_SPEED * facts.robot_speed
 
 
@@ -110,7 +112,7 @@ def build_grid(obs: dict, facts: EnvFacts, values, gamma_bar: float, reward: Cro
     points = np.stack(np.meshgrid(xs, ys, indexing="ij"), axis=-1).reshape(-1, 2)
     pos, _, next_pos, next_vel, radii, ahead = predict_humans(obs, facts, features.horizons)
     gap = (np.hypot(*(points[:, None, :] - next_pos[None]).transpose(2, 0, 1)) - radii - facts.robot_radius).min(axis=1)
-    walls = real_static_segments(obs, covering=True)
+    walls = Observation.of(obs).covering_walls
     if len(walls):
         to_walls = point_segment_distance(points[:, None, :], walls[None, :, 0:2], walls[None, :, 2:4]) - walls[None, :, 4]
         gap = np.minimum(gap, to_walls.min(axis=1) - facts.robot_radius)
@@ -151,7 +153,7 @@ def standing_scores(obs: dict, facts: EnvFacts, velocities: np.ndarray, values, 
                     velocity_features: tuple[float, float] | None = None) -> np.ndarray:  # fmt: skip
     """Every move's score in a standing scene: its one-step reward, plus (if it does not end the episode) the
     discounted grid value where it ends. The grid is cached in ``memory`` while the humans stay put."""
-    pos, _, _ = real_obstacles(obs)
+    pos, _, _ = Observation.of(obs).obstacles
     grid = memory.get("standing_grid")
     robot = np.asarray(obs["robot_position"], np.float64)
     stale = (grid is None or grid.humans.shape != pos.shape or np.abs(grid.humans - pos).max() > DRIFT

@@ -55,8 +55,11 @@ def resolve_env_options(env_options, split: str = "test") -> dict:
     own = sorted(set(env_options) & set(RUN_OWN_ENV_KEYWORDS))
     if own:
         raise ValueError(f"env_options: {own} are the run's own (its scenarios, delta_d, n_obstacles; episodes are not rendered)")
-    if split == "crowdnav" and "robot_visible" in env_options:
-        raise ValueError("env_options: robot_visible is not taken on split 'crowdnav'; its -visible presets are CrowdNav's cases with a visible robot")
+    from pathplan_env.scenarios.episode_sources import source_of
+
+    for key, why in source_of(split).own_env_options.items():
+        if key in env_options:
+            raise ValueError(f"env_options: {key} is not taken on split {split!r}; {why}")
     try:
         plain = json.loads(json.dumps(env_options, allow_nan=False))
     except (TypeError, ValueError) as error:
@@ -67,16 +70,13 @@ def resolve_env_options(env_options, split: str = "test") -> dict:
 
 
 def _check_split(split: str, scenario_specs: list[ScenarioSpec], episodes: int) -> None:
-    from pathplan_env.scenarios.crowdnav import PRESET_LAYOUTS
-    from pathplan_env.scenarios.splits import SPLITS, episode_seeds
+    from pathplan_env.scenarios.episode_sources import source_of
 
-    if split not in SPLITS:
-        raise ValueError(f"split must be one of {list(SPLITS)}, got {split!r}")
-    if split == "crowdnav":
-        others = [s.label for s in scenario_specs if not (isinstance(s.scenario, str) and s.scenario in PRESET_LAYOUTS)]
-        if others:
-            raise ValueError(f"split 'crowdnav' (CrowdNav's own test cases) takes only the presets {sorted(PRESET_LAYOUTS)}; not {others}")
-    episode_seeds(split, 0, episodes)  # the split's own bound (crowdnav: 500 cases)
+    source = source_of(split)
+    others = [s.label for s in scenario_specs if not source.takes(s.scenario)]
+    if others:
+        raise ValueError(f"split {split!r} (its own scenes) takes only the presets {sorted(source.presets)}; not {others}")
+    source.episode_seeds(0, episodes)  # the split's own bound (crowdnav: 500 cases)
 
 
 def check_run(agent_names, scenarios, deltas, episodes, *, seed=0, split="test", n_obstacles=None, workers=1,

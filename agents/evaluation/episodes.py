@@ -20,18 +20,18 @@ _WARMED: set[str] = set()  # agents (by label) whose compiled code this process 
 def make_episode_env(scenario: ScenarioSpec, delta_d: float | None, n_obstacles: int | None, env_options: dict | None = None,
                      split: str = "test", episode: int = 0):  # fmt: skip
     """The env of episode ``episode`` of a cell: the scenario at ``delta_d``, with the run's
-    ``env_options`` (``gym.make`` keywords). On the ``crowdnav`` split the scene is CrowdNav's test
-    case ``episode`` (``pathplan_env.scenarios.crowdnav.crowdnav_test_case``, Δd applied there), not a draw from
-    the env's seed."""
+    ``env_options`` (``gym.make`` keywords). Where the split's source gives the scenes (``crowdnav``:
+    CrowdNav's test case ``episode``, Δd applied there) the scene is the source's, not a draw from the
+    env's seed (:mod:`pathplan_env.scenarios.episode_sources`)."""
     import gymnasium as gym
 
-    if split == "crowdnav":
-        from pathplan_env.scenarios.crowdnav import PRESET_LAYOUTS, crowdnav_test_case
+    from pathplan_env.scenarios.episode_sources import source_of
 
-        if not (isinstance(scenario.scenario, str) and scenario.scenario in PRESET_LAYOUTS):
-            raise ValueError(f"split 'crowdnav' takes only the presets {sorted(PRESET_LAYOUTS)}, got scenario {scenario.label!r}")
-        layout, visible = PRESET_LAYOUTS[scenario.scenario]
-        scene = crowdnav_test_case(layout, episode, n_obstacles, visible, delta_d)
+    source = source_of(split)
+    if source.gives_scenes:
+        if not source.takes(scenario.scenario):
+            raise ValueError(f"split {split!r} takes only the presets {sorted(source.presets)}, got scenario {scenario.label!r}")
+        scene = source.scene(scenario.scenario, episode, n_obstacles, delta_d)
         return gym.make("DynamicObstacle-v0", scenario=scene, **(env_options or {}))
     return gym.make("DynamicObstacle-v0", scenario=scenario.scenario, delta_d=delta_d, n_obstacles=n_obstacles, **(env_options or {}))
 

@@ -1,16 +1,30 @@
 """The local executor: ``run_episode`` jobs on a process pool, results streamed as they finish
-(``ray_backend`` is the other executor, over the same jobs)."""
+(``ray_backend`` is the other executor, over the same jobs).
+
+A worker that dies (the OOM killer, a segfault) breaks the pool; the episodes it had not returned
+run again in a new pool, up to :data:`MAX_POOL_RESTARTS` times, after which the run ends with a
+:class:`WorkerLost` error naming how many episodes are left (those finished are on record).
+"""
 
 from __future__ import annotations
 
 import os
 import sys
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
 from multiprocessing import get_context
 
 from tqdm import tqdm
 
 from agents.evaluation.episodes import run_episode
 from agents.evaluation.records import EpisodeResult
+
+#: How many times a broken pool is replaced before the run gives up.
+MAX_POOL_RESTARTS = 3
+
+
+class WorkerLost(RuntimeError):
+    """A worker process died more often than the pool restarts allow."""
 
 
 def _init_worker() -> None:
@@ -21,13 +35,48 @@ def _run_job(job) -> EpisodeResult:
     return run_episode(*job)
 
 
-def run_jobs(jobs: list[tuple], workers: int, on_result) -> None:
-    """Run ``jobs`` (``run_episode``'s arguments) on a local process pool, calling ``on_result``
-    with each finished episode as it arrives (any order)."""
-    if workers > 1:
-        with get_context("spawn").Pool(workers, initializer=_init_worker) as pool:
-            for res in tqdm(pool.imap_unordered(_run_job, jobs, chunksize=1), total=len(jobs), desc="episodes", file=sys.stderr):
-                on_result(res)
-    else:
+def run_jobs(jobs: list, workers: int, on_result, runner=_run_job) -> None:
+    """Run ``jobs`` (``run_episode``'s arguments, e.g. :class:`~agents.evaluation.jobs.Job`) on a
+    local pool of ``workers`` processes, calling ``on_result`` with each finished episode as it
+    arrives (any order). ``runner(job)`` runs one job (tests pass one whose worker dies)."""
+    if workers <= 1:
         for job in tqdm(jobs, desc="episodes", file=sys.stderr):
-            on_result(_run_job(job))
+            on_result(runner(job))
+        return
+    left = list(jobs)
+    with tqdm(total=len(jobs), desc="episodes", file=sys.stderr) as bar:
+        for restart in range(MAX_POOL_RESTARTS + 1):
+            left = _run_pool(left, workers, on_result, runner, bar)
+            if not left:
+                return
+            if restart < MAX_POOL_RESTARTS:
+                print(f"a worker process died (killed, or out of memory?); running its {len(left)} unfinished episodes again", file=sys.stderr)
+    raise WorkerLost(f"worker processes died {MAX_POOL_RESTARTS + 1} times; {len(left)} episodes did not finish (the finished ones are "
+                     f"on record: rerun with --resume, or with fewer --workers if memory ran out)")  # fmt: skip
+
+
+def _run_pool(jobs: list, workers: int, on_result, runner, bar) -> list:
+    """Run ``jobs`` on one pool; the jobs left unfinished if the pool broke."""
+    pool = ProcessPoolExecutor(min(workers, len(jobs)), mp_context=get_context("spawn"), initializer=_init_worker)
+    pending = {pool.submit(runner, job): job for job in jobs}
+    try:
+        while pending:
+            done, _ = wait(pending, return_when=FIRST_COMPLETED)
+            broken = []
+            for future in done:
+                job = pending.pop(future)
+                if isinstance(future.exception(), BrokenProcessPool):
+                    broken.append(job)  # not finished: runs again
+                    continue
+                on_result(future.result())  # an agent's own error ends the run, as with one worker
+                bar.update()
+            if broken:
+                for future in list(pending):  # keep what finished before the break
+                    if future.done() and future.exception() is None:
+                        on_result(future.result())
+                        bar.update()
+                        del pending[future]
+                return broken + list(pending.values())
+        return []
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)

@@ -11,7 +11,8 @@ agent, so results do not depend on the number of workers (``split="validation"``
 seeds; ``split="crowdnav"``: CrowdNav's test case ``i`` as the scene, the test seeds for the rest).
 ``env_options`` are ``gym.make`` keywords given to every episode's env. The privileged ``oracle-clairvoyant``
 runs on the same episodes to give each cell its physical limit, custom scenarios included. Episodes are appended to
-``episodes.jsonl`` as they finish, so a crash loses nothing and ``resume=True`` continues a run;
+``episodes.jsonl`` as they finish, so a crash loses nothing and ``resume=True`` continues a run
+(one run a folder at a time; a killed worker's episodes run again: :mod:`.run_log`, :mod:`.executors`);
 ``summary.json``, ``episodes.csv`` and plots are written at the end. ``scripts/evaluate.py`` is the
 command line over this module.
 """
@@ -30,27 +31,11 @@ import numpy as np
 from agents.evaluation.checks import check_run
 from agents.evaluation.entrants import resolve_agents
 from agents.evaluation.executors import run_jobs
+from agents.evaluation.jobs import Job, result_id
 from agents.evaluation.records import LIMIT_AGENT, EpisodeResult, delta_order
+from agents.evaluation.run_log import LOG_NAME, LogWriter, RunLock, read_log, run_folder, set_aside
 from agents.evaluation.statistics import summarize
 from agents.provenance import versions
-
-
-def _job_key(job) -> tuple:
-    """A job as ``episodes.jsonl`` records it: labels (a preset's or a registered agent's name, as
-    before labels existed, so older runs resume), a custom scene's digest, the agent's kwargs, and
-    the env options and the split's scenes when not the defaults."""
-    agent, scenario, delta_d, episode, seed, n_obstacles, overrides, env_options, split = job
-    return _key(agent.label, scenario.key, delta_d, episode, seed, n_obstacles, overrides, env_options, split)
-
-
-def _key(agent: str, scenario: str, delta_d, episode, seed, n_obstacles, overrides, env_options, split) -> tuple:
-    n = None if n_obstacles is None else int(n_obstacles)
-    delta_d = None if delta_d is None else float(delta_d)
-    key = (agent, scenario, delta_d, int(episode), int(seed), n, json.dumps(overrides, sort_keys=True))
-    # only what changes an episode beyond its seed: the test and validation splits differ by their seeds
-    # already, and a default run keeps the key it had before these existed (its records resume)
-    extra = ({"env_options": env_options} if env_options else {}) | ({"scenes": split} if split == "crowdnav" else {})
-    return key + (json.dumps(extra, sort_keys=True),) if extra else key
 
 
 def _summarize(results: list[EpisodeResult]) -> list[dict]:
@@ -80,8 +65,7 @@ def evaluate(
     part of each episode's record (a resumed run with other options runs its episodes anew).
     ``backend``: ``"process"`` (a local pool of ``workers`` processes) or ``"ray"`` (a local Ray, or
     the cluster at ``address``; :mod:`agents.evaluation.ray_backend`). Both run the same jobs: same results."""
-    from pathplan_env.scenarios.crowdnav import TEST_CASE_SEED_BASE as CROWDNAV_SEED_BASE
-    from pathplan_env.scenarios.splits import episode_seeds
+    from pathplan_env.scenarios.episode_sources import source_of
 
     if backend not in ("process", "ray"):
         raise ValueError(f"backend must be 'process' or 'ray', got {backend!r}")
@@ -104,65 +88,73 @@ def evaluate(
     if limit and LIMIT_AGENT not in own:
         entrants.append(limit_spec)
         own[LIMIT_AGENT] = {}  # the kwargs are meant for the agents asked for
-    seeds = episode_seeds(split, seed, episodes)
-    jobs = [(a, s, d, i, e, s.obstacles(n_obstacles), own[a.label], options, split)
+    source = source_of(split)
+    seeds = source.episode_seeds(seed, episodes)
+    jobs = [Job(a, s, d, i, e, s.obstacles(n_obstacles), own[a.label], options, split)
             for a in entrants for s in run.scenarios for d in run.deltas for i, e in enumerate(seeds)]  # fmt: skip
-    scenario_key = {s.label: s.key for s in run.scenarios}
+    key_of = {job.result_id(): job.key() for job in jobs}
     obstacles = {s.label: s.obstacles(n_obstacles) for s in run.scenarios}  # a preset's own count, else the run's
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    log = out / "episodes.jsonl"
+    out = run_folder(out)
+    log = out / LOG_NAME
     results: list[EpisodeResult] = []
-    if resume and log.exists():
-        wanted = {_job_key(job) for job in jobs}
-        for line in log.read_text().splitlines():
-            record = json.loads(line)
-            key, res = tuple(record["job"]), EpisodeResult(**record["result"])
-            if key in wanted:
-                results.append(res)
-                wanted.discard(key)
-        done = {_job_key(job) for job in jobs} - wanted
-        jobs = [job for job in jobs if _job_key(job) not in done]
-        print(f"resuming: {len(results)} episodes on record, {len(jobs)} to run", file=sys.stderr)
-    elif log.exists():
-        log.unlink()
-    start = time.perf_counter()
-    with open(log, "a") as sink:
+    with RunLock(out):
+        if resume and log.exists():
+            wanted = set(key_of.values())
+            for number, record in enumerate(read_log(log), start=1):
+                key = tuple(record["job"])
+                if key in wanted:
+                    try:
+                        results.append(EpisodeResult(**record["result"]))
+                    except TypeError as error:
+                        raise ValueError(f"{log}: record {number} is not an episode's result ({error})") from None
+                    wanted.discard(key)  # a key recorded twice counts once
+            jobs = [job for job in jobs if job.key() in wanted]
+            print(f"resuming: {len(results)} episodes on record, {len(jobs)} to run", file=sys.stderr)
+        else:
+            if resume:
+                print(f"resume: {log} does not exist; starting a new run", file=sys.stderr)
+            set_aside(log)
+        start = time.perf_counter()
+        sink = LogWriter(log, on_record=len(results))
 
         def record(res: EpisodeResult) -> None:
+            sink.write({"job": list(key_of[result_id(res)]), "result": asdict(res)})
             results.append(res)
-            key = _key(res.agent, scenario_key[res.scenario], res.delta_d, res.episode, res.seed, obstacles[res.scenario], own[res.agent], options,
-                       split)  # fmt: skip
-            sink.write(json.dumps({"job": list(key), "result": asdict(res)}) + "\n")
-            sink.flush()
 
-        if backend == "ray":
-            from agents.evaluation.ray_backend import run_jobs_on_ray
+        try:
+            if backend == "ray":
+                from agents.evaluation.ray_backend import run_jobs_on_ray
 
-            run_jobs_on_ray(jobs, record, address=address, num_cpus=workers)
-        else:
-            run_jobs(jobs, workers, record)
-    elapsed = time.perf_counter() - start
-    results.sort(key=lambda r: (r.agent, r.scenario, delta_order(r.delta_d), r.episode))
-    rows = _summarize(results)
-    config = (config or {}) | {"agents": [a.label for a in entrants], "scenarios": [s.label for s in run.scenarios],
-                               "agent_sources": {a.label: a.source for a in entrants},
-                               "custom_scenarios": {s.label: s.definition for s in run.scenarios if s.definition},
-                               "delta_d": run.deltas, "episodes": episodes,
-                               "seed": seed, "split": split, "n_obstacles": n_obstacles, "scenario_n_obstacles": obstacles, "workers": workers,
-                               "agent_kwargs": agent_kwargs or {}, "env_options": options, "episode_seeds": [seeds[0], seeds[-1]],
-                               **({"crowdnav_case_seeds": [CROWDNAV_SEED_BASE, CROWDNAV_SEED_BASE + episodes - 1]} if split == "crowdnav" else {}),
-                               "wall_seconds": round(elapsed, 1)}  # fmt: skip
-    (out / "summary.json").write_text(json.dumps({"results": rows, "config": config, "versions": versions()}, indent=2))
-    with open(out / "episodes.csv", "w", newline="") as f:
-        names = [k for k in asdict(results[0]) if k != "plan_ms"] + ["plan_ms_median"]
-        writer = csv.DictWriter(f, fieldnames=names)
-        writer.writeheader()
-        for res in results:
-            row = {k: v for k, v in asdict(res).items() if k != "plan_ms"}
-            writer.writerow(row | {"plan_ms_median": float(np.median(res.plan_ms))})
-    if plots:
-        from agents.evaluation.reporting import plot
+                run_jobs_on_ray(jobs, record, address=address, num_cpus=workers)
+            else:
+                run_jobs(jobs, workers, record)
+        except KeyboardInterrupt:
+            print(f"\ninterrupted: {sink.count} episodes on record in {log}; the same command with --resume (resume=True) continues",
+                  file=sys.stderr)  # fmt: skip
+            raise
+        finally:
+            sink.close()
+        elapsed = time.perf_counter() - start
+        results.sort(key=lambda r: (r.agent, r.scenario, delta_order(r.delta_d), r.episode))
+        rows = _summarize(results)
+        config = (config or {}) | {"agents": [a.label for a in entrants], "scenarios": [s.label for s in run.scenarios],
+                                   "agent_sources": {a.label: a.source for a in entrants},
+                                   "custom_scenarios": {s.label: s.definition for s in run.scenarios if s.definition},
+                                   "delta_d": run.deltas, "episodes": episodes,
+                                   "seed": seed, "split": split, "n_obstacles": n_obstacles, "scenario_n_obstacles": obstacles, "workers": workers,
+                                   "agent_kwargs": agent_kwargs or {}, "env_options": options, "episode_seeds": [seeds[0], seeds[-1]],
+                                   **source.describe(episodes),
+                                   "wall_seconds": round(elapsed, 1)}  # fmt: skip
+        (out / "summary.json").write_text(json.dumps({"results": rows, "config": config, "versions": versions()}, indent=2))
+        with open(out / "episodes.csv", "w", newline="") as f:
+            names = [k for k in asdict(results[0]) if k != "plan_ms"] + ["plan_ms_median"]
+            writer = csv.DictWriter(f, fieldnames=names)
+            writer.writeheader()
+            for res in results:
+                row = {k: v for k, v in asdict(res).items() if k != "plan_ms"}
+                writer.writerow(row | {"plan_ms_median": float(np.median(res.plan_ms))})
+        if plots:
+            from agents.evaluation.reporting import plot
 
-        plot(rows, out)
+            plot(rows, out)
     return rows

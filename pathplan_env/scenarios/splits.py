@@ -3,19 +3,17 @@
 Training draws episode seeds below ``VALIDATION_SEED_BASE``; validation uses
 ``[VALIDATION_SEED_BASE, TEST_SEED_BASE)``; the evaluation's test split lives above ``TEST_SEED_BASE``.
 
-The evaluation's ``crowdnav`` split is CrowdNav's own test cases: episode ``i`` of a CrowdNav preset is
-its test case ``i`` (``pathplan_env.scenarios.crowdnav.crowdnav_test_case``, drawn from CrowdNav's seed
-``1000 + i``), so a result compares case by case with a model evaluated in CrowdNav. Everything else an
-episode seeds (the agent, the env's own stream) takes the test split's seed, as on ``test``.
+The evaluation's splits, seeds and scenes, are :mod:`pathplan_env.scenarios.episode_sources`
+(``crowdnav``: CrowdNav's own test cases as the scenes, the test split's seeds for the rest).
 """
 
-from pathplan_env.scenarios.crowdnav import TEST_CASES as CROWDNAV_TEST_CASES
+from pathplan_env.scenarios.crowdnav import TEST_CASES as CROWDNAV_TEST_CASES  # noqa: F401  (a 0.1.0 public name)
 
 VALIDATION_SEED_BASE = 900_000_000
 TEST_SEED_BASE = 1_000_000_000
 EPISODES_PER_SPLIT_SEED = 1_000_000
 TRAINING_SEEDS_PER_RUN = 10_000_000
-#: The evaluation's splits (``scripts/evaluate.py --split``).
+#: The evaluation's splits (``scripts/evaluate.py --split``; their sources: ``episode_sources.SOURCES``).
 SPLITS = ("test", "validation", "crowdnav")
 
 
@@ -39,12 +37,10 @@ def validation_seeds(split_seed: int, episodes: int) -> list[int]:
 
 def episode_seeds(split: str, split_seed: int, episodes: int) -> list[int]:
     """The episode seeds of an evaluation on ``split`` (one of :data:`SPLITS`): the agent's and the
-    env's. On ``crowdnav`` the scenes are CrowdNav's cases, at most its 500, and the seeds the test split's."""
-    if split not in SPLITS:
-        raise ValueError(f"split must be one of {list(SPLITS)}, got {split!r}")
-    if split == "crowdnav" and episodes > CROWDNAV_TEST_CASES:
-        raise ValueError(f"episodes must be <= {CROWDNAV_TEST_CASES} on split 'crowdnav' (CrowdNav's test cases), got {episodes}")
-    return (validation_seeds if split == "validation" else heldout_seeds)(split_seed, episodes)
+    env's, within the split's bound (``crowdnav``: CrowdNav's 500 cases)."""
+    from pathplan_env.scenarios.episode_sources import source_of
+
+    return source_of(split).episode_seeds(split_seed, episodes)
 
 
 def training_seed_base(run_seed: int) -> int:

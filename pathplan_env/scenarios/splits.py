@@ -7,7 +7,7 @@ The evaluation's splits, seeds and scenes, are :mod:`pathplan_env.scenarios.epis
 (``crowdnav``: CrowdNav's own test cases as the scenes, the test split's seeds for the rest).
 """
 
-from pathplan_env.scenarios.crowdnav import TEST_CASES as CROWDNAV_TEST_CASES  # noqa: F401  (a 0.1.0 public name)
+from pathplan_env.scenarios.crowdnav import TEST_CASES as CROWDNAV_TEST_CASES
 
 VALIDATION_SEED_BASE = 900_000_000
 TEST_SEED_BASE = 1_000_000_000
@@ -37,10 +37,13 @@ def validation_seeds(split_seed: int, episodes: int) -> list[int]:
 
 def episode_seeds(split: str, split_seed: int, episodes: int) -> list[int]:
     """The episode seeds of an evaluation on ``split`` (one of :data:`SPLITS`): the agent's and the
-    env's, within the split's bound (``crowdnav``: CrowdNav's 500 cases)."""
-    from pathplan_env.scenarios.episode_sources import source_of
-
-    return source_of(split).episode_seeds(split_seed, episodes)
+    env's. On ``crowdnav`` the scenes are CrowdNav's cases, at most its 500, and the seeds the test split's
+    (the harness asks ``episode_sources.source_of(split)``, which gives the same seeds)."""
+    if split not in SPLITS:
+        raise ValueError(f"split must be one of {list(SPLITS)}, got {split!r}")
+    if split == "crowdnav" and episodes > CROWDNAV_TEST_CASES:
+        raise ValueError(f"episodes must be <= {CROWDNAV_TEST_CASES} on split 'crowdnav' (CrowdNav's test cases), got {episodes}")
+    return (validation_seeds if split == "validation" else heldout_seeds)(split_seed, episodes)
 
 
 def training_seed_base(run_seed: int) -> int:

@@ -108,7 +108,7 @@ def evaluate(
                     except TypeError as error:
                         raise ValueError(f"{log}: record {number} is not an episode's result ({error})") from None
                     wanted.discard(key)  # a key recorded twice counts once
-            jobs = [job for job in jobs if job.key() in wanted]
+            jobs = [job for job in jobs if key_of[job.result_id()] in wanted]
             print(f"resuming: {len(results)} episodes on record, {len(jobs)} to run", file=sys.stderr)
         else:
             if resume:

@@ -1,6 +1,7 @@
 # Set-up and main entry points. Every target creates or reuses the local virtualenv in .venv.
 #   make demo   core install only (no torch): the baseline evaluation on the default suite
-#   make test   adds the rl and test extras (stable-baselines3, a CPU build of torch) and runs the tests
+#   make test   adds the rl, test and docs extras (stable-baselines3, a CPU build of torch, Sphinx) and runs the tests
+#   make docs   the documentation site (Sphinx, MyST, furo) with warnings as errors, into docs/_build/html
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
@@ -10,7 +11,7 @@ FULL   := $(VENV)/.installed-full
 #   make test TORCH_INDEX=https://download.pytorch.org/whl/cpu
 TORCH_INDEX ?=
 
-.PHONY: demo test bench reproduce train train-sarl train-sarl-crossings train-sarl-random clean venv
+.PHONY: demo test docs bench reproduce train train-sarl train-sarl-crossings train-sarl-random clean venv
 
 $(CORE): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -21,7 +22,7 @@ $(CORE): pyproject.toml
 $(FULL): $(CORE)
 	# torch first, pinned (and from TORCH_INDEX if given), so that nothing later pulls another build
 	$(PY) -m pip install --quiet $(if $(TORCH_INDEX),--index-url $(TORCH_INDEX)) "torch==2.13.0"
-	$(PY) -m pip install --quiet -e ".[rl,test]"
+	$(PY) -m pip install --quiet -e ".[rl,test,docs]"
 	touch $(FULL)
 
 venv: $(FULL)
@@ -31,6 +32,9 @@ demo: $(CORE)  ## the main job: baseline evaluation on the default suite (no tor
 
 test: $(FULL)
 	$(PY) -m pytest -q -n 2
+
+docs: $(FULL)  ## the site: every page, the docstrings, internal links checked (-W: a warning fails)
+	$(PY) -m sphinx -W -b html docs docs/_build/html
 
 # mealpy 3.0.3 pins numpy <= 1.26: the library comparison gets its own venv, the env's speed is
 # measured in the main one (numpy 2, what a fresh install gets)
@@ -64,4 +68,4 @@ reproduce: $(CORE)
 	$(PY) scripts/reproduce_paper.py --out results/paper
 
 clean:
-	rm -rf $(VENV) $(BENCH_VENV) results .pytest_cache
+	rm -rf $(VENV) $(BENCH_VENV) results .pytest_cache docs/_build

@@ -35,6 +35,7 @@ import numpy as np
 from pathplan_env.crowds.orca import ORCAAgentState, ORCAParams, orca_velocity_among_in, orca_work, preferred_velocity
 from pathplan_env.crowds.orca_obstacles import NO_OBSTACLES, ORCAObstacles
 from pathplan_env.crowds.routing import Routes, route_targets
+from pathplan_env.validation import short
 
 _NO_SEGMENTS = np.empty((0, 5))
 _NO_OBSTACLE_FIELDS = tuple(NO_OBSTACLES)
@@ -45,7 +46,7 @@ SLOW_DOWN_TIME = 1.0
 
 def _positive(cls_name: str, name: str, value, allow_zero: bool = False) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise ValueError(f"{cls_name}.{name} must be a number, got {value!r}")
+        raise ValueError(f"{cls_name}.{name} must be a number, got {short(value)}")
     value = float(value)
     if not (math.isfinite(value) and (value >= 0 if allow_zero else value > 0)):
         raise ValueError(f"{cls_name}.{name} must be finite and {'>= 0' if allow_zero else '> 0'}, got {value!r}")
@@ -87,7 +88,7 @@ class ORCA:
         set_("neighbor_dist", _positive("ORCA", "neighbor_dist", self.neighbor_dist))
         n = self.max_neighbors
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-            raise ValueError(f"ORCA.max_neighbors must be an integer >= 1, got {n!r}")
+            raise ValueError(f"ORCA.max_neighbors must be an integer >= 1, got {short(n)}")
         set_("max_neighbors", int(n))
         set_("time_horizon", _positive("ORCA", "time_horizon", self.time_horizon))
         set_("time_horizon_obst", _positive("ORCA", "time_horizon_obst", self.time_horizon_obst))
@@ -179,14 +180,14 @@ def make_behaviour(spec, where: str = "behaviour") -> Behaviour:
     if isinstance(spec, str):
         spec = {"model": spec}
     if not isinstance(spec, dict) or "model" not in spec:
-        raise ValueError(f"{where} must be one of {sorted(BEHAVIOURS)}, a dict with a 'model' key or a behaviour, got {spec!r}")
+        raise ValueError(f"{where} must be one of {sorted(BEHAVIOURS)}, a dict with a 'model' key or a behaviour, got {short(spec)}")
     params = dict(spec)
     name = params.pop("model")
-    if name not in BEHAVIOURS:
-        raise ValueError(f"{where}: unknown model {name!r}; known: {sorted(BEHAVIOURS)}")
+    if not isinstance(name, str) or name not in BEHAVIOURS:
+        raise ValueError(f"{where}: unknown model {short(name)}; known: {sorted(BEHAVIOURS)}")
     cls = BEHAVIOURS[name]
     known = {f.name for f in dataclasses.fields(cls) if f.init}
-    unknown = sorted(set(params) - known)
+    unknown = sorted(short(key) if not isinstance(key, str) else key for key in params if key not in known)
     if unknown:
         raise ValueError(f"{where}: {name!r} takes no parameters {unknown}; it takes {sorted(known)}")
     return cls(**params)

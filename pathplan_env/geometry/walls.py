@@ -20,6 +20,7 @@ import numpy as np
 import pymunk
 
 from pathplan_env.geometry.contacts import NO_CONTACT
+from pathplan_env.validation import point, short
 
 #: Default wall thickness (m): an interior wall, half the robot's default radius (0.2 m).
 DEFAULT_WALL_THICKNESS = 0.1
@@ -32,19 +33,14 @@ _NO_SEGMENTS.flags.writeable = False
 
 
 def as_point(value, name: str) -> tuple[float, float]:
-    """``value`` as a finite ``(x, y)`` of floats; ``ValueError`` naming ``name`` otherwise."""
-    try:
-        x, y = (float(v) for v in value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a pair of numbers (x, y), got {value!r}") from None
-    if not (math.isfinite(x) and math.isfinite(y)):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    return (x, y)
+    """``value`` as a finite ``(x, y)`` of floats (two numbers, not strings or booleans); ``ValueError``
+    naming ``name`` otherwise."""
+    return point(value, name)
 
 
 def _sequence(value, name: str) -> tuple:
     if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__iter__"):
-        raise ValueError(f"{name} must be a sequence, got {value!r}")
+        raise ValueError(f"{name} must be a sequence, got {short(value)}")
     return tuple(value)
 
 
@@ -55,7 +51,7 @@ def normalise_walls(walls, min_length: float) -> tuple:
         name = f"Scenario.walls[{i}]"
         ends = _sequence(wall, name)
         if len(ends) != 2:
-            raise ValueError(f"{name} must be two end points ((x0, y0), (x1, y1)), got {wall!r}")
+            raise ValueError(f"{name} must be two end points ((x0, y0), (x1, y1)), got {short(wall)}")
         a, b = as_point(ends[0], name), as_point(ends[1], name)
         if math.dist(a, b) < min_length:
             raise ValueError(f"{name} {(a, b)} is degenerate: its ends must be at least {min_length:g} m apart")

@@ -83,8 +83,8 @@ class OccupancyMap:
         return distance_transform_edt(padded)[1:-1, 1:-1] * self.resolution
 
     def sample_free(self, rng: np.random.Generator, n: int, clearance: float, *, avoid=(), min_separation: float = 0.0, max_batches: int = 200) -> np.ndarray:
-        """``n`` points, an ``(n, 2)`` array, uniform over the free space with ``clearance`` (m) to every
-        polygon and to the bounds, each at least ``min_separation`` from the others and at least ``d``
+        """``n`` points, an ``(n, 2)`` array, uniform over the free space (outside every polygon, even
+        with ``clearance=0``) with ``clearance`` (m) to every polygon and to the bounds, each at least ``min_separation`` from the others and at least ``d``
         from every ``(point, d)`` in ``avoid``. Deterministic for the generator's state.
 
         Cells are drawn among those whose centre-distance grid (``scipy.ndimage.distance_transform_edt``)
@@ -110,7 +110,8 @@ class OccupancyMap:
             picks = cells[rng.integers(len(cells), size=64)]
             offsets = rng.random((64, 2))
             pts = np.column_stack([picks % cols + offsets[:, 0], picks // cols + offsets[:, 1]]) * self.resolution + self.origin
-            for p in pts[self.clearance(pts) >= clearance]:
+            gaps = self.clearance(pts)  # 0 inside a polygon: clearance 0 still means outside every one
+            for p in pts[(gaps >= clearance) & (gaps > 0)]:
                 if all(math.dist(p, q) >= min_separation for q in chosen) and all(math.dist(p, q) >= d for q, d in avoid):
                     chosen.append(p)
                     if len(chosen) == n:

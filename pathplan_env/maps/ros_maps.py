@@ -44,11 +44,14 @@ from pathlib import Path
 import numpy as np
 
 from pathplan_env.maps.occupancy import DEFAULT_TOLERANCE, OccupancyMap, check_tolerance, occupancy_polygons
+from pathplan_env.validation import MAX_COORDINATE, load_yaml, read_text, short
 
 #: Largest image (width x height, pixels) read by default: 4096 x 4096, a 200 m square at 5 cm.
 MAX_PIXELS = 4096 * 4096
 #: Largest YAML file read (bytes): a map's YAML is a few lines.
 MAX_YAML_BYTES = 1 << 20
+#: Smallest resolution (m per cell) read: below it a cell's coordinates lose their digits.
+MIN_RESOLUTION = 1e-6
 #: The maps shipped in ``pathplan_env/maps/data`` (drawn by ``scripts/make_maps.py``).
 SHIPPED_MAPS = ("maze", "office")
 #: map_server's modes; ``raw`` is refused (module docstring).
@@ -72,7 +75,7 @@ def _fail(path: Path, field: str, message: str) -> MapFileError:
 def _number(meta: dict, path: Path, field: str) -> float:
     value = meta.get(field)
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise _fail(path, field, f"must be a finite number, got {value!r}")
+        raise _fail(path, field, f"must be a finite number, got {short(value)}")
     return float(value)
 
 
@@ -80,14 +83,14 @@ def _read_yaml(path: Path) -> dict:
     import yaml
 
     try:
-        if path.stat().st_size > MAX_YAML_BYTES:
-            raise MapFileError(f"ROS map {path}: larger than {MAX_YAML_BYTES} bytes; a map's YAML is a few lines")
-        text = path.read_text()
-    except (OSError, UnicodeDecodeError) as error:
-        raise MapFileError(f"ROS map {path}: cannot be read ({getattr(error, 'strerror', None) or error})") from None
+        text = read_text(path, MAX_YAML_BYTES, "ROS map")  # UTF-8, bounded; a map's YAML is a few lines
+    except ValueError as error:
+        raise MapFileError(str(error)) from None
     try:
-        meta = yaml.safe_load(text)  # no tags that build Python objects: a map file cannot run code
-    except yaml.YAMLError as error:
+        meta = load_yaml(text)  # SafeLoader: no tags that build Python objects, no duplicate keys, no alias bombs
+    except RecursionError:
+        raise MapFileError(f"ROS map {path}: nested too deeply") from None
+    except (yaml.YAMLError, ValueError) as error:
         raise MapFileError(f"ROS map {path}: not valid YAML (or a tag safe_load refuses): {error}") from None
     if not isinstance(meta, dict):
         raise MapFileError(f"ROS map {path}: expected a mapping of map_server fields, got {type(meta).__name__}")
@@ -99,14 +102,16 @@ def _parse_meta(meta: dict, path: Path) -> dict:
     if missing:
         raise _fail(path, missing[0], "is missing (map_server requires image, resolution, origin, occupied_thresh, free_thresh, negate)")
     if not isinstance(meta["image"], str) or not meta["image"].strip():
-        raise _fail(path, "image", f"must be a file name, got {meta['image']!r}")
+        raise _fail(path, "image", f"must be a file name, got {short(meta['image'])}")
     resolution = _number(meta, path, "resolution")
-    if resolution <= 0:
-        raise _fail(path, "resolution", f"must be > 0 (metres per cell), got {resolution!r}")
+    if not MIN_RESOLUTION <= resolution <= MAX_COORDINATE:
+        raise _fail(path, "resolution", f"must lie in [{MIN_RESOLUTION:g}, {MAX_COORDINATE:g}] (metres per cell), got {resolution!r}")
     origin = meta["origin"]
     if not isinstance(origin, (list, tuple)) or len(origin) != 3:
-        raise _fail(path, "origin", f"must be [x, y, yaw], got {origin!r}")
+        raise _fail(path, "origin", f"must be [x, y, yaw], got {short(origin)}")
     origin = [_number({"origin": v}, path, "origin") for v in origin]
+    if max(abs(origin[0]), abs(origin[1])) > MAX_COORDINATE:
+        raise _fail(path, "origin", f"must lie within +-{MAX_COORDINATE:g} m (observations are float32), got {short(meta['origin'])}")
     if origin[2] != 0:
         raise _fail(path, "origin", f"has yaw {origin[2]!r}: only unrotated maps (yaw 0) are supported")
     occupied_thresh, free_thresh = _number(meta, path, "occupied_thresh"), _number(meta, path, "free_thresh")
@@ -117,10 +122,10 @@ def _parse_meta(meta: dict, path: Path) -> dict:
         raise _fail(path, "free_thresh", f"must be below occupied_thresh ({occupied_thresh!r}), got {free_thresh!r}")
     negate = meta["negate"]
     if negate not in (0, 1) or not isinstance(negate, (bool, int)):  # map_server reads an int; True/False too
-        raise _fail(path, "negate", f"must be 0 or 1 (or true/false), got {negate!r}")
+        raise _fail(path, "negate", f"must be 0 or 1 (or true/false), got {short(negate)}")
     mode = meta.get("mode", "trinary")
-    if mode not in MODES:
-        raise _fail(path, "mode", f"must be one of {MODES} ('raw' has no free/occupied thresholds), got {mode!r}")
+    if not isinstance(mode, str) or mode not in MODES:
+        raise _fail(path, "mode", f"must be one of {MODES} ('raw' has no free/occupied thresholds), got {short(mode)}")
     fields = {"image": meta["image"], "resolution": resolution, "origin": (origin[0], origin[1]), "mode": mode, "negate": bool(negate)}
     return {**fields, "occupied_thresh": occupied_thresh, "free_thresh": free_thresh}
 
@@ -150,6 +155,18 @@ def _read_pixels(path: Path, image_path: Path, max_pixels: int) -> tuple[np.ndar
         raise _fail(path, "image", f"{image_path} cannot be read as a PGM or PNG ({error})") from None
     pixels = pixels.reshape(height, width, -1)
     return pixels, pixels.shape[2] in (2, 4)
+
+
+def _check_extent(path: Path, spec: dict, width: int, height: int) -> None:
+    """The map's bounds finite, within +-MAX_COORDINATE and as wide and high as its cells (not rounded
+    away into an origin far larger than the map)."""
+    (x0, y0), r = spec["origin"], spec["resolution"]
+    x1, y1 = x0 + width * r, y0 + height * r
+    for field, low, high, cells in (("origin", x0, x1, width), ("origin", y0, y1, height)):
+        if not (math.isfinite(high) and abs(high) <= MAX_COORDINATE):
+            raise _fail(path, "resolution", f"{r!r} puts the map's far edge at {high!r}, beyond +-{MAX_COORDINATE:g} m")
+        if not math.isclose(high - low, cells * r, rel_tol=1e-6):
+            raise _fail(path, field, f"{low!r} is too large for cells of {r!r} m: the map's extent rounds to {high - low!r} m")
 
 
 def _classify(pixels: np.ndarray, has_alpha: bool, spec: dict) -> tuple[np.ndarray, np.ndarray]:
@@ -185,6 +202,7 @@ def load_ros_map(path: str | Path, *, max_pixels: int = MAX_PIXELS, unknown: str
     if not image_path.is_file():
         raise _fail(path, "image", f"names {image_path}, which is not a file")
     pixels, has_alpha = _read_pixels(path, image_path, max_pixels)
+    _check_extent(path, spec, pixels.shape[1], pixels.shape[0])
     occupied, unknown_cells = _classify(pixels, has_alpha, spec)
     occupied, unknown_cells = np.flipud(occupied).copy(), np.flipud(unknown_cells).copy()  # the image's top row is the largest y
     if unknown == "occupied":

@@ -6,20 +6,28 @@
 The file holds the fields of :class:`pathplan_env.Scenario` (``bounds``, ``start``, ``goal``,
 ``obstacles`` as a list of ``{center, radius, velocity}`` mappings, and optionally ``name``, ``dt``,
 ``robot_radius``, ``walls`` as ``[[x0, y0], [x1, y1]]`` pairs with one ``wall_thickness``,
-``polygons`` as vertex lists...). YAML is read with ``yaml.safe_load`` and JSON with ``json``: neither builds
+``polygons`` as vertex lists...). YAML is read with a ``yaml.SafeLoader`` and JSON with ``json``: neither builds
 Python objects, so a scenario file cannot run code. Without a ``name`` the scenario takes the
 file's stem.
+
+A file is a stranger's input, read in bounded time and memory (:mod:`pathplan_env.validation`): at
+most :data:`MAX_SCENE_BYTES`, as UTF-8 whatever the locale; no duplicate keys; YAML aliases that expand
+past ``MAX_YAML_NODES`` nodes are refused, and so are more than ``MAX_OBSTACLES`` obstacles, before
+any of them is built. Every field is type-checked (a number is an int or a float, not ``"0.5"`` or
+``true``). Whatever is wrong is a ``ValueError`` naming the file and the field.
 """
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 from pathplan_env.scenarios.scenario import Scenario
+from pathplan_env.validation import load_json, load_yaml, read_text
 
 #: File suffixes read as scenarios.
 SUFFIXES = (".json", ".yaml", ".yml")
+#: Largest scenario file read (bytes): 5,000 obstacles with goals take under 1 MB.
+MAX_SCENE_BYTES = 4 << 20
 
 
 def is_scenario_file(spec) -> bool:
@@ -35,18 +43,12 @@ def load_scenario(path: str | Path) -> Scenario:
     path = Path(path)
     if path.suffix.lower() not in SUFFIXES:
         raise ValueError(f"scenario file {path}: expected a {', '.join(SUFFIXES)} file")
+    text = read_text(path, MAX_SCENE_BYTES, "scenario file")
     try:
-        text = path.read_text()
-    except OSError as error:
-        raise ValueError(f"scenario file {path}: cannot be read ({error.strerror or error})") from None
-    try:
-        if path.suffix.lower() == ".json":
-            data = json.loads(text)
-        else:
-            import yaml
-
-            data = yaml.safe_load(text)
-    except Exception as error:  # json.JSONDecodeError or yaml.YAMLError: the parser's message says where
+        data = load_json(text) if path.suffix.lower() == ".json" else load_yaml(text)
+    except RecursionError:
+        raise ValueError(f"scenario file {path}: nested too deeply") from None
+    except Exception as error:  # json.JSONDecodeError, yaml.YAMLError or a duplicate key: the message says where
         raise ValueError(f"scenario file {path}: not valid {path.suffix[1:].upper()}: {error}") from None
     if not isinstance(data, dict):
         raise ValueError(f"scenario file {path}: expected a mapping of Scenario fields, got {type(data).__name__}")
@@ -54,7 +56,7 @@ def load_scenario(path: str | Path) -> Scenario:
     for key in ("bounds", "start", "goal"):  # YAML and JSON have lists; Scenario wants tuples
         if isinstance(data.get(key), list):
             data[key] = tuple(data[key])
-    obstacles = data.get("obstacles") or ()
+    obstacles = data.get("obstacles", ())
     if isinstance(obstacles, list):
         data["obstacles"] = [
             {k: tuple(v) if isinstance(v, list) else v for k, v in ob.items()} if isinstance(ob, dict) else ob for ob in obstacles

@@ -22,6 +22,8 @@ from pathplan_env.arena import Arena
 from pathplan_env.arguments import check_delta_d, check_n_obstacles
 from pathplan_env.crowds.behaviours import BOUNCE, Behaviour, make_behaviour
 from pathplan_env.geometry.walls import DEFAULT_WALL_THICKNESS, as_point, check_static_geometry, normalise_polygons, normalise_walls, segments_of
+from pathplan_env.validation import MAX_COORDINATE, is_number, short
+from pathplan_env.validation import name as check_name
 
 Vec2 = tuple[float, float]
 
@@ -32,15 +34,17 @@ _vec2 = as_point  # a finite (x, y) of floats, or a ValueError naming the field
 #: Smallest length (m) accepted for radii and distances: below it, masses r² and squared distances
 #: underflow toward subnormals and zero.
 MIN_LENGTH = 1e-6
-#: Largest coordinate magnitude (m): observations are float32, which keeps ~6 cm resolution here.
-MAX_COORDINATE = 1e6
+#: Most obstacles a scenario holds: its checks compare every pair (in blocks of rows, so memory stays
+#: bounded), and no observation or physics step is meant for more.
+MAX_OBSTACLES = 5000
+#: Rows of the pairwise gap matrix computed at once (a block is ``_GAP_ROWS x n`` floats).
+_GAP_ROWS = 256
 
 
 def _positive(value, name: str, allow_zero: bool = False, minimum: float = 0.0) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    if not is_number(value):  # not float(): "0.5", True and "15" are not numbers
+        raise ValueError(f"{name} must be a number, got {short(value)}")
+    value = float(value)
     ok = value >= 0 if allow_zero else value > minimum
     if not (math.isfinite(value) and ok):
         bound = ">= 0" if allow_zero else f"> {minimum:g}"
@@ -132,16 +136,17 @@ class Scenario:
     polygons: tuple[tuple[Vec2, ...], ...] = ()
 
     def __post_init__(self):
-        try:
-            xmin, ymin, xmax, ymax = (float(b) for b in self.bounds)
-        except (TypeError, ValueError):
-            raise ValueError(f"Scenario.bounds must be (xmin, ymin, xmax, ymax), got {self.bounds!r}") from None
+        bounds = self.bounds
+        if isinstance(bounds, (str, bytes, dict)) or not hasattr(bounds, "__len__") or len(bounds) != 4 or not all(map(is_number, bounds)):
+            raise ValueError(f"Scenario.bounds must be four numbers (xmin, ymin, xmax, ymax), got {short(bounds)}")
+        xmin, ymin, xmax, ymax = (float(b) for b in bounds)
         if not all(map(math.isfinite, (xmin, ymin, xmax, ymax))) or xmax <= xmin or ymax <= ymin:
             raise ValueError(f"Scenario.bounds must be finite with xmin < xmax and ymin < ymax, got {self.bounds!r}")
         if max(map(abs, (xmin, ymin, xmax, ymax))) > MAX_COORDINATE:
             raise ValueError(f"Scenario.bounds must lie within +-{MAX_COORDINATE:g} m (observations are float32), got {self.bounds!r}")
         set_ = lambda k, v: object.__setattr__(self, k, v)  # frozen dataclass normalisation
         set_("bounds", (xmin, ymin, xmax, ymax))
+        check_name(self.name, "Scenario.name")
         set_("start", _vec2(self.start, "Scenario.start"))
         set_("goal", _vec2(self.goal, "Scenario.goal"))
         set_("robot_radius", _positive(self.robot_radius, "Scenario.robot_radius", minimum=MIN_LENGTH))
@@ -155,6 +160,10 @@ class Scenario:
         set_("robot_visible", bool(self.robot_visible))
         if self.time_limit is not None:
             set_("time_limit", _positive(self.time_limit, "Scenario.time_limit"))
+        if isinstance(self.obstacles, (str, bytes, dict)) or not hasattr(self.obstacles, "__len__"):
+            raise ValueError(f"Scenario.obstacles must be a sequence of obstacles, got {short(self.obstacles)}")
+        if len(self.obstacles) > MAX_OBSTACLES:
+            raise ValueError(f"Scenario.obstacles: {len(self.obstacles)} obstacles, more than the {MAX_OBSTACLES} a scenario may hold")
         obstacles = tuple(self.obstacles)
         for i, ob in enumerate(obstacles):
             if not isinstance(ob, Obstacle):
@@ -225,10 +234,14 @@ class Scenario:
             overlap = np.hypot(pos[:, 0] - point[0], pos[:, 1] - point[1]) <= rad + r
             for i in np.flatnonzero(overlap)[:1]:
                 raise ValueError(f"Scenario.obstacles[{i}] at {self.obstacles[i].center} overlaps the robot at the {label} {point}")
-        gaps = np.hypot(pos[:, None, 0] - pos[None, :, 0], pos[:, None, 1] - pos[None, :, 1]) - rad[:, None] - rad[None, :]
-        np.fill_diagonal(gaps, np.inf)
-        for i, j in np.argwhere(gaps < 0)[:1]:
-            raise ValueError(f"Scenario.obstacles[{i}] at {self.obstacles[i].center} overlaps Scenario.obstacles[{j}] at {self.obstacles[j].center}")
+        for first in range(0, len(pos), _GAP_ROWS):  # in blocks of rows: the first overlap in row order, memory bounded
+            block = slice(first, first + _GAP_ROWS)
+            gaps = np.hypot(pos[block, None, 0] - pos[None, :, 0], pos[block, None, 1] - pos[None, :, 1]) - rad[block, None] - rad[None, :]
+            rows = np.arange(gaps.shape[0])
+            gaps[rows, rows + first] = np.inf
+            for i, j in np.argwhere(gaps < 0)[:1]:
+                i += first
+                raise ValueError(f"Scenario.obstacles[{i}] at {self.obstacles[i].center} overlaps Scenario.obstacles[{j}] at {self.obstacles[j].center}")
         too_fast = np.hypot(vel[:, 0], vel[:, 1]) * self.dt > max_step
         for i in np.flatnonzero(too_fast)[:1]:
             raise ValueError(
@@ -366,16 +379,29 @@ class Scenario:
         if not isinstance(data, dict):
             raise ValueError(f"scenario must be a preset name, a Scenario or its dict form, got {type(data).__name__}")
         fields = {f.name for f in dataclasses.fields(cls)}
-        unknown = set(data) - fields
+        unknown = [key for key in data if key not in fields]
         if unknown:
-            raise ValueError(f"scenario dict: unknown fields {sorted(unknown)}; known: {sorted(fields)}")
+            raise ValueError(f"scenario dict: unknown fields {sorted(map(short, unknown))}; known: {sorted(fields)}")
+        raw = data.get("obstacles", ())
+        if not isinstance(raw, (list, tuple)):
+            raise ValueError(f"Scenario.obstacles must be a list of obstacles, got {short(raw)}")
+        if len(raw) > MAX_OBSTACLES:  # before any obstacle is built, let alone their pairs compared
+            raise ValueError(f"Scenario.obstacles: {len(raw)} obstacles, more than the {MAX_OBSTACLES} a scenario may hold")
+        obstacle_fields = {f.name for f in dataclasses.fields(Obstacle)}
         obstacles = []
-        for i, ob in enumerate(data.get("obstacles", ())):
+        for i, ob in enumerate(raw):
             if isinstance(ob, dict):
+                unknown = [key for key in ob if key not in obstacle_fields]
+                if unknown:
+                    raise ValueError(f"Scenario.obstacles[{i}]: unknown fields {sorted(map(short, unknown))}; known: {sorted(obstacle_fields)}")
                 try:
                     ob = Obstacle(**ob)
                 except TypeError as error:
                     raise ValueError(f"Scenario.obstacles[{i}]: {error}") from None
+                except ValueError as error:
+                    raise ValueError(f"Scenario.obstacles[{i}]: {error}") from None
+            elif not isinstance(ob, Obstacle):
+                raise ValueError(f"Scenario.obstacles[{i}] must be a mapping of Obstacle fields, got {short(ob)}")
             obstacles.append(ob)
         missing = sorted(f.name for f in dataclasses.fields(cls) if f.default is dataclasses.MISSING and f.name not in data)
         if missing:
@@ -391,4 +417,4 @@ _SCENARIO_DEFAULTS = {f.name: f.default for f in dataclasses.fields(Scenario)}
 _SCENARIO_REQUIRED = frozenset(name for name, default in _SCENARIO_DEFAULTS.items() if default is dataclasses.MISSING)
 
 
-__all__ = ["MAX_COORDINATE", "MIN_LENGTH", "Obstacle", "Scenario", "check_delta_d", "check_n_obstacles"]
+__all__ = ["MAX_COORDINATE", "MAX_OBSTACLES", "MIN_LENGTH", "Obstacle", "Scenario", "check_delta_d", "check_n_obstacles"]

@@ -1,19 +1,21 @@
 """Run by ``test_wheel.py`` with the python of a scratch venv that holds the built wheel and nothing of
 the checkout, from a temporary directory: ``python installed_checks.py CHECKOUT README``. An audit hook
 records every file opened; any under the checkout fails the run (the README's quick start is handed in
-as a path outside it). Prints one line per check and ``ok`` at the end."""
+as a path outside it), except under the dependencies' folders given after it (a venv inside the checkout,
+as ``make`` makes ``.venv``). Prints one line per check and ``ok`` at the end."""
 
 import os
 import sys
 
 CHECKOUT = os.path.realpath(sys.argv[1])
+DEPENDENCIES = tuple(os.path.realpath(path) + os.sep for path in sys.argv[3:])
 opened_in_checkout: list[str] = []
 
 
 def _audit(event, args):
     if event == "open" and args and isinstance(args[0], (str, bytes, os.PathLike)):
         path = os.path.realpath(os.fsdecode(args[0]))
-        if path == CHECKOUT or path.startswith(CHECKOUT + os.sep):
+        if (path == CHECKOUT or path.startswith(CHECKOUT + os.sep)) and not path.startswith(DEPENDENCIES):
             opened_in_checkout.append(path)
 
 

@@ -28,6 +28,8 @@ pytestmark = pytest.mark.packaging
 ROOT = Path(__file__).resolve().parents[2]
 SOURCES = ("pyproject.toml", "README.md", "LICENSE", "pathplan_env", "agents")
 MiB = 1024 * 1024
+#: this interpreter's site-packages: the scratch venv's dependencies (read after its own site-packages)
+DEPENDENCIES = sorted({sysconfig.get_paths()["purelib"], sysconfig.get_paths()["platlib"]})
 
 
 @pytest.fixture(scope="module")
@@ -57,8 +59,7 @@ def venv(wheel) -> Path:
     python = home / "bin" / "python"
     purelib = subprocess.run([str(python), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
                              capture_output=True, text=True, check=True).stdout.strip()  # fmt: skip
-    deps = {sysconfig.get_paths()["purelib"], sysconfig.get_paths()["platlib"]}
-    Path(purelib, "_pathplan_env_deps.pth").write_text("\n".join(sorted(deps)) + "\n")
+    Path(purelib, "_pathplan_env_deps.pth").write_text("\n".join(DEPENDENCIES) + "\n")
     installed = subprocess.run([sys.executable, "-m", "pip", "--python", str(python), "install", "--no-deps", "--no-index", "-q", str(wheel)],
                                capture_output=True, text=True, timeout=300)  # fmt: skip
     assert installed.returncode == 0, installed.stderr[-3000:]
@@ -104,7 +105,7 @@ def test_the_installed_package_runs_from_outside_the_checkout(venv, tmp_path):
     shutil.copy2(Path(__file__).with_name("installed_checks.py"), script)
     readme = tmp_path / "README.md"
     shutil.copy2(ROOT / "README.md", readme)
-    ran = _run([str(venv / "bin" / "python"), str(script), str(ROOT), str(readme)], cwd=tmp_path)
+    ran = _run([str(venv / "bin" / "python"), str(script), str(ROOT), str(readme), *DEPENDENCIES], cwd=tmp_path)
     assert ran.returncode == 0 and ran.stdout.rstrip().endswith("ok"), ran.stdout[-2000:] + ran.stderr[-4000:]
 
 

@@ -35,8 +35,12 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def parse_args(argv=None) -> argparse.Namespace:
+    return build_parser().parse_args(argv)
+
+
 def main(argv=None) -> None:
-    args = build_parser().parse_args(argv)
+    args = parse_args(argv)
     print("| obstacles | Δd | substeps | deepest overlap (radii) | 99th pct of scene maxima | substeps with overlap |")
     print("|---:|---:|---:|---:|---:|---:|")
     for n in args.obstacles:

@@ -73,6 +73,8 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--address", help="with --backend ray: a running cluster's address (default: a local Ray)")
     parser.add_argument("--out", default="results/latest", help="output directory")
     parser.add_argument("--no-plots", action="store_true")
+    parser.add_argument("--record", action="store_true",
+                        help='keep every episode\'s trajectory in --out/episodes.h5 (replay: render_episode.py --record; needs pip install -e ".[records]")')
     parser.add_argument("--no-limit", action="store_true",
                         help=f"skip the physical limit (by default {LIMIT_AGENT} runs on every cell's episodes too)")
     args = parser.parse_args(argv)
@@ -149,7 +151,7 @@ def main(argv=None) -> list[dict]:
             agent_specs, scenarios, deltas, args.episodes, args.out, seed=args.seed, split=args.split,
             n_obstacles=args.n_obstacles, workers=args.workers, agent_kwargs=agent_kwargs, limit=not args.no_limit,
             resume=args.resume, plots=not args.no_plots, config={"suite": args.suite}, backend=args.backend,
-            address=args.address, env_options=env_options,
+            address=args.address, env_options=env_options, record=args.record,
         )  # fmt: skip
     except ValueError as error:  # named by the harness before any episode ran or anything was written
         raise SystemExit(f"evaluate.py: {error}") from None

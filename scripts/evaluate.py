@@ -33,7 +33,7 @@ from pathlib import Path
 
 from agents.evaluation import LIMIT_AGENT, SUITES, evaluate
 from agents.evaluation.records import OWN_SPEEDS
-from agents.evaluation.reporting import crowdnav_table, limit_table, markdown_table
+from agents.evaluation.reporting import crowdnav_table, limit_table, markdown_table, social_table
 from pathplan_env.scenarios.splits import SPLITS
 
 #: gym.make keywords with a flag of their own: ``--NAME`` (a registered type's name) and ``--NAME-params``
@@ -164,9 +164,12 @@ def main(argv=None) -> list[dict]:
     crowds = [s for s in labels if s.startswith("crowdnav")]
     if crowds:
         print("\n" + crowdnav_table(rows, crowds))
+    social = social_table(rows)  # a recorded run's (--record)
+    if social:
+        print("\n" + social)
     out = Path(args.out)
     episodes = sum(r["episodes"] for r in rows)
-    print(f"wrote {out / 'summary.json'}, {out / 'episodes.csv'} and plots ({episodes} episodes in {time.perf_counter() - start:.0f} s)")
+    print(f"wrote {out / 'summary.json'}, {out / 'episodes.csv'}, {out / 'report.html'} and plots ({episodes} episodes in {time.perf_counter() - start:.0f} s)")
     return rows
 
 

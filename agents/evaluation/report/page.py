@@ -61,6 +61,22 @@ def _clean(value):
     return value
 
 
+def render_page(title: str, rows: list[dict], config: dict, columns: list[str], episode_list: list[list], scenes: list[dict],
+                trajectories: list[str], plots: list[tuple[str, str]], recorded: bool) -> str:  # fmt: skip
+    """The page's text: ``episode_list`` rows of ``columns`` (:func:`.payload.episode_rows`), ``scenes`` and
+    ``trajectories`` by record number (:func:`.payload.scene_of`, :func:`.payload.pack`), ``plots`` as (name, base64 PNG)."""
+    data = {"title": title, "config": {k: config.get(k) for k in ("agents", "scenarios", "delta_d", "episodes", "seed", "split", "wall_seconds")},
+            "columns": columns, "episodes": episode_list, "scenes": scenes, "recorded": recorded}  # fmt: skip
+    tables = "".join(f"<h3>{html.escape(title)}</h3>{markdown_to_html(table)}" for title, table in _tables(rows))
+    figures = "".join(f'<figure><img alt="{html.escape(name)}" src="data:image/png;base64,{b64}"><figcaption>{html.escape(name)}</figcaption></figure>'
+                      for name, b64 in plots)  # fmt: skip
+    return (_asset("report.html").replace("{{title}}", html.escape(title)).replace("{{style}}", _asset("report.css"))
+            .replace("{{tables}}", tables).replace("{{plots}}", figures or "<p>No plots (--no-plots).</p>")
+            .replace("{{data}}", _json_script("report-data", _clean(data)))
+            .replace("{{trajectories}}", _json_script("report-trajectories", trajectories))
+            .replace("{{script}}", _asset("report.js")))  # fmt: skip
+
+
 def write_report(out, rows: list[dict], results: list, config: dict, records=None) -> Path:
     """Write ``out/report.html`` for a run's summary ``rows``, its ``results`` (``EpisodeResult``), its
     ``config`` and, when the run was recorded, its record file ``records`` (the trajectories replayed)."""
@@ -78,16 +94,7 @@ def write_report(out, rows: list[dict], results: list, config: dict, records=Non
                 scenes.append(scene_of(episode))
     columns, episode_list = episode_rows(results, numbers)
     plots = [(p.stem.replace("_", " "), base64.b64encode(p.read_bytes()).decode("ascii")) for p in sorted(out.glob("*.png"))]
-    data = {"title": out.name, "config": {k: config.get(k) for k in ("agents", "scenarios", "delta_d", "episodes", "seed", "split", "wall_seconds")},
-            "columns": columns, "episodes": episode_list, "scenes": scenes, "recorded": records is not None}  # fmt: skip
-    tables = "".join(f"<h3>{html.escape(title)}</h3>{markdown_to_html(table)}" for title, table in _tables(rows))
-    figures = "".join(f'<figure><img alt="{html.escape(name)}" src="data:image/png;base64,{b64}"><figcaption>{html.escape(name)}</figcaption></figure>'
-                      for name, b64 in plots)  # fmt: skip
-    page = (_asset("report.html").replace("{{title}}", html.escape(out.name)).replace("{{style}}", _asset("report.css"))
-            .replace("{{tables}}", tables).replace("{{plots}}", figures or "<p>No plots (--no-plots).</p>")
-            .replace("{{data}}", _json_script("report-data", _clean(data)))
-            .replace("{{trajectories}}", _json_script("report-trajectories", trajectories))
-            .replace("{{script}}", _asset("report.js")))  # fmt: skip
+    page = render_page(out.name, rows, config, columns, episode_list, scenes, trajectories, plots, recorded=records is not None)
     path = out / REPORT_NAME
     path.write_text(page, encoding="utf-8")
     print(f"wrote {path} ({path.stat().st_size / 1024:,.0f} KiB: {len(episode_list)} episodes, {len(trajectories)} trajectories)", file=sys.stderr)

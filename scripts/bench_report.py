@@ -18,7 +18,7 @@ from pathlib import Path
 
 from agents.evaluation.report.browser import chromium, missing
 from agents.evaluation.report.page import render_page
-from agents.evaluation.report.payload import pack, scene_of
+from pathplan_env.records.compact import pack, scene_of
 from pathplan_env.records.store import open_records
 
 

@@ -166,5 +166,5 @@ def evaluate(
             from agents.evaluation.reporting import plot
 
             plot(rows, out)
-        write_report(out, rows, results, config, records.path)
+        write_report(out, rows, results, config, records.replays())
     return rows

@@ -5,13 +5,14 @@ HDF5 through h5py (the ``records`` extra): each episode is a handful of chunked,
 (shuffle + gzip) that a reader opens one at a time without loading the run. Layout (version 1)::
 
     /                   attrs format, version
-    /episodes/000017    attrs meta (JSON), key (JSON: the harness's job key), scene (JSON: the
-                        Scenario), turns, humans, plan_offsets, command_width; datasets
-                        steps (T+1, 8 + A: robot x, y, heading, waypoint x, y, clearance,
+    /episodes/000017    attr header: JSON of meta (who, what, the outcome), key (the harness's
+                        job key), scene (the Scenario), turns, humans, plan_offsets, command_width;
+                        datasets steps (T+1, 8 + A: robot x, y, heading, waypoint x, y, clearance,
                         collision, success, command), obstacles (T+1, N, 4), plan (P, 2)
                         [, beams (T+1, B, 2), hidden (T+1, N)]
 
-Three datasets an episode, not one per quantity: an HDF5 dataset's header costs about a kilobyte.
+Three datasets and one attribute an episode, not one per quantity: each costs a header (about a
+kilobyte) and time to write (the harness writes while the next episode waits).
 
 A file of another format or version, a truncated one and a run folder without records are refused
 with a ``ValueError`` naming the file.
@@ -19,6 +20,7 @@ with a ``ValueError`` naming the file.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import sys
 import time
@@ -33,7 +35,7 @@ RECORDS_NAME = "episodes.h5"
 FORMAT = "pathplan-env episode records"
 VERSION = 1
 _DATASETS = ("steps", "obstacles", "plan")
-_ATTRIBUTES = ("meta", "scene", "turns", "humans", "plan_offsets", "command_width")
+_HEADER = ("meta", "key", "scene", "turns", "humans", "plan_offsets", "command_width")
 _OPTIONAL = ("beams", "hidden")
 
 
@@ -69,6 +71,13 @@ def _open(path: Path, mode: str):
     except OSError as error:  # h5py's word for a truncated file, a file of another kind, a lock held
         raise ValueError(f"{path}: not a readable episode record file ({error}); a run killed while writing it can leave it so: "
                          "move it aside and record anew") from None  # fmt: skip
+
+
+def _header(entry) -> dict:
+    try:
+        return json.loads(entry.attrs["header"])
+    except (KeyError, json.JSONDecodeError) as error:
+        raise ValueError(f"{entry.file.filename}: episode {entry.name} has no readable header ({error})") from None
 
 
 def set_aside(path: Path) -> Path | None:
@@ -107,16 +116,15 @@ class RecordWriter:
 
     def keys(self) -> list[str]:
         """The job keys the file's episodes were written with."""
-        return [self._group[name].attrs["key"] for name in self._group]
+        return [_header(self._group[name])["key"] for name in self._group]
 
     def append(self, episode: Episode, key: str = "") -> int:
         """Write one episode (flushed to disk before returning); its record number."""
         number, before = self.count, self.path.stat().st_size
         group = self._group.create_group(f"{number:06d}")
-        attrs = group.attrs
-        attrs["meta"], attrs["key"], attrs["scene"], attrs["turns"] = json.dumps(episode.meta), key, episode.scene_json(), episode.turns
-        attrs["humans"], attrs["plan_offsets"] = episode.humans.astype(np.uint8), episode.plan_offsets
-        attrs["command_width"] = episode.command.shape[1]
+        group.attrs["header"] = json.dumps({"meta": episode.meta, "key": key, "scene": dataclasses.asdict(episode.scenario), "turns": episode.turns,
+                                            "humans": episode.humans.tolist(), "plan_offsets": episode.plan_offsets.tolist(),
+                                            "command_width": episode.command.shape[1]})  # fmt: skip
         steps = np.column_stack([episode.robot, episode.waypoint, episode.clearance, episode.collision, episode.success, episode.command])
         arrays = {"steps": steps, "obstacles": episode.obstacles, "plan": episode.plan_points, "beams": episode.beams, "hidden": episode.hidden}
         for name, data in arrays.items():
@@ -142,7 +150,7 @@ class RecordWriter:
 
 
 class RecordReader:
-    """A run's records, read an episode at a time: ``numbers()``, ``meta(n)``, ``episode(n)``, ``keys()``."""
+    """A run's records, read an episode at a time: ``numbers()``, ``meta(n)``, ``episode(n)``, ``header_keys()``."""
 
     def __init__(self, run):
         self.path = path = records_path(run)
@@ -171,27 +179,34 @@ class RecordReader:
         return self._group[name]
 
     def meta(self, number: int) -> dict:
-        return json.loads(self._entry(number).attrs["meta"])
+        return self._header(number)["meta"]
 
-    def keys(self) -> dict[str, int]:
-        """The harness's job key of each recorded episode -> its record number (resuming reads it)."""
-        return {self._group[name].attrs["key"]: int(name) for name in self._group}
+    def header_keys(self) -> list[str]:
+        """The harness's job key of each episode, by record number."""
+        return [self._header(number)["key"] for number in self.numbers()]
+
+    def _header(self, number: int) -> dict:
+        header = _header(self._entry(number))
+        missing = [name for name in _HEADER if name not in header]
+        if missing:
+            raise ValueError(f"{self.path}: episode {number}'s header lacks {', '.join(missing)}")
+        return header
 
     def episode(self, number: int) -> Episode:
         entry = self._entry(number)
-        missing = [name for name in _DATASETS if name not in entry] + [name for name in _ATTRIBUTES if name not in entry.attrs]
+        missing = [name for name in _DATASETS if name not in entry]
         if missing:
             raise ValueError(f"{self.path}: episode {number} is incomplete (missing {', '.join(missing)}; written when the run stopped?)")
-        attrs, steps = entry.attrs, entry["steps"][()]
+        header, steps = self._header(number), entry["steps"][()]
         optional = {name: entry[name][()] if name in entry else None for name in _OPTIONAL}
         if optional["hidden"] is not None:
             optional["hidden"] = optional["hidden"].astype(bool)
         return Episode(
-            meta=json.loads(attrs["meta"]), scenario=Scenario.from_dict(json.loads(attrs["scene"])), turns=bool(attrs["turns"]),
-            humans=np.asarray(attrs["humans"]).astype(bool), robot=steps[:, 0:3], waypoint=steps[:, 3:5], clearance=steps[:, 5],
-            collision=steps[:, 6] > 0, success=steps[:, 7] > 0, command=steps[:, 8 : 8 + int(attrs["command_width"])],
+            meta=header["meta"], scenario=Scenario.from_dict(header["scene"]), turns=bool(header["turns"]),
+            humans=np.asarray(header["humans"], bool), robot=steps[:, 0:3], waypoint=steps[:, 3:5], clearance=steps[:, 5],
+            collision=steps[:, 6] > 0, success=steps[:, 7] > 0, command=steps[:, 8 : 8 + int(header["command_width"])],
             obstacles=entry["obstacles"][()], plan_points=entry["plan"][()].reshape(-1, 2),
-            plan_offsets=np.asarray(attrs["plan_offsets"], np.int64), **optional,
+            plan_offsets=np.asarray(header["plan_offsets"], np.int64), **optional,
         )  # fmt: skip
 
     def close(self) -> None:

@@ -50,7 +50,7 @@ def test_a_resumed_run_records_the_episodes_missing_from_its_file(recorded, tmp_
     run = tmp_path / "run"
     shutil.copytree(recorded, run)
     with h5py.File(run / RECORDS_NAME, "a") as f:  # as if the run had died after the log, before the record
-        lost = json.loads(f["episodes/000003"].attrs["meta"])
+        lost = json.loads(f["episodes/000003"].attrs["header"])["meta"]
         del f["episodes/000003"]
     evaluate(*RUN, run, limit=False, plots=False, record=True, resume=True)
     with open_records(run) as records:

@@ -11,7 +11,7 @@ from importlib import resources
 from pathlib import Path
 
 from agents.evaluation.records import LIMIT_AGENT
-from agents.evaluation.report.payload import episode_rows, pack, scene_of
+from agents.evaluation.report.payload import episode_rows
 from agents.evaluation.reporting import crowdnav_table, limit_table, markdown_table, social_table
 
 REPORT_NAME = "report.html"
@@ -77,24 +77,16 @@ def render_page(title: str, rows: list[dict], config: dict, columns: list[str], 
             .replace("{{script}}", _asset("report.js")))  # fmt: skip
 
 
-def write_report(out, rows: list[dict], results: list, config: dict, records=None) -> Path:
+def write_report(out, rows: list[dict], results: list, config: dict, replays: list | None = None) -> Path:
     """Write ``out/report.html`` for a run's summary ``rows``, its ``results`` (``EpisodeResult``), its
-    ``config`` and, when the run was recorded, its record file ``records`` (the trajectories replayed)."""
+    ``config`` and, when the run was recorded, its episodes' ``replays`` (each with ``meta``, ``scene`` and
+    ``packed``: ``agents.evaluation.recording.Digest``), which the page's player replays."""
     out = Path(out)
-    numbers, trajectories, scenes = {}, [], []
-    if records is not None:
-        from pathplan_env.records.store import open_records
-
-        with open_records(records) as reader:
-            for number in reader.numbers():
-                episode = reader.episode(number)
-                m = episode.meta
-                numbers[(m["agent"], m["scenario"], m["delta_d"], m["episode"])] = len(trajectories)
-                trajectories.append(pack(episode))
-                scenes.append(scene_of(episode))
+    numbers = {(d.meta["agent"], d.meta["scenario"], d.meta["delta_d"], d.meta["episode"]): i for i, d in enumerate(replays or [])}
+    scenes, trajectories = [d.scene for d in replays or []], [d.packed for d in replays or []]
     columns, episode_list = episode_rows(results, numbers)
     plots = [(p.stem.replace("_", " "), base64.b64encode(p.read_bytes()).decode("ascii")) for p in sorted(out.glob("*.png"))]
-    page = render_page(out.name, rows, config, columns, episode_list, scenes, trajectories, plots, recorded=records is not None)
+    page = render_page(out.name, rows, config, columns, episode_list, scenes, trajectories, plots, recorded=replays is not None)
     path = out / REPORT_NAME
     path.write_text(page, encoding="utf-8")
     print(f"wrote {path} ({path.stat().st_size / 1024:,.0f} KiB: {len(episode_list)} episodes, {len(trajectories)} trajectories)", file=sys.stderr)

@@ -76,3 +76,21 @@ def test_bad_record_files_are_named(recorded, tmp_path):
         RecordWriter(other)
     with open_records(recorded) as records, pytest.raises(ValueError, match="no episode 9"):
         records.episode(9)
+
+
+def test_compare_runs_compares_two_runs_records_step_by_step(recorded, tmp_path, capsys):
+    import shutil
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
+    import compare_runs
+
+    other = tmp_path / "other"
+    shutil.copytree(recorded, other)
+    assert compare_runs.main([str(recorded), str(other), "--records"]) == 0
+    assert "the 4 recorded episodes' trajectories agree step for step" in capsys.readouterr().out
+    with h5py.File(other / RECORDS_NAME, "a") as f:
+        f["episodes/000001/obstacles"][5, 0, 0] += 1e-9  # one obstacle, one step, one nanometre
+    assert compare_runs.main([str(recorded), str(other), "--records"]) == 1
+    assert "the trajectories part at step 5 (records 1 and 1)" in capsys.readouterr().out

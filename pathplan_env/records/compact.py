@@ -33,16 +33,18 @@ def scene_of(episode: Episode) -> dict:
 
 
 def pack(episode: Episode) -> str:
-    """The episode's per-step arrays as base64(zlib(bytes)): uint32 [rows, obstacles, plan points],
-    uint32 plan offsets (rows + 1), then uint16 robot x, y (rows x 2), heading (rows), obstacles x, y
-    (rows x N x 2), waypoint (rows x 2), clearance in mm (rows), plan points (P x 2)."""
+    """The episode's per-step arrays as base64(zlib(bytes)): uint32 [rows, obstacles, plan points,
+    beams], uint32 plan offsets (rows + 1), then uint16 robot x, y (rows x 2), heading (rows), obstacles
+    x, y (rows x N x 2), waypoint (rows x 2), clearance in mm (rows), plan points (P x 2), and where a
+    lidar's beams were recorded, their ends (rows x B x 2)."""
     (xmin, ymin, xmax, ymax), rows, n = episode.scenario.bounds, episode.steps + 1, len(episode.radii)
     plan = episode.plan_points
-    head = np.array([rows, n, len(plan)], "<u4")
+    beams = episode.beams if episode.beams is not None else np.empty((rows, 0, 2))
+    head = np.array([rows, n, len(plan), beams.shape[1]], "<u4")
     xy = lambda a: np.stack([_quantise(a[..., 0], xmin, xmax), _quantise(a[..., 1], ymin, ymax)], axis=-1)
     heading = np.arctan2(np.sin(episode.robot[:, 2]), np.cos(episode.robot[:, 2]))
     clearance = np.minimum(np.rint(np.maximum(episode.clearance, 0.0) * 1000), TOP).astype("<u2")
     parts = [head, episode.plan_offsets.astype("<u4"), xy(episode.robot[:, :2]), _quantise(heading, -math.pi, math.pi),
-             xy(episode.obstacles[..., :2]), xy(episode.waypoint), clearance, xy(plan)]  # fmt: skip
+             xy(episode.obstacles[..., :2]), xy(episode.waypoint), clearance, xy(plan), xy(beams)]  # fmt: skip
     data = b"".join(np.ascontiguousarray(p).tobytes() for p in parts)
     return base64.b64encode(zlib.compress(data, 6)).decode("ascii")

@@ -35,8 +35,16 @@ def test_a_pipe_table_becomes_an_html_table():
     assert table.count("<tr>") == 2 and "<b>x</b>" in table and '<td class="num">1.0</td>' in table
 
 
-ROBOT_PIXELS = """const c = arguments[0].getContext('2d'), d = c.getImageData(0, 0, arguments[0].width, arguments[0].height).data;
-let n = 0; for (let i = 0; i < d.length; i += 4) if (d[i] === 52 && d[i + 1] === 101 && d[i + 2] === 164) n++; return n;"""
+COLOUR_PIXELS = """const c = arguments[0].getContext('2d'), d = c.getImageData(0, 0, arguments[0].width, arguments[0].height).data;
+const [r, g, b] = arguments[1]; let n = 0; for (let i = 0; i < d.length; i += 4) if (d[i] === r && d[i + 1] === g && d[i + 2] === b) n++; return n;"""
+ROBOT, BEAM = (52, 101, 164), (170, 205, 235)
+
+
+def _open(driver, index: int, views: int = 1):
+    driver.execute_script("window.report.open(arguments[0])", index)
+    deadline = time.monotonic() + 10
+    while driver.execute_script("return window.report.views.length") < views and time.monotonic() < deadline:
+        time.sleep(0.05)
 
 
 @pytest.mark.browser
@@ -64,7 +72,7 @@ def test_the_page_in_a_browser_lists_replays_and_compares_episodes(run, width):
         while driver.execute_script("return window.report.views.length") < 2 and time.monotonic() < deadline:
             time.sleep(0.05)
         canvases = driver.find_elements("css selector", "#views canvas")
-        assert len(canvases) == 2 and all(driver.execute_script(ROBOT_PIXELS, c) > 20 for c in canvases)  # a robot in each
+        assert len(canvases) == 2 and all(driver.execute_script(COLOUR_PIXELS, c, ROBOT) > 20 for c in canvases)  # a robot in each
         inner, client, scroll = driver.execute_script("const e = document.documentElement; return [window.innerWidth, e.clientWidth, e.scrollWidth]")
         assert inner == width and scroll == client  # nothing wider than the screen: the tables scroll in their boxes
         driver.find_element("id", "f-outcome").send_keys("collision")
@@ -72,3 +80,15 @@ def test_the_page_in_a_browser_lists_replays_and_compares_episodes(run, width):
             assert int(count.get_attribute("data-count")) == sum(row["collision"] == "True" for row in csv.DictReader(f))
         errors = [e for e in driver.get_log("browser") if e["level"] == "SEVERE"]
         assert errors == []
+
+
+@pytest.mark.browser
+@pytest.mark.skipif(missing() is not None, reason=missing() or "")
+def test_the_player_draws_a_lidar_agents_beams(tmp_path):
+    evaluate(["straight"], ["random"], [0.5], 1, tmp_path, limit=False, plots=False, record=True, env_options={"observation": "lidar"})
+    with chromium() as driver:
+        driver.get((tmp_path / "report.html").as_uri())
+        _open(driver, 0)
+        canvas = driver.find_element("css selector", "#views canvas")
+        assert driver.execute_script(COLOUR_PIXELS, canvas, BEAM) > 100
+        assert [e for e in driver.get_log("browser") if e["level"] == "SEVERE"] == []

@@ -10,7 +10,7 @@
   const PAGE = 300;
   const COLOURS = { background: "rgb(250,250,247)", wall: "rgb(60,60,60)", static: "rgb(110,110,118)", obstacle: "rgb(214,96,77)",
     human: "rgb(197,27,125)", robot: "rgb(52,101,164)", heading: "rgb(250,250,247)", trail: "rgb(120,160,210)", goal: "rgb(46,160,67)",
-    waypoint: "rgb(240,170,20)", plan: "rgb(150,90,190)" };
+    waypoint: "rgb(240,170,20)", plan: "rgb(150,90,190)", beam: "rgb(170,205,235)" };
   const $ = (id) => document.getElementById(id);
   const state = { shown: PAGE, matching: [], views: [], step: 0, playing: false, speed: 1, last: 0, carry: 0, opened: -1 };
   window.report = state; // for tests and the curious: the player's state
@@ -87,9 +87,8 @@
     const bytes = Uint8Array.from(atob(packed[record]), (ch) => ch.charCodeAt(0));
     const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream("deflate"));
     const buffer = await new Response(stream).arrayBuffer();
-    const head = new Uint32Array(buffer, 0, 3);
-    const [rows, n, p] = head;
-    let at = 12;
+    const [rows, n, p, beamCount] = new Uint32Array(buffer, 0, 4);
+    let at = 16;
     const offsets = new Uint32Array(buffer, at, rows + 1); at += 4 * (rows + 1);
     const u16 = (count) => { const a = new Uint16Array(buffer, at, count); at += 2 * count; return a; };
     const scene = data.scenes[record];
@@ -103,7 +102,8 @@
     const waypoint = points(u16(rows * 2));
     const clearance = Float64Array.from(u16(rows), (q) => q / 1000);
     const plan = points(u16(p * 2));
-    const episode = { record, scene, rows, n, offsets, robot, heading, obstacles, waypoint, clearance, plan };
+    const beams = points(u16(rows * beamCount * 2)); // a lidar's beam ends, where they were recorded
+    const episode = { record, scene, rows, n, offsets, robot, heading, obstacles, waypoint, clearance, plan, beams, beamCount };
     decoded.set(record, episode);
     return episode;
   }
@@ -130,6 +130,11 @@
     g.fillStyle = COLOURS.background; g.fillRect(0, 0, width, height);
     g.strokeStyle = COLOURS.wall; g.lineWidth = 3 * ratio; g.strokeRect(0, 0, width, height);
     g.lineCap = "round"; g.lineJoin = "round";
+    const [x, y] = [ep.robot[2 * k], ep.robot[2 * k + 1]];
+    for (let j = 0; j < ep.beamCount; j++) {
+      const at = (k * ep.beamCount + j) * 2;
+      line([[x, y], [ep.beams[at], ep.beams[at + 1]]], COLOURS.beam, 1);
+    }
     for (const [a, b] of s.walls) { line([a, b], COLOURS.static, Math.max(2 * ratio, s.wall_thickness * scale)); }
     for (const poly of s.polygons) {
       g.beginPath(); poly.forEach(([x, y], i) => (i ? g.lineTo(sx(x), sy(y)) : g.moveTo(sx(x), sy(y)))); g.closePath();
@@ -146,7 +151,6 @@
     if (trail.length > 1) line(trail, COLOURS.trail, 2 * ratio);
     const a = ep.offsets[k], b = ep.offsets[k + 1];
     if (b - a > 1) { const pts = []; for (let j = a; j < b; j++) pts.push([ep.plan[2 * j], ep.plan[2 * j + 1]]); line(pts, COLOURS.plan, 2 * ratio); }
-    const [x, y] = [ep.robot[2 * k], ep.robot[2 * k + 1]];
     const [wx, wy] = [ep.waypoint[2 * k], ep.waypoint[2 * k + 1]];
     if (!Number.isNaN(wx)) { line([[x, y], [wx, wy]], COLOURS.waypoint, 1 * ratio); circle(wx, wy, 4 / scale * ratio, COLOURS.waypoint); }
     circle(x, y, s.robot_radius, COLOURS.robot);

@@ -6,9 +6,9 @@ The command lives in ``agents/cli/render.py`` (its docstring is this command's h
 
 import sys
 
-from agents.cli.render import build_parser, main, parse_args, save_gif
+from agents.cli.render import build_parser, live_frames, main, parse_args, recorded_frames, save_gif
 
-__all__ = ["build_parser", "main", "parse_args", "save_gif"]
+__all__ = ["build_parser", "live_frames", "main", "parse_args", "recorded_frames", "save_gif"]
 
 if __name__ == "__main__":
     try:

@@ -9,7 +9,8 @@ from the exact static shortest path (shortest_path, path_length_ratio, spl, comm
 whose last bits differ between CPUs, within a relative tolerance (--rtol); the planning times not
 at all. A field the harness has gained since is compared exactly and named in the output. A run
 kept without its episodes.csv (reproduce_paper's tables) is compared cell by cell, and the output
-says so.
+says so. ``--records`` compares the two runs' episode records too (``evaluate --record``): each
+episode's robot and obstacles exactly, step by step, naming the step where two trajectories part.
 
 ``python scripts/compare_runs.py`` is the same command, with the same flags.
 """
@@ -29,6 +30,7 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
     parser.add_argument("--ignore", default="", help="comma-separated fields to leave out as well (e.g. min_clearance)")
     parser.add_argument("--rtol", type=float, default=RTOL,
                         help=f"relative tolerance on the shortest-path floats (default {RTOL:g}; 0: exactly)")  # fmt: skip
+    parser.add_argument("--records", action="store_true", help="compare the runs' episode records (episodes.h5) too, step by step")
     return parser
 
 
@@ -44,9 +46,21 @@ def main(argv=None, prog: str | None = None) -> int:
         diff = diff_runs(args.first, args.second, ignore=args.ignore, rtol=args.rtol)
     except ValueError as error:
         sys.exit(f"compare_runs.py: {error}")
-    if diff.equal:
+    trajectories = []
+    if args.records:
+        from pathplan_env.records.diff import diff_records
+
+        try:
+            both, trajectories = diff_records(args.first, args.second)
+        except ValueError as error:
+            sys.exit(f"compare_runs.py: {error}")
+        print("\n".join(trajectories[:20]) if trajectories else f"records: the {both:,} recorded episodes' trajectories agree step for step")
+    if diff.equal and not trajectories:
         print(f"equal: {diff.cells:,} cell(s) and {diff.episodes:,} episodes agree: {diff.how}")
         return 0
+    if diff.equal:
+        print(f"differ: {len(trajectories):,} recorded episodes (the summaries agree: {diff.how})")
+        return 1
     print("\n".join(diff.differences))
     if diff.differing > len(diff.differences):
         print(f"... and {diff.differing - len(diff.differences):,} more")

@@ -35,7 +35,7 @@ from pathlib import Path
 
 from agents.evaluation import LIMIT_AGENT, SUITES, evaluate
 from agents.evaluation.records import OWN_SPEEDS
-from agents.evaluation.reporting import crowdnav_table, limit_table, markdown_table
+from agents.evaluation.reporting import crowdnav_table, limit_table, markdown_table, social_table
 from pathplan_env.scenarios.splits import SPLITS
 
 #: gym.make keywords with a flag of their own: ``--NAME`` (a registered type's name) and ``--NAME-params``
@@ -75,6 +75,8 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
     parser.add_argument("--address", help="with --backend ray: a running cluster's address (default: a local Ray)")
     parser.add_argument("--out", default="results/latest", help="output directory")
     parser.add_argument("--no-plots", action="store_true")
+    parser.add_argument("--record", action="store_true",
+                        help='keep every episode\'s trajectory in --out/episodes.h5 (replay: render --record; needs pip install -e ".[records]")')
     parser.add_argument("--no-limit", action="store_true",
                         help=f"skip the physical limit (by default {LIMIT_AGENT} runs on every cell's episodes too)")
     return parser
@@ -155,7 +157,7 @@ def main(argv=None, prog: str | None = None) -> list[dict]:
             agent_specs, scenarios, deltas, args.episodes, args.out, seed=args.seed, split=args.split,
             n_obstacles=args.n_obstacles, workers=args.workers, agent_kwargs=agent_kwargs, limit=not args.no_limit,
             resume=args.resume, plots=not args.no_plots, config={"suite": args.suite}, backend=args.backend,
-            address=args.address, env_options=env_options,
+            address=args.address, env_options=env_options, record=args.record,
         )  # fmt: skip
     except ValueError as error:  # named by the harness before any episode ran or anything was written
         raise SystemExit(f"{prog or 'evaluate.py'}: {error}") from None
@@ -168,8 +170,11 @@ def main(argv=None, prog: str | None = None) -> list[dict]:
     crowds = [s for s in labels if s.startswith("crowdnav")]
     if crowds:
         print("\n" + crowdnav_table(rows, crowds))
+    social = social_table(rows)  # a recorded run's (--record)
+    if social:
+        print("\n" + social)
     out = Path(args.out)
     episodes = sum(r["episodes"] for r in rows)
-    print(f"wrote {out / 'summary.json'}, {out / 'episodes.csv'} and plots ({episodes} episodes in {time.perf_counter() - start:.0f} s)")
+    print(f"wrote {out / 'summary.json'}, {out / 'episodes.csv'}, {out / 'report.html'} and plots ({episodes} episodes in {time.perf_counter() - start:.0f} s)")
     return rows
 

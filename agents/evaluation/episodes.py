@@ -7,11 +7,13 @@ import math
 import random
 import sys
 import time
+from dataclasses import asdict
 
 import numpy as np
 
 from agents.evaluation.entrants import AgentSpec, ScenarioSpec, resolve_agents, resolve_scenarios
 from agents.evaluation.records import EpisodeResult
+from pathplan_env.records import EpisodeRecorder
 from pathplan_env.scenarios.crowdnav import DISCOMFORT_DISTANCE  # CrowdNav's: a step closer than this is one in danger
 
 _WARMED: set[str] = set()  # agents (by label) whose compiled code this process has already loaded
@@ -98,10 +100,13 @@ def episode_policy(agent: AgentSpec, env, seed: int, overrides: dict | None = No
 
 
 def run_episode(agent: AgentSpec | str, scenario: ScenarioSpec | str, delta_d: float | None, episode: int, seed: int,
-                n_obstacles: int | None, overrides: dict, env_options: dict | None = None, split: str = "test") -> EpisodeResult:  # fmt: skip
+                n_obstacles: int | None, overrides: dict, env_options: dict | None = None, split: str = "test",
+                record: bool = False) -> EpisodeResult:  # fmt: skip
     """One episode of one agent (the unit of work every executor runs). ``agent`` and ``scenario``
     are specs (:mod:`.entrants`) or anything they resolve, e.g. a registered name and a preset.
-    ``env_options`` and ``split``: :func:`make_episode_env` (the env and agent are seeded with ``seed`` on any split)."""
+    ``env_options`` and ``split``: :func:`make_episode_env` (the env and agent are seeded with ``seed`` on any split).
+    ``record``: the result carries the episode's trajectory as ``result.trajectory``
+    (a :class:`pathplan_env.records.Episode`; not a field, so the episode's row is the same either way)."""
     from pathplan_env.geometry.shortest_paths import shortest_path_to_goal
 
     agent = agent if isinstance(agent, AgentSpec) else resolve_agents([agent])[0]
@@ -113,12 +118,17 @@ def run_episode(agent: AgentSpec | str, scenario: ScenarioSpec | str, delta_d: f
     scenario_of_episode = env.unwrapped.scenario
     reference = shortest_path_to_goal(scenario_of_episode)  # to the goal's disc, where an episode ends
     plan_ms, clearance, steps, discomfort_steps, discomfort_sum = [], math.inf, 0, 0, 0.0
+    recorder = EpisodeRecorder(env) if record else None
     while True:
         begin = time.perf_counter()
         action = act(obs)
         own = getattr(policy, "last_plan_seconds", None)  # an agent's own timing leaves out its bookkeeping
         plan_ms.append(1e3 * (own if isinstance(own, (int, float)) else time.perf_counter() - begin))
+        if recorder is not None:
+            recorder.before_step(action, getattr(policy, "last_plan", None))
         obs, _, terminated, truncated, info = env.step(action)
+        if recorder is not None:
+            recorder.after_step(info)
         clearance = min(clearance, info["min_clearance"])
         steps += 1
         if terminated or truncated:
@@ -128,7 +138,7 @@ def run_episode(agent: AgentSpec | str, scenario: ScenarioSpec | str, delta_d: f
             discomfort_sum += info["min_clearance"]
     env.close()
     success = bool(info["is_success"])
-    return EpisodeResult(
+    result = EpisodeResult(
         agent=agent.label, scenario=scenario.label, delta_d=delta_d, episode=episode, seed=seed,
         success=success, collision=bool(info["collision"]), timeout=not terminated,
         steps=steps, path_length=info["path_length"], shortest_path=reference + scenario_of_episode.goal_radius,
@@ -136,3 +146,12 @@ def run_episode(agent: AgentSpec | str, scenario: ScenarioSpec | str, delta_d: f
         time_to_goal=info["time"] if success else math.nan, min_clearance=clearance, plan_ms=plan_ms,
         verdict=str(getattr(policy, "verdict", None) or ""), discomfort_steps=discomfort_steps, discomfort_clearance_sum=discomfort_sum,
     )  # fmt: skip
+    if recorder is not None:
+        result.trajectory = recorder.finish(record_meta(result))
+    return result
+
+
+def record_meta(result: EpisodeResult) -> dict:
+    """What an episode's record says of it: the episode's row, its planning times as their median."""
+    meta = {k: v for k, v in asdict(result).items() if k != "plan_ms"}
+    return meta | {"plan_ms_median": float(np.median(result.plan_ms)) if result.plan_ms else math.nan}

@@ -32,7 +32,9 @@ from agents.evaluation.checks import check_run
 from agents.evaluation.entrants import resolve_agents
 from agents.evaluation.executors import run_jobs
 from agents.evaluation.jobs import Job, result_id
+from agents.evaluation.recording import open_run_records
 from agents.evaluation.records import LIMIT_AGENT, EpisodeResult, delta_order
+from agents.evaluation.report import write_report
 from agents.evaluation.run_log import LOG_NAME, LogWriter, RunLock, read_log, run_folder, set_aside
 from agents.evaluation.statistics import summarize
 from agents.provenance import versions
@@ -49,7 +51,7 @@ def evaluate(
     agent_names: list, scenarios: list, deltas: list[float | None], episodes: int, out: str | Path, *,
     seed: int = 0, split: str = "test", n_obstacles: int | None = None, workers: int = 1, agent_kwargs: dict | None = None,
     limit: bool = True, resume: bool = False, plots: bool = True, config: dict | None = None,
-    backend: str = "process", address: str | None = None, env_options: dict | None = None,
+    backend: str = "process", address: str | None = None, env_options: dict | None = None, record: bool = False,
 ) -> list[dict]:  # fmt: skip
     """Run the cells, write the results to ``out`` and return the summary rows (see the module doc).
 
@@ -64,7 +66,9 @@ def evaluate(
     checked by building every cell with them before any episode, recorded in ``summary.json``, and
     part of each episode's record (a resumed run with other options runs its episodes anew).
     ``backend``: ``"process"`` (a local pool of ``workers`` processes) or ``"ray"`` (a local Ray, or
-    the cluster at ``address``; :mod:`agents.evaluation.ray_backend`). Both run the same jobs: same results."""
+    the cluster at ``address``; :mod:`agents.evaluation.ray_backend`). Both run the same jobs: same results.
+    ``record``: keep every episode's trajectory in ``out/episodes.h5`` (:mod:`agents.evaluation.recording`),
+    and add the social-navigation metrics to the rows. Every run writes ``out/report.html``."""
     from pathplan_env.scenarios.episode_sources import source_of
 
     if backend not in ("process", "ray"):
@@ -88,9 +92,10 @@ def evaluate(
     if limit and LIMIT_AGENT not in own:
         entrants.append(limit_spec)
         own[LIMIT_AGENT] = {}  # the kwargs are meant for the agents asked for
+    keep = bool(record)  # (the name `record` is the callback's below)
     source = source_of(split)
     seeds = source.episode_seeds(seed, episodes)
-    jobs = [Job(a, s, d, i, e, s.obstacles(n_obstacles), own[a.label], options, split)
+    jobs = [Job(a, s, d, i, e, s.obstacles(n_obstacles), own[a.label], options, split, keep)
             for a in entrants for s in run.scenarios for d in run.deltas for i, e in enumerate(seeds)]  # fmt: skip
     key_of = {job.result_id(): job.key() for job in jobs}
     obstacles = {s.label: s.obstacles(n_obstacles) for s in run.scenarios}  # a preset's own count, else the run's
@@ -98,11 +103,12 @@ def evaluate(
     log = out / LOG_NAME
     results: list[EpisodeResult] = []
     with RunLock(out):
+        records = open_run_records(out, resume and log.exists(), keep)
         if resume and log.exists():
             wanted = set(key_of.values())
             for number, record in enumerate(read_log(log), start=1):
                 key = tuple(record["job"])
-                if key in wanted:
+                if key in wanted and records.has(key):  # with record=True, an episode not in the record file runs again
                     try:
                         results.append(EpisodeResult(**record["result"]))
                     except TypeError as error:
@@ -120,6 +126,7 @@ def evaluate(
         def record(res: EpisodeResult) -> None:
             sink.write({"job": list(key_of[result_id(res)]), "result": asdict(res)})
             results.append(res)
+            records.write(res, key_of[result_id(res)])
 
         try:
             if backend == "ray":
@@ -134,9 +141,11 @@ def evaluate(
             raise
         finally:
             sink.close()
+            records.close()
         elapsed = time.perf_counter() - start
         results.sort(key=lambda r: (r.agent, r.scenario, delta_order(r.delta_d), r.episode))
         rows = _summarize(results)
+        rows = records.add_social_metrics(rows)
         config = (config or {}) | {"agents": [a.label for a in entrants], "scenarios": [s.label for s in run.scenarios],
                                    "agent_sources": {a.label: a.source for a in entrants},
                                    "custom_scenarios": {s.label: s.definition for s in run.scenarios if s.definition},
@@ -157,4 +166,5 @@ def evaluate(
             from agents.evaluation.reporting import plot
 
             plot(rows, out)
+        write_report(out, rows, results, config, records.replays())
     return rows

@@ -18,6 +18,7 @@ class Job(NamedTuple):
     overrides: dict
     env_options: dict | None = None
     split: str = "test"
+    record: bool = False  # keep the trajectory (not part of the key: an episode is the same recorded or not)
 
     def key(self) -> tuple:
         """The job as ``episodes.jsonl`` records it (see :func:`record_key`)."""

@@ -30,6 +30,7 @@ def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, nu
         raise ValueError('--backend ray needs Ray: pip install -e ".[ray]"') from None
     from agents.evaluation.episodes import run_episode
     from agents.evaluation.records import EpisodeResult
+    from pathplan_env.records import Episode
 
     run = runner if runner is not None else (lambda job: run_episode(*job))
     started_here = not ray.is_initialized()
@@ -39,7 +40,9 @@ def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, nu
 
     @ray.remote(max_retries=MAX_RETRIES)
     def episode(job):
-        return asdict(run(job))  # a plain dict travels without our classes' pickles
+        result = run(job)
+        trajectory = result.__dict__.pop("trajectory", None)  # (record=True)
+        return asdict(result), None if trajectory is None else trajectory.to_plain()  # plain values travel without our classes' pickles
 
     try:
         pending = [episode.remote(job) for job in jobs]
@@ -47,7 +50,11 @@ def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, nu
             while pending:
                 done, pending = ray.wait(pending, num_returns=min(len(pending), 16), timeout=1.0)
                 for ref in done:
-                    on_result(EpisodeResult(**ray.get(ref)))
+                    row, trajectory = ray.get(ref)
+                    result = EpisodeResult(**row)
+                    if trajectory is not None:
+                        result.trajectory = Episode.from_plain(trajectory)
+                    on_result(result)
                     bar.update()
     finally:
         if started_here:

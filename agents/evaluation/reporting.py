@@ -151,3 +151,22 @@ def plot(rows: list[dict], out: Path) -> list[Path]:
     plt.close(fig)
     paths.append(out / "planning_time.png")
     return paths + ([crowd] if crowd else [])
+
+
+def social_table(rows: list[dict]) -> str:
+    """The social-navigation metrics of every cell recorded (``evaluate(..., record=True)``), beside its
+    success and limit (definitions: ``pathplan_env.records.social``, docs/records.md)."""
+    cells = [r for r in rows if "social_jerk" in r]
+    if not cells:
+        return ""
+    fmt = lambda v, spec: "-" if v is None or v != v else format(v, spec)
+    lines = ["| scenario | agent | Δd | success | limit | jerk (m/s³) | path irregularity (rad/m) | min TTC (s, median) | near misses "
+             "| personal-space intrusion (% of time) | min distance to humans (m) |",
+             "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]  # fmt: skip
+    for r in cells:
+        lines.append(
+            f"| {r['scenario']} | {r['agent']} | {delta_text(r['delta_d'])} | {r['success_rate']:.2f} | {fmt(r.get('limit'), '.2f')} "
+            f"| {fmt(r['social_jerk'], '.1f')} | {fmt(r['social_path_irregularity'], '.2f')} | {fmt(r['social_ttc_min'], '.2f')} "
+            f"| {fmt(r['social_near_misses'], '.2f')} | {fmt(100 * r['social_intrusion_fraction'], '.1f')} | {fmt(r['social_min_human_distance'], '.3f')} |"
+        )
+    return "\n".join(lines)

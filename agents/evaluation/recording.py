@@ -1,0 +1,139 @@
+"""A run's episode records as the harness keeps them (``evaluate(..., record=True)``): the file
+``episodes.h5`` beside ``episodes.jsonl``, each episode appended as its result is recorded, read back
+by ``resume``. What the end of the run needs of each episode (its social-navigation metrics, its
+compact form for ``report.html``) is taken as it is written, so the file is not read again (only a
+resumed run's earlier episodes are). :mod:`pathplan_env.records` does the work."""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+from typing import NamedTuple
+
+import numpy as np
+
+from pathplan_env.records.compact import pack, scene_of
+from pathplan_env.records.social import METRICS, social_metrics
+from pathplan_env.records.store import RECORDS_NAME, RecordReader, RecordWriter, set_aside
+
+#: The summary rows' columns of the social metrics: ``social_<metric>``, a cell's mean over its episodes
+#: (``ttc_min``: the median, ``min_human_distance``: the smallest).
+SOCIAL_COLUMNS = tuple(f"social_{m}" for m in METRICS)
+
+
+class Digest(NamedTuple):
+    """What the end of a run needs of one recorded episode."""
+
+    meta: dict
+    metrics: dict
+    scene: dict  # pathplan_env.records.compact.scene_of
+    packed: str  # pathplan_env.records.compact.pack
+
+
+def digest(episode) -> Digest:
+    return Digest(episode.meta, social_metrics(episode), scene_of(episode), pack(episode))
+
+
+def _key_text(key) -> str:
+    return json.dumps(list(key))
+
+
+class RunRecords:
+    """The record file of a run folder, open for appending."""
+
+    def __init__(self, out, resume: bool):
+        path = out / RECORDS_NAME
+        if not resume:
+            set_aside(path)
+        self._writer = RecordWriter(path)  # a bad file (another version, truncated) is refused here, before any episode
+        self.path = path
+        self._kept = set(self._writer.keys())
+        self._digests: dict[str, Digest] = {}
+        self._all: list[Digest] | None = None  # every episode's, once the run is over
+        if resume:
+            print(f"resuming: {len(self._kept)} episodes in {path}", file=sys.stderr)
+
+    def has(self, key) -> bool:
+        """Whether the episode of this job key is on record (resume runs again those that are not)."""
+        return _key_text(key) in self._kept
+
+    def write(self, result, key) -> None:
+        trajectory = result.__dict__.pop("trajectory", None)  # the results list keeps rows, not trajectories
+        if trajectory is not None:
+            self._writer.append(trajectory, _key_text(key))
+            self._kept.add(_key_text(key))
+            self._digests[_key_text(key)] = digest(trajectory)
+
+    def close(self) -> None:
+        """Closes the file and says what it holds and what an episode cost."""
+        count, size = self._writer.count, self.path.stat().st_size
+        self._writer.close()
+        print(f"records: {count} episodes in {self.path} ({size / 1024:,.0f} KiB, {size / 1024 / max(count, 1):.1f} KiB an episode)", file=sys.stderr)
+
+    def digests(self) -> list[Digest]:
+        """Every recorded episode's digest, in the file's order (a resumed run's earlier ones read from it)."""
+        with RecordReader(self.path) as reader:
+            out = []
+            for number, key in enumerate(reader.header_keys()):
+                found = self._digests.get(key)
+                out.append(found if found is not None else digest(reader.episode(number)))
+        return out
+
+    def add_social_metrics(self, rows: list[dict]) -> list[dict]:
+        return add_social_metrics(rows, self.replays())
+
+    def replays(self) -> list[Digest]:
+        """Every recorded episode's digest (what report.html replays)."""
+        if self._all is None:
+            self._all = self.digests()
+        return self._all
+
+
+class NoRecords:
+    """A run without records (the default): every episode counts as on record, nothing is written."""
+
+    path = None
+
+    def has(self, key) -> bool:
+        return True
+
+    def write(self, result, key) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
+
+    def add_social_metrics(self, rows: list[dict]) -> list[dict]:
+        return rows
+
+    def replays(self) -> None:
+        return None
+
+
+def add_social_metrics(rows: list[dict], digests: list[Digest]) -> list[dict]:
+    """Each summary row with its cell's social metrics (:data:`SOCIAL_COLUMNS`)."""
+    per_cell: dict[tuple, list[dict]] = {}
+    for d in digests:
+        per_cell.setdefault((d.meta["agent"], d.meta["scenario"], d.meta["delta_d"]), []).append(d.metrics)
+    for row in rows:
+        found = per_cell.get((row["agent"], row["scenario"], row["delta_d"]))
+        if not found:
+            continue
+        for metric in METRICS:
+            values = np.array([f[metric] for f in found], float)
+            values = values[np.isfinite(values)]
+            pick = np.median if metric == "ttc_min" else np.min if metric == "min_human_distance" else np.mean
+            row[f"social_{metric}"] = float(pick(values)) if len(values) else math.nan
+    return rows
+
+
+def open_run_records(out, resume: bool, record: bool) -> RunRecords | NoRecords:
+    """``out``'s record file when ``record`` (continued when ``resume``, else a previous one set aside), else nothing."""
+    if not record:
+        return NoRecords()
+    try:
+        import h5py  # noqa: F401  (checked before any work)
+    except ImportError:
+        raise ValueError('record=True (--record) needs h5py: pip install -e ".[records]"') from None
+    return RunRecords(out, resume)

@@ -1,0 +1,78 @@
+"""What recording costs: the size of a 200-step episode with 8 obstacles, and the harness's time with
+and without ``record=True`` in alternating runs (so a busy machine slows both alike).
+
+    python scripts/bench_records.py --rounds 3 --episodes 10
+
+Prints the size (KiB an episode, and what the arrays are) and each round's wall times, then the
+median ratio recorded / not recorded.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import tempfile
+import time
+import warnings
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+
+import pathplan_env  # noqa: F401
+from pathplan_env.records import EpisodeRecorder
+from pathplan_env.records.store import RecordWriter
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--rounds", type=int, default=3, help="alternating pairs of runs")
+    parser.add_argument("--episodes", type=int, default=10, help="episodes per cell of the timed runs")
+    parser.add_argument("--agents", default="pso-predictive,velocity-obstacle")
+    parser.add_argument("--scenarios", default="random,crowdnav-circle-crossing")
+    return parser.parse_args(argv)
+
+
+def episode_size(folder: Path, steps: int = 200, obstacles: int = 8) -> tuple[float, str]:
+    """KiB on disk of one ``steps``-step episode among ``obstacles`` discs, with a 6-point plan a step."""
+    env = gym.make("DynamicObstacle-v0", scenario="random", n_obstacles=obstacles, delta_d=0.5, max_episode_steps=None)
+    env.reset(seed=3)
+    recorder, rng = EpisodeRecorder(env), np.random.default_rng(0)
+    warnings.filterwarnings("ignore", message=".*after the episode terminated")  # the wandering robot is hit, and carries on
+    for _ in range(steps):  # a wandering robot: small random actions, so the episode lasts
+        action = rng.uniform(-0.2, 0.2, 2).astype(np.float32)
+        recorder.before_step(action, plan=np.cumsum(rng.normal(0, 0.3, (6, 2)), axis=0))
+        recorder.after_step(env.step(action)[4])
+    episode = recorder.finish({"agent": "wander", "steps": steps})
+    with RecordWriter(folder / "size.h5") as writer:
+        before = writer.bytes
+        writer.append(episode, "size")
+        size = writer.bytes - before
+    shapes = f"steps {episode.steps}, obstacles {episode.obstacles.shape}, plan points {episode.plan_points.shape}"
+    return size / 1024, shapes
+
+
+def main(argv=None) -> None:
+    args = parse_args(argv)
+    from agents.evaluation import evaluate
+
+    with tempfile.TemporaryDirectory() as folder:
+        kib, shapes = episode_size(Path(folder))
+        print(f"a 200-step episode with 8 obstacles: {kib:.1f} KiB on disk ({shapes}; float64, shuffle + gzip)")
+        agents, scenarios = args.agents.split(","), args.scenarios.split(",")
+        evaluate(agents, scenarios, [0.5], 1, Path(folder) / "warm", limit=False, plots=False)  # compile and cache before timing
+        times = {False: [], True: []}
+        for r in range(args.rounds):
+            for record in (False, True) if r % 2 == 0 else (True, False):
+                start = time.perf_counter()
+                evaluate(agents, scenarios, [0.5], args.episodes, Path(folder) / f"run{r}{record}", limit=False, plots=False, record=record)
+                times[record].append(time.perf_counter() - start)
+        for r in range(args.rounds):
+            print(f"round {r}: not recorded {times[False][r]:.2f} s, recorded {times[True][r]:.2f} s ({times[True][r] / times[False][r]:.3f})")
+        ratio = statistics.median(t / f for t, f in zip(times[True], times[False]))
+        episodes = len(agents) * len(scenarios) * args.episodes
+        print(f"recording: {ratio:.3f} x the time of the same run unrecorded (median of {args.rounds} alternating pairs, {episodes} episodes a run)")
+
+
+if __name__ == "__main__":
+    main()

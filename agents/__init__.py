@@ -16,7 +16,19 @@ from agents.presets import register_presets
 from agents.reactive import ORCAAgent, StraightAgent, VelocityObstacleAgent
 from agents.reactive.dwa import DWAAgent
 from agents.reactive.tracker import TrackedAgent
-from agents.registry import available, families, family_of, make, presets, register, register_preset, robots_of
+from agents.registry import (
+    available,
+    check,
+    families,
+    family_of,
+    make,
+    observation_of,
+    observations_of,
+    presets,
+    register,
+    register_preset,
+    robots_of,
+)
 from agents.rl import RLAgent
 
 register_families()
@@ -29,5 +41,6 @@ __all__ = [
     "Agent", "ClairvoyantOracle", "DWAAgent", "TrackedAgent", "UnicycleAStarAgent", "MetaheuristicAgent", "ORCAAgent", "RLAgent",
     "SpacetimeAStarAgent", "SpacetimeMetaheuristicAgent", "StaticOracleAgent", "StraightAgent", "UNICYCLE_AGENTS",
     "UnicycleMetaheuristicAgent", "VelocityObstacleAgent",
-    "available", "families", "family_of", "make", "presets", "register", "register_preset", "robots_of", "rollout",
+    "available", "check", "families", "family_of", "make", "observation_of", "observations_of", "presets", "register", "register_preset",
+    "robots_of", "rollout",
 ]  # fmt: skip

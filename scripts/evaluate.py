@@ -33,7 +33,7 @@ from pathlib import Path
 
 from agents.evaluation import LIMIT_AGENT, SUITES, evaluate
 from agents.evaluation.records import OWN_SPEEDS
-from agents.evaluation.reporting import crowdnav_table, limit_table, markdown_table
+from agents.evaluation.reporting import crowdnav_table, identical_note, limit_table, markdown_table
 from pathplan_env.scenarios.splits import SPLITS
 
 #: gym.make keywords with a flag of their own: ``--NAME`` (a registered type's name) and ``--NAME-params``
@@ -162,6 +162,9 @@ def main(argv=None) -> list[dict]:
     crowds = [s for s in labels if s.startswith("crowdnav")]
     if crowds:
         print("\n" + crowdnav_table(rows, crowds))
+    note = identical_note(rows)
+    if note:
+        print("\n" + note)
     out = Path(args.out)
     episodes = sum(r["episodes"] for r in rows)
     print(f"wrote {out / 'summary.json'}, {out / 'episodes.csv'} and plots ({episodes} episodes in {time.perf_counter() - start:.0f} s)")

@@ -11,7 +11,7 @@ import time
 import numpy as np
 
 from agents.evaluation.entrants import AgentSpec, ScenarioSpec, resolve_agents, resolve_scenarios
-from agents.evaluation.records import EpisodeResult
+from agents.evaluation.records import EpisodeResult, scene_digest
 from pathplan_env.scenarios.crowdnav import DISCOMFORT_DISTANCE  # CrowdNav's: a step closer than this is one in danger
 
 _WARMED: set[str] = set()  # agents (by label) whose compiled code this process has already loaded
@@ -135,4 +135,5 @@ def run_episode(agent: AgentSpec | str, scenario: ScenarioSpec | str, delta_d: f
         path_length_ratio=info["path_length"] / reference if success and np.isfinite(reference) and reference > 0 else math.nan,
         time_to_goal=info["time"] if success else math.nan, min_clearance=clearance, plan_ms=plan_ms,
         verdict=str(getattr(policy, "verdict", None) or ""), discomfort_steps=discomfort_steps, discomfort_clearance_sum=discomfort_sum,
+        scene=scene_digest(scenario_of_episode),
     )  # fmt: skip

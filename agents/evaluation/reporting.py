@@ -9,6 +9,23 @@ import numpy as np
 from agents.evaluation.records import LIMIT_AGENT, delta_order, delta_text
 
 
+def episodes_text(row: dict) -> str:
+    """A cell's episode count, with how many were distinct when fewer were (identical episodes count once)."""
+    distinct = row.get("distinct_episodes", row["episodes"])
+    return f"{row['episodes']}" if distinct >= row["episodes"] else f"{row['episodes']} ({distinct} distinct)"
+
+
+def identical_note(rows: list[dict]) -> str:
+    """A line naming the cells whose episodes repeat one another, or ``""``."""
+    repeated = [r for r in rows if r.get("distinct_episodes", r["episodes"]) < r["episodes"]]
+    if not repeated:
+        return ""
+    cells = ", ".join(f"{r['agent']} on {r['scenario']} ({r['distinct_episodes']} of {r['episodes']})" for r in repeated[:6])
+    more = f" and {len(repeated) - 6} more" if len(repeated) > 6 else ""
+    return (f"identical episodes: {cells}{more} distinct; a fixed scene and a deterministic agent repeat one trial, so each "
+            f"interval is over the distinct ones (a scene file's `variation` draws a scene each episode: docs/scenarios.md)")  # fmt: skip
+
+
 def markdown_table(rows: list[dict]) -> str:
     """Every cell: success with its Wilson interval, the limit, collisions, timeouts, SPL, the length
     ratio over the agent's own successes and over the episodes every agent solved, planning times."""
@@ -22,7 +39,7 @@ def markdown_table(rows: list[dict]) -> str:
         lo, hi = r["success_ci95"]
         common = f"{fmt(r.get('common_length_ratio'), '.3f')} ({r.get('common_episodes', 0)})" if "common_episodes" in r else "-"
         lines.append(
-            f"| {r['scenario']} | {r['agent']} | {delta_text(r['delta_d'])} | {r['episodes']} | {r['success_rate']:.2f} [{lo:.2f}, {hi:.2f}] "
+            f"| {r['scenario']} | {r['agent']} | {delta_text(r['delta_d'])} | {episodes_text(r)} | {r['success_rate']:.2f} [{lo:.2f}, {hi:.2f}] "
             f"| {fmt(r.get('limit'), '.2f')} | {fmt(r.get('success_over_limit'), '.2f')} "
             f"| {r['collision_rate']:.2f} | {r['timeout_rate']:.2f} | {fmt(r.get('spl'), '.3f')} "
             f"| {fmt(r['path_length_ratio'], '.3f')} / {common} "
@@ -59,7 +76,7 @@ def crowdnav_table(rows: list[dict], scenarios: list[str]) -> str:
         name = f"**limit** ({LIMIT_AGENT})" if r["agent"] == LIMIT_AGENT else r["agent"]
         lo, hi = r["success_ci95"]
         lines.append(
-            f"| {r['scenario']} | {name} | {r['episodes']} | {r['success_rate']:.3f} [{lo:.2f}, {hi:.2f}] | {r['collision_rate']:.3f} "
+            f"| {r['scenario']} | {name} | {episodes_text(r)} | {r['success_rate']:.3f} [{lo:.2f}, {hi:.2f}] | {r['collision_rate']:.3f} "
             f"| {r['timeout_rate']:.2f} | {fmt(r['time_to_goal'], '.2f')} | {fmt(r.get('discomfort_frequency'), '.3f')} "
             f"| {fmt(r.get('discomfort_min_clearance'), '.3f')} |"
         )

@@ -4,7 +4,13 @@
 ``astar``, ``orca``, ...; ``agents.families()``) or a preset, a family with some parameters set
 (``pso-spacetime`` is ``pso`` with ``plan="spacetime"``; ``agents.presets()``). ``agents.available()``
 lists both.
+
+``import agents`` first checks that this folder holds our files only (:mod:`agents._ownership`: pip
+merges ``openai-agents``' own top-level ``agents`` into it without a word); ``import pathplan_agents``
+is the import path that always reaches this package.
 """
+
+from agents import _ownership  # noqa: F401, I001  (first: it checks the folder holds our files only, before anything else is read from it)
 
 from agents.base import Agent, rollout
 from agents.families import register_families
@@ -33,6 +39,9 @@ from agents.rl import RLAgent
 
 register_families()
 register_presets()
+
+#: Marks this ``agents`` as pathplan-env's (``pathplan_agents`` checks it).
+PATHPLAN_ENV = True
 
 #: The registered agents that drive only a unicycle (``gym.make(..., robot="unicycle")``): read from the registry.
 UNICYCLE_AGENTS = frozenset(name for name in available() if robots_of(name) == ("unicycle",))

@@ -42,6 +42,7 @@ class EpisodeResult:
     # CrowdNav's discomfort: steps (before the last) whose clearance fell below DISCOMFORT_DISTANCE
     discomfort_steps: int = 0
     discomfort_clearance_sum: float = 0.0  # of those steps' smallest clearances (m)
+    seconds: float = 0.0  # the episode's wall time, after the agent's warm-up (what the progress estimate reads)
     scene: str = ""  # a digest of the episode's initial scene (scene_digest): the same scene, the same digest
 
 

@@ -65,6 +65,30 @@ def limit_table(rows: list[dict], scenario: str) -> str:
     return "\n".join(lines)
 
 
+def success_table(rows: list[dict], scenario: str) -> str:
+    """Success rate against Δd for every agent of ``scenario`` (a run without the limit's table)."""
+    cells = [r for r in rows if r["scenario"] == scenario]
+    if not cells:
+        return ""
+    deltas = sorted({r["delta_d"] for r in cells}, key=delta_order)
+    by = {(r["agent"], r["delta_d"]): r for r in cells}
+    lines = [f"| {scenario}: success | " + " | ".join(f"Δd = {delta_text(d)}" for d in deltas) + " |", "|---|" + "---:|" * len(deltas)]
+    for agent in sorted({r["agent"] for r in cells}):
+        lines.append(f"| {agent} | " + " | ".join(f"{by[(agent, d)]['success_rate']:.2f}" if (agent, d) in by else "-" for d in deltas) + " |")
+    return "\n".join(lines)
+
+
+def summary_tables(rows: list[dict], scenarios: list[str]) -> str:
+    """What a run prints: per scenario, success ÷ limit against Δd (success without the limit), and
+    CrowdNav's columns for its scenarios; the long table of every cell is ``table.md`` in the run's folder."""
+    parts = [limit_table(rows, scenario) or success_table(rows, scenario) for scenario in scenarios]
+    crowds = [s for s in scenarios if s.startswith("crowdnav")]
+    if crowds:
+        parts.append(crowdnav_table(rows, crowds))
+    note = identical_note(rows)
+    return "\n\n".join([p for p in parts if p] + ([note] if note else []))
+
+
 def crowdnav_table(rows: list[dict], scenarios: list[str]) -> str:
     """CrowdNav's Table I columns for each agent and scenario: success, collision, timeout, navigation
     time (mean over successes, s), discomfort frequency and the mean smallest clearance in discomfort."""

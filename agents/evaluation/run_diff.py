@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 #: Fields that measure the machine, not the episode.
-TIMING_FIELDS = ("plan_ms_median", "plan_ms_p95")
+TIMING_FIELDS = ("plan_ms_median", "plan_ms_p95", "seconds")
 #: Floats from the exact static shortest path (episodes.csv) and, in summary.json, the statistics
 #: that divide by it (statistics.py: the mean ratio of the wins, SPL, the ratio on common successes).
 DERIVED_FIELDS = ("shortest_path", "path_length_ratio", "spl", "common_length_ratio")

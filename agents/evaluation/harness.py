@@ -178,5 +178,5 @@ def evaluate(
         if plots:
             from agents.evaluation.reporting import plot
 
-            plot(rows, out)
+            plot(rows, out, robot=str(options.get("robot", "holonomic")))
     return rows

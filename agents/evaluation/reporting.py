@@ -107,7 +107,7 @@ def crowdnav_table(rows: list[dict], scenarios: list[str]) -> str:
     return "\n".join(lines)
 
 
-def crowdnav_plot(rows: list[dict], out: Path) -> Path | None:
+def crowdnav_plot(rows: list[dict], out: Path, robot: str = "holonomic") -> Path | None:
     """Success (with its 95 % interval) of every agent in each CrowdNav setting, best first."""
     import matplotlib
 
@@ -126,7 +126,7 @@ def crowdnav_plot(rows: list[dict], out: Path) -> Path | None:
         colors = ["0.6" if r["agent"] == LIMIT_AGENT else "#3465a4" for r in cell]
         ax.barh(y, [r["success_rate"] for r in cell], xerr=err, color=colors, capsize=2)
         ax.set_yticks(y, ["limit" if r["agent"] == LIMIT_AGENT else r["agent"] for r in cell], fontsize=8)
-        ax.set_title(scenario.removeprefix("crowdnav-"), fontsize=10)
+        ax.set_title(f"{scenario.removeprefix('crowdnav-')} ({robot} robot)", fontsize=10)
         ax.set_xlim(0, 1)
         ax.set_xlabel("success rate (95% CI)")
         ax.grid(axis="x", alpha=0.3)
@@ -136,13 +136,31 @@ def crowdnav_plot(rows: list[dict], out: Path) -> Path | None:
     return out / "crowdnav_success.png"
 
 
-def plot(rows: list[dict], out: Path) -> list[Path]:
+def _bars(ax, cells: list[dict], agent_names: list[str], metric: str) -> None:
+    """One bar per agent (the limit grey) at a scenario's single Δd, with its 95 % interval for success."""
+    cells = {r["agent"]: r for r in cells}
+    names = [n for n in agent_names if n in cells]
+    x = np.arange(len(names))
+    y = [np.nan if cells[n][metric] is None else cells[n][metric] for n in names]
+    err = None
+    if metric == "success_rate":
+        err = np.array([[cells[n]["success_rate"] - cells[n]["success_ci95"][0], cells[n]["success_ci95"][1] - cells[n]["success_rate"]]
+                        for n in names]).T  # fmt: skip
+    colors = ["0.6" if n == LIMIT_AGENT else f"C{i % 10}" for i, n in enumerate(names)]
+    ax.bar(x, y, yerr=err, color=colors, capsize=3)
+    ax.set_xticks(x, ["limit" if n == LIMIT_AGENT else n for n in names], rotation=35, ha="right", fontsize=8)
+    ax.set_xlabel(f"Δd = {delta_text(cells[names[0]]['delta_d'])}" if names else "")
+
+
+def plot(rows: list[dict], out: Path, robot: str = "holonomic") -> list[Path]:
+    """The figures of a run: success and length ratio against Δd per scenario (bars side by side at a
+    single Δd), each titled with the scenario and the robot, and the planning times."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    crowd = crowdnav_plot(rows, out)
+    crowd = crowdnav_plot(rows, out, robot)
     by_delta = [r for r in rows if r["delta_d"] is not None]  # a scenario at its own speeds has no place on a Δd axis
     scenarios = sorted({r["scenario"] for r in by_delta})
     agent_names = sorted({r["agent"] for r in rows})
@@ -155,12 +173,15 @@ def plot(rows: list[dict], out: Path) -> list[Path]:
             break
         fig, axes = plt.subplots(1, len(scenarios), figsize=(5.5 * len(scenarios), 4.2), squeeze=False, sharey=True)
         for ax, scenario in zip(axes[0], scenarios):
+            deltas = sorted({r["delta_d"] for r in by_delta if r["scenario"] == scenario})
             band = sorted((r for r in by_delta if r["scenario"] == scenario and r["agent"] == LIMIT_AGENT), key=lambda r: r["delta_d"])
-            if metric == "success_rate" and band:
+            if metric == "success_rate" and band and len(deltas) > 1:
                 x = [r["delta_d"] for r in band]
                 ax.fill_between(x, [r["success_ci95"][0] for r in band], [r["success_ci95"][1] for r in band],
                                 color="0.8", alpha=0.7, label="physical limit (clairvoyant, 95% CI)")  # fmt: skip
-            for name in agent_names:
+            if len(deltas) == 1:  # one Δd: every agent would stand on one x under the legend; bars side by side
+                _bars(ax, [r for r in by_delta if r["scenario"] == scenario], agent_names, metric)
+            for name in agent_names if len(deltas) > 1 else ():
                 if name == LIMIT_AGENT and metric == "success_rate":
                     continue
                 cell = sorted((r for r in by_delta if r["scenario"] == scenario and r["agent"] == name), key=lambda r: r["delta_d"])
@@ -171,11 +192,13 @@ def plot(rows: list[dict], out: Path) -> list[Path]:
                     ax.errorbar(x, y, yerr=err, marker="o", capsize=3, label=name)
                 else:
                     ax.plot(x, y, marker="o", label=name)
-            ax.set_title(scenario)
-            ax.set_xlabel("Δd (obstacle displacement per step / radius)")
+            ax.set_title(f"{scenario} ({robot} robot)")
+            if len(deltas) > 1:
+                ax.set_xlabel("Δd (obstacle displacement per step / radius)")
             ax.grid(alpha=0.3)
         axes[0][0].set_ylabel(ylabel)
-        axes[0][-1].legend(fontsize=8, loc="best")
+        if axes[0][-1].get_legend_handles_labels()[0]:
+            axes[0][-1].legend(fontsize=8, loc="best")
         fig.tight_layout()
         fig.savefig(out / filename, dpi=110)
         plt.close(fig)
@@ -185,7 +208,7 @@ def plot(rows: list[dict], out: Path) -> list[Path]:
     p95 = {name: np.median([r["plan_ms_p95"] for r in rows if r["agent"] == name]) for name in agent_names}
     ax.barh(agent_names, [p95[n] for n in agent_names], color="#f2c48d", label="p95")
     ax.barh(agent_names, [medians[n] for n in agent_names], color="#3465a4", label="median")
-    ax.set_xlabel("planning time per step (ms)")
+    ax.set_xlabel(f"planning time per step (ms), {robot} robot")
     ax.legend()
     fig.tight_layout()
     fig.savefig(out / "planning_time.png", dpi=110)

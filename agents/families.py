@@ -25,8 +25,10 @@ from agents.planners.unicycle_astar import UnicycleAStarAgent
 from agents.planners.unicycle_metaheuristic import UnicycleMetaheuristicAgent
 from agents.reactive import ORCAAgent, StraightAgent, VelocityObstacleAgent
 from agents.reactive.dwa import DWAAgent
+from agents.reactive.dwa_lidar import LidarDWAAgent
 from agents.reactive.tracker import TrackedAgent
-from agents.registry import register
+from agents.registry import factory, register
+from agents.requirements import GOAL_KEYS, LIDAR_KEYS, STATE_KEYS
 from agents.rl.lidar.policy import LidarRLAgent
 from agents.rl.obstacle_set.policy import SetRLAgent
 from agents.rl.sarl.policy import SARLAgent
@@ -41,6 +43,8 @@ TUNINGS = ("default", "crowd")
 WAYPOINT_PREDICTIONS = ("none", "constant-velocity")
 #: The learned PPO agents by the observation they read.
 PPO_OBSERVATIONS = ("state", "lidar", "set")
+#: What DWA reads of the obstacles: the state's list (positions and velocities) or the lidar's scan.
+DWA_SENSORS = ("state", "lidar")
 
 UNICYCLE = ("unicycle",)
 HOLONOMIC = ("holonomic",)
@@ -114,29 +118,56 @@ def ppo(env, seed: int | None = None, *, observation: str = "state", **settings)
     return build(env, seed, **settings)
 
 
+def dwa(env, seed: int | None = None, *, sensor: str = "state", **settings):
+    """The dynamic window approach on the obstacle list (``sensor="state"``) or the range scan (``"lidar"``)."""
+    build = {"state": DWAAgent, "lidar": LidarDWAAgent}[_choice("sensor", sensor, DWA_SENSORS)]
+    return build(env, seed, **settings)
+
+
+def _ppo_reads(parameters: Mapping[str, Any]) -> tuple[str, ...]:
+    return LIDAR_KEYS if parameters.get("observation") == "lidar" else STATE_KEYS
+
+
+def _dwa_reads(parameters: Mapping[str, Any]) -> tuple[str, ...]:
+    return LIDAR_KEYS if parameters.get("sensor") == "lidar" else STATE_KEYS
+
+
+def _tracked_reads(parameters: Mapping[str, Any]) -> tuple[str, ...] | None:
+    """What the followed planner reads (a factory of one's own: not stated)."""
+    planner = parameters.get("planner", "astar-spacetime")
+    if not isinstance(planner, str):
+        return None
+    recipe = factory(planner)
+    return recipe.family.observations_with(recipe.parameters)
+
+
 def register_families() -> None:
     """Register the project's families (``import agents`` does)."""
-    register("straight", StraightAgent, summary="always aims at the goal", waypoints=True)
-    register("velocity-obstacle", VelocityObstacleAgent, waypoints=True,
+    register("straight", StraightAgent, summary="always aims at the goal", waypoints=True, observations=GOAL_KEYS)
+    register("velocity-obstacle", VelocityObstacleAgent, waypoints=True, observations=STATE_KEYS,
              summary="classical reactive velocity obstacles: the admissible velocity closest to the preferred one")  # fmt: skip
-    register("orca", ORCAAgent, waypoints=True,
+    register("orca", ORCAAgent, waypoints=True, observations=STATE_KEYS,
              summary="ORCA (van den Berg et al. 2011) as the robot's policy, CrowdNav's baseline: it assumes every obstacle reciprocates")  # fmt: skip
-    register("dwa", DWAAgent, robots=UNICYCLE, summary="the dynamic window approach (Fox et al. 1997) on the unicycle's velocities")
+    register("dwa", dwa, robots=UNICYCLE, observations_for=_dwa_reads,
+             axes={"sensor": f"what it reads of the obstacles: {', '.join(DWA_SENSORS)} (the scan's returns as still points)"},
+             summary="the dynamic window approach (Fox et al. 1997) on the unicycle's velocities, from the obstacle list or the lidar")  # fmt: skip
     for name, build, what in (("pso", pso, "the paper's adaptive constraint PSO"), ("abc", abc, "the paper's modified ABC")):
-        register(name, build, waypoints=True, robots_for=_plans_controls, axes=PLANNER_AXES,
+        register(name, build, waypoints=True, robots_for=_plans_controls, axes=PLANNER_AXES, observations=STATE_KEYS,
                  summary=f"{what}: one waypoint a step (the paper), a timed space-time path, or the unicycle's controls")  # fmt: skip
-    register("astar", astar, waypoints=True, robots_for=_plans_controls,
+    register("astar", astar, waypoints=True, robots_for=_plans_controls, observations=STATE_KEYS,
              axes={"plan": "spacetime, controls (the unicycle's own moves)", "prediction": "physics, cone", "tuning": PLANNER_AXES["tuning"]},
              summary="A* over (step, position) on the predicted obstacles: model-based planning without a metaheuristic")  # fmt: skip
-    register("oracle-static", StaticOracleAgent, waypoints=True,
+    register("oracle-static", StaticOracleAgent, waypoints=True, observations=STATE_KEYS,
              summary="the exact shortest path among the current obstacles and walls, replanned every step; blind to motion")  # fmt: skip
-    register("oracle-clairvoyant", ClairvoyantOracle, robots=BOTH,
+    register("oracle-clairvoyant", ClairvoyantOracle, robots=BOTH, observations=GOAL_KEYS,
              summary="privileged: reads the simulator; the earliest collision-free arrival, the harness's limit")  # fmt: skip
-    register("ppo", ppo, axes={"observation": f"the input the network reads: {', '.join(PPO_OBSERVATIONS)}", "path": "a model file (default: shipped)"},
+    register("ppo", ppo, observations_for=_ppo_reads,
+             axes={"observation": f"the input the network reads: {', '.join(PPO_OBSERVATIONS)}", "path": "a model file (default: shipped)"},
              summary="stable-baselines3 PPO policies, shipped with a numpy forward (no torch)")  # fmt: skip
-    register("sarl", SARLAgent, axes={"model": "the shipped network: sarl_crowdnav, sarl_random, sarl_crowdnav_crossings", "path": "a model file"},
+    register("sarl", SARLAgent, observations=STATE_KEYS,
+             axes={"model": "the shipped network: sarl_crowdnav, sarl_random, sarl_crowdnav_crossings", "path": "a model file"},
              summary="a SARL value network (Chen et al. 2019) with attention over the humans and a two-step lookahead")  # fmt: skip
     register("sb3", SB3Agent, robots=BOTH, axes={"path": "the model file (required)"},
              summary="any stable-baselines3 model file as it comes, its VecNormalize statistics applied")  # fmt: skip
-    register("tracked", TrackedAgent, robots=UNICYCLE, axes={"planner": "the waypoint planner followed (a name or a factory)"},
+    register("tracked", TrackedAgent, robots=UNICYCLE, observations_for=_tracked_reads, axes={"planner": "the waypoint planner followed (a name or a factory)"},
              summary="pure pursuit of any waypoint planner's plan on the unicycle (drive='pure-pursuit')")  # fmt: skip

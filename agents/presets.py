@@ -15,6 +15,7 @@ PRESETS: dict[str, tuple[str, dict, str]] = {
     "velocity-obstacle": ("velocity-obstacle", {}, ""),
     "orca": ("orca", {}, ""),
     "dwa": ("dwa", {}, ""),
+    "dwa-lidar": ("dwa", {"sensor": "lidar"}, "reads the lidar's scan (observation='lidar'), its returns as still points"),
     "oracle-static": ("oracle-static", {}, ""),
     "oracle-clairvoyant": ("oracle-clairvoyant", {}, "privileged: reads the simulator; the harness's limit"),
     "sb3": ("sb3", {}, "path= required"),

@@ -29,3 +29,12 @@ def configure() -> None:
     except OSError:
         return  # unwritable home: numba's default (beside the sources)
     numba.config.CACHE_DIR = str(directory)
+
+
+def is_warm() -> bool:
+    """Whether numba's cache holds compiled functions already (a fresh clone's, or an edited one's, does
+    not: the first episodes then wait for numba to compile the planners)."""
+    import numba
+
+    directory = Path(os.environ.get("NUMBA_CACHE_DIR") or numba.config.CACHE_DIR or "")
+    return bool(str(directory)) and directory.is_dir() and any(directory.rglob("*.nbi"))

@@ -349,9 +349,9 @@ class DynamicObstacleEnv(gym.Env):
         if self._world is None:
             raise RuntimeError("call reset() before render()")
         if self._renderer is None:
-            from pathplan_env.rendering import Renderer  # pygame is imported lazily, only when rendering
+            from pathplan_env.rendering import Renderer, view_of  # pygame is imported lazily, only when rendering
 
-            self._renderer = Renderer(self.bounds, self.render_mode, self.metadata["render_fps"])
+            self._renderer = Renderer(view_of(self.scenario), self.render_mode, self.metadata["render_fps"])
         world = self._world
         return self._renderer.draw(scenario=self.scenario, obstacle_state=world.obstacle_state, radii=world.radii,
                                    robot_position=world.robot_position, trail=self.trail, waypoint=self.waypoint,

@@ -20,9 +20,30 @@ PLAN = (150, 90, 190)
 CAPTION = (40, 40, 40)
 
 
+def view_of(scenario, pad: float | None = None) -> tuple[float, float, float, float]:
+    """The part of the arena worth drawing: the bounding box of its free space (the arena less its
+    polygons and walls), padded by ``pad`` (default: twice the robot's radius) and kept within the
+    arena. A map's occupied and unknown cells are polygons, so a map drawn at its image's extent showed
+    its rooms in a third of the frame; a scene without statics is drawn whole."""
+    bounds = tuple(float(b) for b in scenario.bounds)
+    if not scenario.polygons and not scenario.walls:
+        return bounds
+    from shapely.geometry import LineString, Polygon, box
+    from shapely.ops import unary_union
+
+    statics = [Polygon(vertices) for vertices in scenario.polygons]
+    statics += [LineString([a, b]).buffer(0.5 * scenario.wall_thickness) for a, b in scenario.walls if scenario.wall_thickness > 0]
+    free = box(*bounds).difference(unary_union(statics))  # shapely's exact set difference, not a raster
+    if free.is_empty:
+        return bounds
+    pad = 2 * scenario.robot_radius if pad is None else pad
+    xmin, ymin, xmax, ymax = free.bounds
+    return (max(bounds[0], xmin - pad), max(bounds[1], ymin - pad), min(bounds[2], xmax + pad), min(bounds[3], ymax + pad))
+
+
 class Renderer:
     """Draws the arena, its walls and polygons, obstacles with velocity arrows, the robot and its trail,
-    the goal, the waypoint."""
+    the goal, the waypoint. ``bounds`` is the part of the world drawn (``view_of(scenario)``: a map's free space)."""
 
     def __init__(self, bounds, render_mode: str, fps: int, size: int = 600):
         import pygame  # lazy: the env runs without pygame's display machinery unless rendering

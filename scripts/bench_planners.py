@@ -152,7 +152,8 @@ def replan_cell(name: str, delta_d: float | None, seeds, n_obstacles: int | None
     from pathplan_env.scenarios.splits import heldout_seeds
 
     robot = "unicycle" if name in agents.UNICYCLE_AGENTS else "holonomic"
-    env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=delta_d, robot=robot, n_obstacles=n_obstacles)
+    env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=delta_d, robot=robot, n_obstacles=n_obstacles,
+                   observation=agents.observation_of(name))
     agent = agents.make(name, env, seed=0)
     agents.rollout(agent, env, seed=heldout_seeds(9, 1)[0])  # warm-up: numba's cache loads here
     times, wins = [], 0

@@ -10,7 +10,8 @@
 Every (agent, scenario, Δd) cell runs the same episodes, and the privileged oracle-clairvoyant runs
 on them too: each cell reports its physical limit and every agent its success ÷ limit. Writes
 ``episodes.jsonl`` as episodes finish (``--resume`` continues a run), then ``summary.json``,
-``episodes.csv`` and plots to ``--out``, and prints the tables. The work is done by
+``episodes.csv``, ``table.md`` (every cell's row), ``report.html`` and plots to ``--out``, and prints
+the summary tables (success ÷ limit against Δd per scenario). The work is done by
 ``agents.evaluation``, which a Python user can call directly.
 
 Your own agent: ``module:attribute`` (a module on the path or in the current directory) or
@@ -34,8 +35,9 @@ import time
 from pathlib import Path
 
 from agents.evaluation import LIMIT_AGENT, SUITES, evaluate
+from agents.evaluation.harness import TABLE_NAME
 from agents.evaluation.records import OWN_SPEEDS
-from agents.evaluation.reporting import crowdnav_table, limit_table, markdown_table, social_table
+from agents.evaluation.reporting import social_table, summary_tables
 from pathplan_env.scenarios.splits import SPLITS
 
 #: gym.make keywords with a flag of their own: ``--NAME`` (a registered type's name) and ``--NAME-params``
@@ -161,20 +163,18 @@ def main(argv=None, prog: str | None = None) -> list[dict]:
         )  # fmt: skip
     except ValueError as error:  # named by the harness before any episode ran or anything was written
         raise SystemExit(f"{prog or 'evaluate.py'}: {error}") from None
-    print(markdown_table(rows))
-    labels = [s.label for s in scenarios]
-    for scenario in labels:
-        table = limit_table(rows, scenario)
-        if table:
-            print("\n" + table)
-    crowds = [s for s in labels if s.startswith("crowdnav")]
-    if crowds:
-        print("\n" + crowdnav_table(rows, crowds))
+    except KeyboardInterrupt:  # the harness has said what is on record and that --resume continues
+        raise SystemExit(130) from None
+    print(summary_tables(rows, [s.label for s in scenarios]))
     social = social_table(rows)  # a recorded run's (--record)
     if social:
         print("\n" + social)
     out = Path(args.out)
-    episodes = sum(r["episodes"] for r in rows)
-    print(f"wrote {out / 'summary.json'}, {out / 'episodes.csv'}, {out / 'report.html'} and plots ({episodes} episodes in {time.perf_counter() - start:.0f} s)")
+    config = json.loads((out / "summary.json").read_text())["config"]
+    ran, before = config["episodes_run"], config["episodes_on_record"]
+    seconds = time.perf_counter() - start
+    counted = f"{ran} episode{'s' * (ran != 1)} ran in {seconds:.0f} s" + (f", {before} were on record: {ran + before} in all" if before else "")
+    plots = "" if args.no_plots else ", plots"
+    print(f"\nwrote {out / 'summary.json'}, {out / 'episodes.csv'}, {out / TABLE_NAME} (every cell), {out / 'report.html'}{plots} ({counted})")
     return rows
 

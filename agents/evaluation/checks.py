@@ -120,12 +120,32 @@ def check_run(agent_names, scenarios, deltas, episodes, *, seed=0, split="test",
             if first_env is None:
                 first_env = env
         scene_envs.append(env)
+    check_needs(agents, scenario_specs, scene_envs, agent_kwargs or {})
     overrides = resolve_agent_kwargs(agents, agent_kwargs or {}, first_env)
     for agent in agents:  # an object is used as given: it must fit every scene (an Agent's arena)
         if agent.kind == "object":
             for env in scene_envs[1:]:
                 agent.build(env, 0)
     return CheckedRun(agents, scenario_specs, deltas, overrides, options)
+
+
+def check_needs(agents: list[AgentSpec], scenario_specs: list[ScenarioSpec], scene_envs: list, agent_kwargs: dict) -> None:
+    """Every registered agent against every scenario's env (its robot, its observation keys), before the
+    first episode: a run must not die part-way on an agent that cannot read a cell's observation.
+
+    :raises ValueError: naming the agent, the scenario and what its env offers (:mod:`agents.requirements`)."""
+    from agents.registry import check
+
+    per_agent = bool(agent_kwargs) and all(isinstance(v, dict) for v in agent_kwargs.values())
+    for spec in agents:
+        if spec.kind != "factory" or spec.name is None:
+            continue  # an agent of one's own states nothing: building it is its check
+        kwargs = {**spec.kwargs, **(agent_kwargs.get(spec.label, {}) if per_agent else agent_kwargs)}
+        for scenario, env in zip(scenario_specs, scene_envs):
+            try:
+                check(spec.name, env, **kwargs)
+            except ValueError as error:
+                raise ValueError(f"scenario {scenario.label!r}: {error}") from None
 
 
 def resolve_agent_kwargs(agents: list[AgentSpec], agent_kwargs: dict, env) -> dict[str, dict]:

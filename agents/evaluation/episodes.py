@@ -12,7 +12,7 @@ from dataclasses import asdict
 import numpy as np
 
 from agents.evaluation.entrants import AgentSpec, ScenarioSpec, resolve_agents, resolve_scenarios
-from agents.evaluation.records import EpisodeResult
+from agents.evaluation.records import EpisodeResult, scene_digest
 from pathplan_env.records import EpisodeRecorder
 from pathplan_env.scenarios.crowdnav import DISCOMFORT_DISTANCE  # CrowdNav's: a step closer than this is one in danger
 
@@ -112,6 +112,7 @@ def run_episode(agent: AgentSpec | str, scenario: ScenarioSpec | str, delta_d: f
     agent = agent if isinstance(agent, AgentSpec) else resolve_agents([agent])[0]
     scenario = scenario if isinstance(scenario, ScenarioSpec) else resolve_scenarios([scenario])[0]
     warm_up(agent, scenario, delta_d, n_obstacles, overrides, env_options)
+    began = time.perf_counter()
     env = make_episode_env(scenario, delta_d, n_obstacles, env_options, split, episode)
     obs, info = env.reset(seed=seed)
     policy, act = episode_policy(agent, env, seed, overrides)
@@ -145,6 +146,7 @@ def run_episode(agent: AgentSpec | str, scenario: ScenarioSpec | str, delta_d: f
         path_length_ratio=info["path_length"] / reference if success and np.isfinite(reference) and reference > 0 else math.nan,
         time_to_goal=info["time"] if success else math.nan, min_clearance=clearance, plan_ms=plan_ms,
         verdict=str(getattr(policy, "verdict", None) or ""), discomfort_steps=discomfort_steps, discomfort_clearance_sum=discomfort_sum,
+        scene=scene_digest(scenario_of_episode), seconds=time.perf_counter() - began,
     )  # fmt: skip
     if recorder is not None:
         result.trajectory = recorder.finish(record_meta(result))

@@ -9,14 +9,14 @@ run again in a new pool, up to :data:`MAX_POOL_RESTARTS` times, after which the 
 from __future__ import annotations
 
 import os
+import signal
 import sys
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from multiprocessing import get_context
 
-from tqdm import tqdm
-
 from agents.evaluation.episodes import run_episode
+from agents.evaluation.progress import Progress
 from agents.evaluation.records import EpisodeResult
 
 #: How many times a broken pool is replaced before the run gives up.
@@ -29,6 +29,7 @@ class WorkerLost(RuntimeError):
 
 def _init_worker() -> None:
     os.environ["OMP_NUM_THREADS"] = "1"  # one torch thread per worker: the workers already fill the cores
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle: one message, not a traceback a worker
 
 
 def _run_job(job) -> EpisodeResult:
@@ -40,11 +41,14 @@ def run_jobs(jobs: list, workers: int, on_result, runner=_run_job) -> None:
     local pool of ``workers`` processes, calling ``on_result`` with each finished episode as it
     arrives (any order). ``runner(job)`` runs one job (tests pass one whose worker dies)."""
     if workers <= 1:
-        for job in tqdm(jobs, desc="episodes", file=sys.stderr):
-            on_result(runner(job))
+        with Progress(jobs, 1) as bar:
+            for job in jobs:
+                result = runner(job)
+                on_result(result)
+                bar.update(result)
         return
     left = list(jobs)
-    with tqdm(total=len(jobs), desc="episodes", file=sys.stderr) as bar:
+    with Progress(jobs, workers) as bar:
         for restart in range(MAX_POOL_RESTARTS + 1):
             left = _run_pool(left, workers, on_result, runner, bar)
             if not left:
@@ -68,15 +72,22 @@ def _run_pool(jobs: list, workers: int, on_result, runner, bar) -> list:
                 if isinstance(future.exception(), BrokenProcessPool):
                     broken.append(job)  # not finished: runs again
                     continue
-                on_result(future.result())  # an agent's own error ends the run, as with one worker
-                bar.update()
+                result = future.result()  # an agent's own error ends the run, as with one worker
+                on_result(result)
+                bar.update(result)
             if broken:
                 for future in list(pending):  # keep what finished before the break
                     if future.done() and future.exception() is None:
                         on_result(future.result())
-                        bar.update()
+                        bar.update(future.result())
                         del pending[future]
                 return broken + list(pending.values())
         return []
+    except KeyboardInterrupt:
+        # the running episodes are lost either way: stop their workers now rather than wait for them
+        # (ProcessPoolExecutor has no public way before Python 3.14's terminate_workers)
+        for process in list(getattr(pool, "_processes", {}).values()):
+            process.terminate()
+        raise
     finally:
         pool.shutdown(wait=True, cancel_futures=True)

@@ -13,7 +13,7 @@ seeds; ``split="crowdnav"``: CrowdNav's test case ``i`` as the scene, the test s
 runs on the same episodes to give each cell its physical limit, custom scenarios included. Episodes are appended to
 ``episodes.jsonl`` as they finish, so a crash loses nothing and ``resume=True`` continues a run
 (one run a folder at a time; a killed worker's episodes run again: :mod:`.run_log`, :mod:`.executors`);
-``summary.json``, ``episodes.csv`` and plots are written at the end. ``scripts/evaluate.py`` is the
+``summary.json``, ``episodes.csv``, ``table.md`` (every cell's row) and plots are written at the end. ``scripts/evaluate.py`` is the
 command line over this module.
 """
 
@@ -32,12 +32,18 @@ from agents.evaluation.checks import check_run
 from agents.evaluation.entrants import resolve_agents
 from agents.evaluation.executors import run_jobs
 from agents.evaluation.jobs import Job, result_id
+from agents.evaluation.progress import interleaved
 from agents.evaluation.recording import open_run_records
 from agents.evaluation.records import LIMIT_AGENT, EpisodeResult, delta_order
 from agents.evaluation.report import write_report
+from agents.evaluation.reporting import markdown_table
 from agents.evaluation.run_log import LOG_NAME, LogWriter, RunLock, read_log, run_folder, set_aside
 from agents.evaluation.statistics import summarize
 from agents.provenance import versions
+from pathplan_env import _numba_cache
+
+#: The long table of every cell, in the run's folder.
+TABLE_NAME = "table.md"
 
 
 def _summarize(results: list[EpisodeResult]) -> list[dict]:
@@ -45,6 +51,31 @@ def _summarize(results: list[EpisodeResult]) -> list[dict]:
     own = [r for r in results if r.delta_d is None]
     rows = summarize([r for r in results if r.delta_d is not None]) + (summarize(own) if own else [])
     return sorted(rows, key=lambda r: (r["scenario"], r["agent"], delta_order(r["delta_d"])))
+
+
+def _on_record(log: Path, jobs: list[Job], key_of: dict, resume: bool, existed: bool,
+               recorded=lambda key: True) -> tuple[list[EpisodeResult], list[Job]]:  # fmt: skip
+    """The results already in ``log`` and the jobs left (``resume``), or none and every job (the old
+    log set aside); says which, and says so when there was nothing to resume. ``recorded(key)``: whether
+    the episode's trajectory is kept too (with ``record=True`` an episode not in the record file runs again)."""
+    results: list[EpisodeResult] = []
+    if resume and log.exists():
+        wanted = set(key_of.values())
+        for number, record in enumerate(read_log(log), start=1):
+            key = tuple(record["job"])
+            if key in wanted and recorded(key):
+                try:
+                    results.append(EpisodeResult(**record["result"]))
+                except TypeError as error:
+                    raise ValueError(f"{log}: record {number} is not an episode's result ({error})") from None
+                wanted.discard(key)  # a key recorded twice counts once
+        jobs = [job for job in jobs if key_of[job.result_id()] in wanted]
+        print(f"resuming: {len(results)} episodes on record, {len(jobs)} to run", file=sys.stderr)
+        return results, jobs
+    if resume and existed:
+        print(f"resume: {log} does not exist, so there is no run to continue; starting a new run", file=sys.stderr)
+    set_aside(log)
+    return results, jobs
 
 
 def evaluate(
@@ -97,29 +128,20 @@ def evaluate(
     seeds = source.episode_seeds(seed, episodes)
     jobs = [Job(a, s, d, i, e, s.obstacles(n_obstacles), own[a.label], options, split, keep)
             for a in entrants for s in run.scenarios for d in run.deltas for i, e in enumerate(seeds)]  # fmt: skip
+    jobs = interleaved(jobs)  # every cell's first episode early: the progress estimate reads them
     key_of = {job.result_id(): job.key() for job in jobs}
     obstacles = {s.label: s.obstacles(n_obstacles) for s in run.scenarios}  # a preset's own count, else the run's
+    existed = Path(out).is_dir()
+    if resume and not existed:
+        print(f"resume: {out} does not exist, so there is no run to continue; starting a new run there", file=sys.stderr)
     out = run_folder(out)
     log = out / LOG_NAME
-    results: list[EpisodeResult] = []
     with RunLock(out):
         records = open_run_records(out, resume and log.exists(), keep)
-        if resume and log.exists():
-            wanted = set(key_of.values())
-            for number, record in enumerate(read_log(log), start=1):
-                key = tuple(record["job"])
-                if key in wanted and records.has(key):  # with record=True, an episode not in the record file runs again
-                    try:
-                        results.append(EpisodeResult(**record["result"]))
-                    except TypeError as error:
-                        raise ValueError(f"{log}: record {number} is not an episode's result ({error})") from None
-                    wanted.discard(key)  # a key recorded twice counts once
-            jobs = [job for job in jobs if key_of[job.result_id()] in wanted]
-            print(f"resuming: {len(results)} episodes on record, {len(jobs)} to run", file=sys.stderr)
-        else:
-            if resume:
-                print(f"resume: {log} does not exist; starting a new run", file=sys.stderr)
-            set_aside(log)
+        results, jobs = _on_record(log, jobs, key_of, resume, existed, records.has)
+        on_record = len(results)
+        if jobs and not _numba_cache.is_warm():
+            print("compiling planners once (numba; later runs load them from its cache): the first episodes wait for it", file=sys.stderr)
         start = time.perf_counter()
         sink = LogWriter(log, on_record=len(results))
 
@@ -153,8 +175,10 @@ def evaluate(
                                    "seed": seed, "split": split, "n_obstacles": n_obstacles, "scenario_n_obstacles": obstacles, "workers": workers,
                                    "agent_kwargs": agent_kwargs or {}, "env_options": options, "episode_seeds": [seeds[0], seeds[-1]],
                                    **source.describe(episodes),
-                                   "wall_seconds": round(elapsed, 1)}  # fmt: skip
+                                   "wall_seconds": round(elapsed, 1), "episodes_run": len(results) - on_record,
+                                   "episodes_on_record": on_record}  # fmt: skip
         (out / "summary.json").write_text(json.dumps({"results": rows, "config": config, "versions": versions()}, indent=2))
+        (out / TABLE_NAME).write_text(markdown_table(rows) + "\n")  # every cell's row: the long table a terminal buries the rest under
         with open(out / "episodes.csv", "w", newline="") as f:
             names = [k for k in asdict(results[0]) if k != "plan_ms"] + ["plan_ms_median"]
             writer = csv.DictWriter(f, fieldnames=names)
@@ -165,6 +189,6 @@ def evaluate(
         if plots:
             from agents.evaluation.reporting import plot
 
-            plot(rows, out)
+            plot(rows, out, robot=str(options.get("robot", "holonomic")))
         write_report(out, rows, results, config, records.replays())
     return rows

@@ -10,10 +10,7 @@ retried by Ray (``max_retries``); an interrupted run resumes from ``episodes.jso
 
 from __future__ import annotations
 
-import sys
 from dataclasses import asdict
-
-from tqdm import tqdm
 
 #: How many times Ray re-runs an episode whose worker process died.
 MAX_RETRIES = 3
@@ -29,6 +26,7 @@ def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, nu
     except ImportError:
         raise ValueError('--backend ray needs Ray: pip install -e ".[ray]"') from None
     from agents.evaluation.episodes import run_episode
+    from agents.evaluation.progress import Progress
     from agents.evaluation.records import EpisodeResult
     from pathplan_env.records import Episode
 
@@ -46,7 +44,7 @@ def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, nu
 
     try:
         pending = [episode.remote(job) for job in jobs]
-        with tqdm(total=len(jobs), desc="episodes (ray)", file=sys.stderr) as bar:
+        with Progress(jobs, num_cpus or 1, desc="episodes (ray)") as bar:
             while pending:
                 done, pending = ray.wait(pending, num_returns=min(len(pending), 16), timeout=1.0)
                 for ref in done:
@@ -55,7 +53,7 @@ def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, nu
                     if trajectory is not None:
                         result.trajectory = Episode.from_plain(trajectory)
                     on_result(result)
-                    bar.update()
+                    bar.update(result)
     finally:
         if started_here:
             ray.shutdown()

@@ -42,3 +42,18 @@ class EpisodeResult:
     # CrowdNav's discomfort: steps (before the last) whose clearance fell below DISCOMFORT_DISTANCE
     discomfort_steps: int = 0
     discomfort_clearance_sum: float = 0.0  # of those steps' smallest clearances (m)
+    seconds: float = 0.0  # the episode's wall time, after the agent's warm-up (what the progress estimate reads)
+    scene: str = ""  # a digest of the episode's initial scene (scene_digest): the same scene, the same digest
+
+
+def scene_digest(scenario) -> str:
+    """A short digest of a scene's initial state (start, goal, obstacles, walls): two episodes with the
+    same digest started from the same scene."""
+    import hashlib
+
+    import numpy as np
+
+    arrays = scenario.arrays()
+    parts = [np.asarray(scenario.start + scenario.goal, np.float64), arrays["positions"], arrays["velocities"], arrays["radii"],
+             np.asarray(scenario.static_segments, np.float64)]  # fmt: skip
+    return hashlib.sha1(b"".join(np.ascontiguousarray(p).tobytes() for p in parts)).hexdigest()[:16]

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 #: Fields that measure the machine, not the episode.
-TIMING_FIELDS = ("plan_ms_median", "plan_ms_p95")
+TIMING_FIELDS = ("plan_ms_median", "plan_ms_p95", "seconds")
 #: Floats from the exact static shortest path (episodes.csv) and, in summary.json, the statistics
 #: that divide by it (statistics.py: the mean ratio of the wins, SPL, the ratio on common successes).
 DERIVED_FIELDS = ("shortest_path", "path_length_ratio", "spl", "common_length_ratio")
@@ -36,7 +36,7 @@ EXACT_FIELDS = (
     "time_to_goal", "min_clearance", "verdict", "discomfort_steps", "discomfort_clearance_sum",
     "episodes", "success_rate", "success_ci95", "collision_rate", "timeout_rate", "common_episodes",
     "discomfort_frequency", "discomfort_min_clearance", "limit", "limit_ci95", "limit_lost", "limit_undetermined",
-    "success_over_limit",
+    "success_over_limit", "scene", "distinct_episodes", "distinct_scenes",
 )  # fmt: skip
 #: Far above a CPU's last bits (~1e-16), far below any change of path (a different route moves them by >1e-6).
 RTOL = 1e-9

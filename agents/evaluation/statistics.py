@@ -1,5 +1,11 @@
 """Summary statistics of evaluated episodes: rates with Wilson intervals, each cell's physical
-limit, SPL, and the length ratio on the episodes every agent solved (``summarize``)."""
+limit, SPL, and the length ratio on the episodes every agent solved (``summarize``).
+
+Identical episodes count once in an interval: a scene file with a fixed start, goal and obstacles
+and a deterministic agent play one episode as often as asked, and twenty copies of one trial are
+not twenty trials. A cell's ``distinct_episodes`` counts its episodes that differ (in the scene they
+started from or in what happened: :func:`distinct`), ``distinct_scenes`` the scenes; the Wilson
+intervals are over the distinct episodes."""
 
 from __future__ import annotations
 
@@ -26,13 +32,31 @@ def wilson_interval(successes: int, n: int) -> tuple[float, float]:
     return (float(ci.low), float(ci.high))
 
 
+def fingerprint(e: EpisodeResult) -> tuple:
+    """What makes two episodes the same trial: the scene they started from and what happened in it
+    (an old record without a scene digest counts as its own scene, by its seed)."""
+    return (e.scene or f"seed {e.seed}", e.success, e.collision, e.timeout, e.steps, e.path_length, e.min_clearance)
+
+
+def distinct(episodes: list[EpisodeResult]) -> list[EpisodeResult]:
+    """The episodes that differ (:func:`fingerprint`), the first of each."""
+    seen: dict[tuple, EpisodeResult] = {}
+    for e in episodes:
+        seen.setdefault(fingerprint(e), e)
+    return list(seen.values())
+
+
+def distinct_scenes(episodes: list[EpisodeResult]) -> int:
+    return len({e.scene or f"seed {e.seed}" for e in episodes})
+
+
 def limits(results: list[EpisodeResult]) -> dict[tuple, dict]:
     """Per (scenario, Δd): the clairvoyant oracle's success rate (the limit) and its verdict counts.
 
     Cells where the obstacles react to the robot have none (the oracle's verdict "reactive"): their
     future depends on the robot, so no fixed trajectory bounds what a robot can do."""
     reactive = {(res.scenario, res.delta_d) for res in results if res.agent == LIMIT_AGENT and res.verdict == "reactive"}
-    out = {}
+    out, runs = {}, {}
     for res in results:
         if res.agent == LIMIT_AGENT and (res.scenario, res.delta_d) not in reactive:
             cell = out.setdefault((res.scenario, res.delta_d), {"episodes": 0, "wins": 0, "lost": 0, "undetermined": 0})
@@ -40,10 +64,12 @@ def limits(results: list[EpisodeResult]) -> dict[tuple, dict]:
             cell["wins"] += res.success
             cell["lost"] += res.verdict == "lost"
             cell["undetermined"] += res.verdict == "undetermined"
+            runs.setdefault((res.scenario, res.delta_d), []).append(res)
+    once = {key: distinct(eps) for key, eps in runs.items()}
     return {
         key: {
             "limit": c["wins"] / c["episodes"],
-            "limit_ci95": list(wilson_interval(c["wins"], c["episodes"])),
+            "limit_ci95": list(wilson_interval(sum(e.success for e in once[key]), len(once[key]))),
             "limit_lost": c["lost"] / c["episodes"],
             "limit_undetermined": c["undetermined"] / c["episodes"],
         }
@@ -81,6 +107,7 @@ def summarize(results: list[EpisodeResult]) -> list[dict]:
         common = common_of.get((scenario, delta_d), set())  # none when the limit ran alone
         n = len(eps)
         wins = [e for e in eps if e.success]
+        once = distinct(eps)
         mean_over = lambda values: float(np.mean(values)) if len(values) else None
         plans = np.concatenate([e.plan_ms for e in eps])
         rows.append(
@@ -90,7 +117,10 @@ def summarize(results: list[EpisodeResult]) -> list[dict]:
                 "delta_d": delta_d,
                 "episodes": n,
                 "success_rate": len(wins) / n,
-                "success_ci95": list(wilson_interval(len(wins), n)),
+                # over the distinct episodes: n copies of one trial are one trial
+                "success_ci95": list(wilson_interval(sum(e.success for e in once), len(once))),
+                "distinct_episodes": len(once),
+                "distinct_scenes": distinct_scenes(eps),
                 "collision_rate": sum(e.collision for e in eps) / n,
                 "timeout_rate": sum(e.timeout for e in eps) / n,
                 "path_length": mean_over([e.path_length for e in wins]),

@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from agents.base import Agent
-from agents.registry import make
+from agents.registry import factory
 from pathplan_env.robots.unicycle import limits_of, to_action
 
 
@@ -35,7 +35,9 @@ class TrackedAgent(Agent):
         super().__init__(env, seed=seed)
         self.limits = limits_of(env)
         if isinstance(planner, str):
-            self.planner = make(planner, env, seed=seed, drive="direct", **overrides)
+            recipe = factory(planner)  # unchecked: the robot is the tracker's; its observation, checked by the tracker's own make
+            self.planner = type(recipe)(recipe.family, recipe.parameters, checked=False)(env, seed=seed, drive="direct", **overrides)
+            self.planner.name = planner
         elif callable(planner):
             self.planner = planner(env, seed=seed, **overrides)
         else:

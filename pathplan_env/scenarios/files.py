@@ -13,7 +13,9 @@ file's stem.
 A file is a stranger's input, read in bounded time and memory (:mod:`pathplan_env.validation`): at
 most :data:`MAX_SCENE_BYTES`, as UTF-8 whatever the locale; no duplicate keys; YAML aliases that expand
 past ``MAX_YAML_NODES`` nodes are refused, and so are more than ``MAX_OBSTACLES`` obstacles, before
-any of them is built. Every field is type-checked (a number is an int or a float, not ``"0.5"`` or
+any of them is built. A ``variation`` mapping makes each reset draw a scene of its own
+(:mod:`pathplan_env.scenarios.variation`: start and goal in regions, obstacles jittered, seeded);
+then the file gives a :class:`~pathplan_env.scenarios.variation.VariedScenario`. Every field is type-checked (a number is an int or a float, not ``"0.5"`` or
 ``true``). Whatever is wrong is a ``ValueError`` naming the file and the field.
 """
 
@@ -22,6 +24,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from pathplan_env.scenarios.scenario import Scenario
+from pathplan_env.scenarios.variation import Variation, VariedScenario
 from pathplan_env.validation import load_json, load_yaml, read_text
 
 #: File suffixes read as scenarios.
@@ -35,8 +38,9 @@ def is_scenario_file(spec) -> bool:
     return isinstance(spec, (str, Path)) and Path(spec).suffix.lower() in SUFFIXES
 
 
-def load_scenario(path: str | Path) -> Scenario:
-    """The validated :class:`Scenario` a JSON or YAML file describes.
+def load_scenario(path: str | Path) -> Scenario | VariedScenario:
+    """The validated :class:`Scenario` a JSON or YAML file describes (a :class:`VariedScenario` when it
+    has a ``variation``).
 
     :raises ValueError: naming the file, and the field where the scenario is invalid.
     """
@@ -53,6 +57,7 @@ def load_scenario(path: str | Path) -> Scenario:
     if not isinstance(data, dict):
         raise ValueError(f"scenario file {path}: expected a mapping of Scenario fields, got {type(data).__name__}")
     data = {"name": path.stem, **data}
+    variation = data.pop("variation", None)
     for key in ("bounds", "start", "goal"):  # YAML and JSON have lists; Scenario wants tuples
         if isinstance(data.get(key), list):
             data[key] = tuple(data[key])
@@ -62,6 +67,7 @@ def load_scenario(path: str | Path) -> Scenario:
             {k: tuple(v) if isinstance(v, list) else v for k, v in ob.items()} if isinstance(ob, dict) else ob for ob in obstacles
         ]
     try:
-        return Scenario.from_dict(data)
+        scenario = Scenario.from_dict(data)
+        return scenario if variation is None else VariedScenario(scenario, Variation.of(variation, scenario.bounds))
     except (ValueError, TypeError) as error:
         raise ValueError(f"scenario file {path}: {error}") from None

@@ -13,6 +13,7 @@ from pathplan_env.arguments import check_count
 from pathplan_env.scenarios.crowd_families import CROWD_FAMILIES
 from pathplan_env.scenarios.crowdnav import CROWDNAV_PRESETS
 from pathplan_env.scenarios.scenario import Obstacle, Scenario, Vec2
+from pathplan_env.scenarios.variation import VariedScenario
 from pathplan_env.scenarios.wall_families import FAMILIES
 
 #: The paper's Table 1 obstacle centres. The paper states nothing else; our assumptions
@@ -192,6 +193,8 @@ def make_scenario(
         raise ValueError(f"n_obstacles: {named} has its own obstacles (leave n_obstacles None); it applies to the presets {sorted(COUNTED_PRESETS)}")
     if isinstance(spec, Scenario):
         scenario = spec
+    elif isinstance(spec, VariedScenario):  # a scene file's variation: a scene of its own each reset
+        scenario = spec.draw(rng)
     elif isinstance(spec, str):
         if spec not in PRESETS:
             raise ValueError(f"scenario: unknown preset {spec!r}; known presets: {sorted(PRESETS)}")

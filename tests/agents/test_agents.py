@@ -51,7 +51,8 @@ def test_evaluate_policy_runs_every_agent_on_a_two_env_vector_env(name, robot):
     observations, per-env memory reset by episode_start, the robot read from the env's public facts."""
     from stable_baselines3.common.vec_env import DummyVecEnv
 
-    vec = DummyVecEnv([lambda: gym.make("DynamicObstacle-v0", scenario="paper-case-1", delta_d=0.25, robot=robot)] * 2)
+    observation = agents.observation_of(name)
+    vec = DummyVecEnv([lambda: gym.make("DynamicObstacle-v0", scenario="paper-case-1", delta_d=0.25, robot=robot, observation=observation)] * 2)
     agent = agents.make(name, vec, seed=0)
     assert isinstance(agent, agents.Agent)
     rewards, lengths = evaluate_policy(agent, vec, n_eval_episodes=4, return_episode_rewards=True, warn=False)

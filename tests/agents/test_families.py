@@ -85,7 +85,7 @@ def test_a_preset_is_its_family_with_its_parameters(name):
     """``agents.make(preset)`` and ``agents.make(family, **parameters)`` build the same agent, acting alike."""
     preset = agents.presets()[name]
     robot = agents.robots_of(name)[0]
-    env = _env(robot)
+    env = _env(robot, agents.observation_of(name))
     by_preset, by_family = agents.make(name, env, seed=2), agents.make(preset.family, env, seed=2, **preset.parameters)
     assert type(by_preset) is type(by_family)
     np.testing.assert_array_equal(_actions(by_preset, env), _actions(by_family, env))

@@ -11,9 +11,9 @@ def test_the_unicycle_agents_are_the_ones_registered_for_it():
     assert set(agents.robots_of("oracle-clairvoyant")) == {"holonomic", "unicycle"}
     assert {name for name in agents.available() if agents.robots_of(name) == ("unicycle",)} == agents.UNICYCLE_AGENTS
     # every agent registered for the unicycle is built on a unicycle env and acts in its action space
-    env = gym.make("DynamicObstacle-v0", scenario="paper-case-1", delta_d=0.25, robot="unicycle")
-    obs, _ = env.reset(seed=0)
     for name in sorted(agents.UNICYCLE_AGENTS):
+        env = gym.make("DynamicObstacle-v0", scenario="paper-case-1", delta_d=0.25, robot="unicycle", observation=agents.observation_of(name))
+        obs, _ = env.reset(seed=0)
         action, _ = agents.make(name, env, seed=0).predict(obs, deterministic=True)
         assert env.action_space.contains(action), name
 

@@ -16,7 +16,7 @@ from pathlib import Path
 
 #: Our top-level entries of ``agents/`` (``tests/test_import_guard.py`` checks it is current).
 OURS = frozenset({
-    "__init__.py", "_ownership.py", "base.py", "evaluation", "families.py", "models", "observation.py", "oracles",
+    "__init__.py", "_ownership.py", "base.py", "cli", "evaluation", "families.py", "models", "observation.py", "oracles",
     "planners", "presets.py", "provenance.py", "reactive", "registry.py", "requirements.py", "rl", "tables.py",
 })  # fmt: skip
 #: Entries of no package's: caches and build debris.

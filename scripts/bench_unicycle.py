@@ -92,7 +92,7 @@ def limit_table(episodes: int, deltas: list[float], split: str, workers: int, ou
                 resume: bool = False) -> list[dict]:  # fmt: skip
     """Run the harness per robot and scenario (outputs under ``out/<robot>-<scenario>``); print one row per
     (agent, scenario, Δd) with success ÷ limit, then the scene table (:func:`scene_table`)."""
-    from agents.evaluation import evaluate
+    from agents.evaluation import EvaluationSettings, evaluate
 
     rows = []
     chosen = [entry for entry in LIMIT_SCENARIOS if entry[0] in (scenarios or DEFAULT_SCENARIOS)]
@@ -101,8 +101,8 @@ def limit_table(episodes: int, deltas: list[float], split: str, workers: int, ou
         for robot in robots or list(LIMIT_AGENTS):
             names = [n for n in LIMIT_AGENTS[robot][kind] if not only or n in only]
             options = {"robot": robot} if robot != "holonomic" else None
-            rows += [r | {"robot": robot} for r in evaluate(names, [scenario], cells, episodes, f"{out}/{robot}-{scenario}", split=split,
-                                                            workers=workers, env_options=options, plots=False, resume=resume)]  # fmt: skip
+            settings = EvaluationSettings(split=split, workers=workers, env_options=options, plots=False, resume=resume)
+            rows += [r | {"robot": robot} for r in evaluate(names, [scenario], cells, episodes, f"{out}/{robot}-{scenario}", settings)]
     print_tables(rows, f"{episodes} {split} episodes a cell")
     return rows
 

@@ -3,6 +3,10 @@
     from agents.evaluation import evaluate
     rows = evaluate(["pso-spacetime", "velocity-obstacle"], ["random"], [0.5, 1.0], episodes=100, out="results/mine")
     rows = evaluate([MyPlanner, ("mine-tuned", MyPlanner(gain=2))], ["scenes/corridor.yaml"], [None], 20, "results/own")
+    rows = evaluate(["dwa"], ["random"], [0.25], 20, "results/u", EvaluationSettings(workers=2, env_options={"robot": "unicycle"}))
+
+How a run is made (seed, split, workers, backend, env options, resume, plots) is one
+:class:`~agents.evaluation.settings.EvaluationSettings` record; its fields may also be given by name.
 
 Agents and scenarios come in many forms (:mod:`agents.evaluation.entrants`), each named by a label.
 Every (agent, scenario, Δd) cell runs the same episodes: episode ``i`` uses seed
@@ -34,6 +38,7 @@ from agents.evaluation.executors import run_jobs
 from agents.evaluation.jobs import Job, result_id
 from agents.evaluation.records import LIMIT_AGENT, EpisodeResult, delta_order
 from agents.evaluation.run_log import LOG_NAME, LogWriter, RunLock, read_log, run_folder, set_aside
+from agents.evaluation.settings import EvaluationSettings
 from agents.evaluation.statistics import summarize
 from agents.provenance import versions
 
@@ -46,10 +51,8 @@ def _summarize(results: list[EpisodeResult]) -> list[dict]:
 
 
 def evaluate(
-    agent_names: list, scenarios: list, deltas: list[float | None], episodes: int, out: str | Path, *,
-    seed: int = 0, split: str = "test", n_obstacles: int | None = None, workers: int = 1, agent_kwargs: dict | None = None,
-    limit: bool = True, resume: bool = False, plots: bool = True, config: dict | None = None,
-    backend: str = "process", address: str | None = None, env_options: dict | None = None,
+    agent_names: list, scenarios: list, deltas: list[float | None], episodes: int, out: str | Path,
+    settings: EvaluationSettings | None = None, **options,
 ) -> list[dict]:  # fmt: skip
     """Run the cells, write the results to ``out`` and return the summary rows (see the module doc).
 
@@ -58,34 +61,30 @@ def evaluate(
     ``scenarios``: preset names, ``Scenario`` objects, their dicts, or JSON/YAML files of them. Each
     may be labelled (``(label, entry)``); results name them by label (:mod:`agents.evaluation.entrants`).
     ``deltas``: Δd values; ``None`` (or ``"own"``) runs a scenario at its own obstacle speeds.
-    ``agent_kwargs``: for every agent, or ``{label: {...}}`` per agent.
-    ``split``: ``"test"``, ``"validation"`` or ``"crowdnav"`` (CrowdNav's own test cases, for its presets; at most 500 episodes).
-    ``env_options``: ``gym.make`` keywords for every episode's env, e.g. ``{"observation": "state"}``;
-    checked by building every cell with them before any episode, recorded in ``summary.json``, and
-    part of each episode's record (a resumed run with other options runs its episodes anew).
-    ``backend``: ``"process"`` (a local pool of ``workers`` processes) or ``"ray"`` (a local Ray, or
-    the cluster at ``address``; :mod:`agents.evaluation.ray_backend`). Both run the same jobs: same results."""
+    ``settings``: how the run is made (seed, split, workers, backend, env options, resume, ...):
+    an :class:`~agents.evaluation.settings.EvaluationSettings`, the defaults when ``None``.
+    ``options``: its fields by name (``workers=4``), replacing the record's; a name that is no field
+    is a ``ValueError``."""
     from pathplan_env.scenarios.episode_sources import source_of
 
-    if backend not in ("process", "ray"):
-        raise ValueError(f"backend must be 'process' or 'ray', got {backend!r}")
-    if backend == "ray":
+    if settings is not None and not isinstance(settings, EvaluationSettings):
+        raise ValueError(f"settings must be an EvaluationSettings, got {type(settings).__name__}")
+    settings = (settings or EvaluationSettings()).with_options(**options)
+    if settings.backend == "ray":
         try:
             import ray  # noqa: F401  (checked before any work)
         except ImportError:
             raise ValueError('--backend ray needs Ray: pip install -e ".[ray]"') from None
-
-    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
-        raise ValueError(f"workers must be an integer >= 1, got {workers!r}")  # before it decides the transport
-    transport = "ray" if backend == "ray" else "process" if workers > 1 else None
+    seed, split, n_obstacles, workers = settings.seed, settings.split, settings.n_obstacles, settings.workers
     run = check_run(agent_names, scenarios, deltas, episodes, seed=seed, split=split, n_obstacles=n_obstacles,
-                    workers=workers, agent_kwargs=agent_kwargs, transport=transport, env_options=env_options)  # fmt: skip
+                    workers=workers, agent_kwargs=settings.agent_kwargs, transport=settings.transport,
+                    env_options=settings.env_options)  # fmt: skip
     entrants, own, options = list(run.agents), run.overrides, run.env_options
     limit_spec = resolve_agents([LIMIT_AGENT])[0]
     for spec in entrants:
         if spec.label == LIMIT_AGENT and (spec.target is not limit_spec.target or spec.kwargs):
             raise ValueError(f"agent_names: the label {LIMIT_AGENT!r} is the physical limit's; give this agent another")
-    if limit and LIMIT_AGENT not in own:
+    if settings.limit and LIMIT_AGENT not in own:
         entrants.append(limit_spec)
         own[LIMIT_AGENT] = {}  # the kwargs are meant for the agents asked for
     source = source_of(split)
@@ -98,7 +97,7 @@ def evaluate(
     log = out / LOG_NAME
     results: list[EpisodeResult] = []
     with RunLock(out):
-        if resume and log.exists():
+        if settings.resume and log.exists():
             wanted = set(key_of.values())
             for number, record in enumerate(read_log(log), start=1):
                 key = tuple(record["job"])
@@ -111,7 +110,7 @@ def evaluate(
             jobs = [job for job in jobs if key_of[job.result_id()] in wanted]
             print(f"resuming: {len(results)} episodes on record, {len(jobs)} to run", file=sys.stderr)
         else:
-            if resume:
+            if settings.resume:
                 print(f"resume: {log} does not exist; starting a new run", file=sys.stderr)
             set_aside(log)
         start = time.perf_counter()
@@ -122,10 +121,10 @@ def evaluate(
             results.append(res)
 
         try:
-            if backend == "ray":
+            if settings.backend == "ray":
                 from agents.evaluation.ray_backend import run_jobs_on_ray
 
-                run_jobs_on_ray(jobs, record, address=address, num_cpus=workers)
+                run_jobs_on_ray(jobs, record, address=settings.address, num_cpus=workers)
             else:
                 run_jobs(jobs, workers, record)
         except KeyboardInterrupt:
@@ -137,12 +136,12 @@ def evaluate(
         elapsed = time.perf_counter() - start
         results.sort(key=lambda r: (r.agent, r.scenario, delta_order(r.delta_d), r.episode))
         rows = _summarize(results)
-        config = (config or {}) | {"agents": [a.label for a in entrants], "scenarios": [s.label for s in run.scenarios],
+        config = (settings.config or {}) | {"agents": [a.label for a in entrants], "scenarios": [s.label for s in run.scenarios],
                                    "agent_sources": {a.label: a.source for a in entrants},
                                    "custom_scenarios": {s.label: s.definition for s in run.scenarios if s.definition},
                                    "delta_d": run.deltas, "episodes": episodes,
                                    "seed": seed, "split": split, "n_obstacles": n_obstacles, "scenario_n_obstacles": obstacles, "workers": workers,
-                                   "agent_kwargs": agent_kwargs or {}, "env_options": options, "episode_seeds": [seeds[0], seeds[-1]],
+                                   "agent_kwargs": settings.agent_kwargs or {}, "env_options": options, "episode_seeds": [seeds[0], seeds[-1]],
                                    **source.describe(episodes),
                                    "wall_seconds": round(elapsed, 1)}  # fmt: skip
         (out / "summary.json").write_text(json.dumps({"results": rows, "config": config, "versions": versions()}, indent=2))
@@ -153,7 +152,7 @@ def evaluate(
             for res in results:
                 row = {k: v for k, v in asdict(res).items() if k != "plan_ms"}
                 writer.writerow(row | {"plan_ms_median": float(np.median(res.plan_ms))})
-        if plots:
+        if settings.plots:
             from agents.evaluation.reporting import plot
 
             plot(rows, out)

@@ -4,7 +4,7 @@ against each robot's own clairvoyant limit, and the unicycle env's speed beside 
 Random scenes (8 obstacles), validation seeds (``pathplan_env.scenarios.splits.validation_seeds``, never the
 test split), the same episodes for every agent; ``tracked-<planner>`` is the planner driven by pure
 pursuit (``agents.reactive.tracker``), ``dwa`` the dynamic window approach (``agents.reactive.dwa``),
-``astar-unicycle`` the space-time A* over the unicycle's own moves (``agents.planners.unicycle_search``).
+``astar-unicycle`` the space-time A* over the unicycle's own moves (``agents.planners.unicycle.astar``).
 
 ``--limit`` runs the evaluation harness instead (``agents.evaluation.evaluate``, ``--split test`` by
 default): each robot's agents and its clairvoyant limit (``oracle-clairvoyant``, which searches the

@@ -11,7 +11,7 @@ from rollouts import fly_unicycle as _fly
 import agents
 import pathplan_env  # noqa: F401
 from agents.oracles.clairvoyant_unicycle import UnicycleClairvoyantOracle
-from agents.planners.unicycle_search import settings
+from agents.planners.unicycle.astar import settings
 from pathplan_env import Obstacle, Scenario
 
 

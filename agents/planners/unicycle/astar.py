@@ -1,6 +1,6 @@
 """A* over (step, x, y, heading, v, ω) for the unicycle against known obstacle trajectories.
 
-The unicycle's native counterpart of :mod:`agents.planners.spacetime_search`, shared the same way by
+The unicycle's native counterpart of :mod:`agents.planners.spacetime.astar`, shared the same way by
 the privileged clairvoyant oracle (the env's own future) and the ``astar-unicycle`` planner
 (obstacles predicted from the observation).
 
@@ -34,7 +34,7 @@ import numba
 import numpy as np
 
 from agents.planners.costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal
-from agents.planners.spacetime_search import BUDGET, EXHAUSTED, FOUND, HORIZON, Candidates, _near_statics, _segment_distance, step_paths
+from agents.planners.spacetime.astar import BUDGET, EXHAUSTED, FOUND, HORIZON, Candidates, _near_statics, _segment_distance, step_paths
 from pathplan_env.geometry.contacts import NO_CONTACT
 from pathplan_env.robots.arc_contact import Arc, arc_capsule, arc_disc, arc_goal, arc_point
 
@@ -148,7 +148,7 @@ def fly_arc(problem, first, arc, candidates, ends, deviation):
     """One step of the :class:`UnicycleProblem` on ``arc`` from substep ``first``, as
     ``unicycle.drive`` flies it: 1 goal, 0 free, -1 contact.
 
-    Only the obstacles ``near[:n_near]`` (:class:`~agents.planners.spacetime_search.Candidates`) are
+    Only the obstacles ``near[:n_near]`` (:class:`~agents.planners.spacetime.astar.Candidates`) are
     tested, and of those the ones whose step path (``ends``, within ``deviation``) comes within the
     contact distance of the arc (its chord, inflated by the chord bound ``L |φ| / 8``, as in
     ``arc_contact``); the static capsules ``near_s[:n_near_s]``."""

@@ -76,7 +76,7 @@ class SearchSettings(NamedTuple):
 
 class SearchTree(NamedTuple):
     """Every node :func:`search` generated (each one's path from the start is free of contact):
-    what :mod:`agents.planners.spacetime_anytime` chooses a partial plan from."""
+    what :mod:`agents.planners.spacetime.anytime` chooses a partial plan from."""
 
     x: np.ndarray  # (count,) m: the robot after the node's step
     y: np.ndarray

@@ -9,7 +9,7 @@ import json
 
 import pytest
 
-from agents.evaluation import EvaluationSettings, evaluate
+from agents.evaluation import EvaluationSettings, evaluate, harness, settings
 
 CELLS = (["straight"], ["paper-case-1"], [0.5], 2)
 
@@ -25,8 +25,8 @@ def _untimed(rows: list[dict]) -> list[dict]:
 
 
 def test_keywords_and_the_record_make_the_same_run(tmp_path):
-    settings = EvaluationSettings(seed=3, limit=False, plots=False, env_options={"observation": "state"})
-    by_record = evaluate(*CELLS, tmp_path / "record", settings)
+    record = EvaluationSettings(seed=3, limit=False, plots=False, env_options={"observation": "state"})
+    by_record = evaluate(*CELLS, tmp_path / "record", record)
     by_keywords = evaluate(*CELLS, tmp_path / "keywords", seed=3, limit=False, plots=False, env_options={"observation": "state"})
     assert _untimed(by_record) == _untimed(by_keywords)
     assert _config(tmp_path / "record") == _config(tmp_path / "keywords")
@@ -35,10 +35,10 @@ def test_keywords_and_the_record_make_the_same_run(tmp_path):
 
 
 def test_a_keyword_replaces_the_records_field(tmp_path):
-    settings = EvaluationSettings(seed=3, limit=False, plots=False)
-    evaluate(*CELLS, tmp_path / "a", settings, seed=5)
+    record = EvaluationSettings(seed=3, limit=False, plots=False)
+    evaluate(*CELLS, tmp_path / "a", record, seed=5)
     assert _config(tmp_path / "a")["seed"] == 5
-    assert settings.seed == 3  # the caller's record is left as it was (frozen)
+    assert record.seed == 3  # the caller's record is left as it was (frozen)
 
 
 def test_an_unknown_option_is_named_before_anything_is_written(tmp_path):
@@ -61,6 +61,10 @@ def test_a_bad_field_is_named_when_the_record_is_made(fields, message):
         EvaluationSettings(**fields)
     with pytest.raises(ValueError, match=message):
         EvaluationSettings().with_options(**fields)
+
+
+def test_the_package_gives_the_records_and_evaluate_of_their_modules():
+    assert EvaluationSettings is settings.EvaluationSettings and evaluate is harness.evaluate
 
 
 def test_the_transport_follows_backend_and_workers():

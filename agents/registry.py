@@ -169,7 +169,18 @@ def factory(name: str) -> Recipe:
 
 def make(name: str, env, seed: int | None = None, **overrides):
     """Build the agent ``name`` (a preset or a family) for ``env`` (an env, wrapped env or vector
-    env); ``overrides`` are the family's parameters (over a preset's own) and ``drive``."""
+    env); ``overrides`` are the family's parameters (over a preset's own) and ``drive``.
+
+    >>> import gymnasium as gym, pathplan_env, agents
+    >>> env = gym.make("DynamicObstacle-v0", scenario="paper-case-1")
+    >>> agent = agents.make("pso", env, seed=0, plan="spacetime", iterations=20)
+    >>> agents.family_of("pso-spacetime"), agents.robots_of("pso-unicycle")
+    ('pso', ('unicycle',))
+    >>> obs, info = env.reset(seed=0)
+    >>> action, state = agent.predict(obs)
+    >>> env.action_space.contains(action)
+    True
+    """
     agent = factory(name)(env, seed=seed, **overrides)
     agent.name = name
     return agent

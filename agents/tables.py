@@ -76,3 +76,30 @@ def filled(text: str, source: str) -> str:
             raise ValueError(f"{source}: {begin.strip()} without {end.strip()}")
         text = head + begin + table() + end + rest.split(end, 1)[1]
     return text
+
+
+def family_page(name: str) -> str:
+    """The documentation page of one family (``docs/families/NAME.md``, written at every build): what it is,
+    the parameters that choose it, its robots, how it is made, and its presets."""
+    import inspect
+
+    family = families()[name]
+    own = {preset_name: preset for preset_name, preset in presets().items() if preset.family == name}
+    lines = [f"# `{name}`", "", f"{family.summary[:1].upper()}{family.summary[1:]}." if family.summary else "", ""]
+    lines += [f"Robots: {', '.join(family.every_robot)}. Made by `agents.make({name!r}, env, seed=None, **parameters)`, "
+              f"its factory `{family.factory.__module__}.{family.factory.__qualname__}`:", ""]
+    try:
+        signature = str(inspect.signature(family.factory))
+    except (TypeError, ValueError):
+        signature = "(env, seed=None, **parameters)"
+    lines += ["```python", f"{family.factory.__qualname__}{signature}", "```", ""]
+    if family.axes:
+        lines += ["## Parameters that choose it", "", "| parameter | what it chooses |", "|---|---|"]
+        lines += [f"| `{axis}` | {_cell(meaning)} |" for axis, meaning in family.axes.items()] + [""]
+    lines += ["## Presets", ""]
+    if own:
+        lines += ["| preset | parameters | robot | note |", "|---|---|---|---|"]
+        lines += [f"| `{p}` | {_cell(_settings(preset.parameters))} | {', '.join(robots_of(p))} | {_cell(preset.note)} |" for p, preset in own.items()]
+    else:
+        lines += ["None: the family's own name is the agent."]
+    return "\n".join(lines) + "\n"

@@ -120,7 +120,10 @@ class DynamicObstacleEnv(gym.Env):
       there, and the final step is read at its end like every other: the robot rests at the goal
       (or where it touched), ``path_length`` counts the distance to that point, ``time`` whole steps.
     - Truncation: the registration's time limit, ``max_episode_steps=200`` (20 s at dt = 0.1 s), or
-      the scenario's own ``time_limit`` if it is shorter (the CrowdNav presets: 25 s, 100 steps).
+      the scenario's own ``time_limit`` if it is shorter (the CrowdNav presets: 25 s, 100 steps),
+      counted in whole steps (``ceil(time_limit / dt)``), so a long limit never ends a step late.
+    - A ``step`` after the episode terminated is undefined in Gymnasium; here it warns once an
+      episode (the world carries on: the robot may collide again and pay for it) until ``reset``.
 
     ## Info
     The same keys after ``reset`` and every ``step``: ``is_success``, ``collision``, ``cost`` (1.0 on a
@@ -295,6 +298,10 @@ class DynamicObstacleEnv(gym.Env):
         self.waypoint = None
         self.trail = [scenario.start]
         self._moves = []  # what a copy of this env replays
+        self._steps, self._ended, self._warned_after_end = 0, False, False
+        # the scenario's time limit in whole steps: a running sum of dt drifts over long episodes
+        limit = scenario.time_limit
+        self._step_limit = None if limit is None else max(1, math.ceil(limit / scenario.dt - 1e-9))
         if self.render_mode == "human":
             self.render()
         clearance = world.clearance()
@@ -305,6 +312,10 @@ class DynamicObstacleEnv(gym.Env):
         world = self._world
         if world is None:
             raise RuntimeError("call reset() before step()")
+        if self._ended and not self._warned_after_end:
+            gym.logger.warn("step() called after the episode terminated (the goal or a collision); the world "
+                            "carries on and a collision is paid again: call reset()")
+            self._warned_after_end = True
         # act and simulate (the action validated first): the robot stops where the episode ends (the
         # goal, or the first contact); the step's quantities are read at its end: the robot resting there
         length, goal_fraction, min_gap, contact_fraction, self.waypoint, move = self._advance(action, world)
@@ -317,9 +328,10 @@ class DynamicObstacleEnv(gym.Env):
         rewards = self._rewards(success, collision, distance, min_gap)
         self._distance = distance
         terminated = success or collision
+        self._ended = self._ended or terminated
         # the scenario's own time limit (CrowdNav's 25 s); the registration's step limit is TimeLimit's
-        limit = self.scenario.time_limit
-        truncated = limit is not None and not terminated and world.time >= limit * (1.0 - 1e-12)
+        self._steps += 1
+        truncated = self._step_limit is not None and not terminated and self._steps >= self._step_limit
         info = self._info(success, collision, min_gap, rewards)
         if self.render_mode is not None:
             self.trail.append(world.robot_xy)

@@ -82,10 +82,12 @@ def read_text(path: Path, max_bytes: int, what: str) -> str:
     """The text of the regular file ``path`` (UTF-8, an initial BOM dropped), at most ``max_bytes`` long.
 
     :param what: how errors name the file (``"scenario file"``, ``"ROS map"``).
-    :raises ValueError: naming the file if it is missing, not a regular file (a FIFO or a device
-        would block or never end), larger than ``max_bytes`` or not UTF-8.
+    :raises ValueError: naming the file if it does not exist, is not a regular file (a FIFO or a
+        device would block or never end), is larger than ``max_bytes`` or is not UTF-8.
     """
     try:
+        if not path.exists():
+            raise ValueError(f"{what} {path}: does not exist")
         if not path.is_file():
             raise ValueError(f"{what} {path}: not a regular file")
         if path.stat().st_size > max_bytes:

@@ -14,10 +14,14 @@ ROOT = Path(__file__).resolve().parent.parent
 PAGES = ("README.md", "docs/agents.md")
 
 
-def main() -> int:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--check", action="store_true", help="only check that the committed tables are current")
-    args = parser.parse_args()
+    return parser
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
     stale = {}
     for page in PAGES:
         text = (ROOT / page).read_text("utf-8")

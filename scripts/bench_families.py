@@ -31,11 +31,11 @@ import statistics
 import sys
 import tempfile
 
-import bench_env
 import gymnasium as gym
-from bench_env import CLOCKS, best_of, paired_ratio, steps_per_second
 
 import pathplan_env  # (registers DynamicObstacle-v0; its path is printed)
+from agents.cli import bench as bench_env  # pathplan-env bench (scripts/bench_env.py)
+from agents.cli.bench import CLOCKS, best_of, paired_ratio, steps_per_second
 
 #: ``(preset, obstacles or None for the family's own count, target ratio or None)``.
 FAMILY_ROWS = (
@@ -165,7 +165,7 @@ def against(checkout: str, preset: str, n: int | None, steps: int, rounds: int) 
     print(f"| median | | | {med(ratios['before']):.3f}x | {med(ratios['after']):.3f}x | {med(speedups):.3f} |")
 
 
-def parse_args(argv=None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--steps", type=int, default=5000)
     parser.add_argument("--repeats", type=int, default=3)
@@ -176,7 +176,11 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--against", metavar="CHECKOUT", help="compare with another checkout's package in this process (interleaved rounds)")
     parser.add_argument("--preset", default="corridor-crowd", help="the family --against compares and --profile profiles (default corridor-crowd)")
     parser.add_argument("--obstacles", default="20", help="its obstacle count, or 'own' for the family's default")
-    return parser.parse_args(argv)
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    return build_parser().parse_args(argv)
 
 
 def main(argv=None) -> None:

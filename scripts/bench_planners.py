@@ -237,7 +237,7 @@ def dense_replan_times(episodes: int, counts=(30, 50), deltas=(1.0, 2.0, 4.0), p
     return rows
 
 
-def parse_args(argv=None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--replans", type=int, default=200)
     parser.add_argument("--scenes", type=int, default=20)
@@ -251,6 +251,11 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--dense-obstacles", default="30,50", help="comma-separated obstacle counts of the dense cells")
     parser.add_argument("--dense-delta-d", default="1,2,4", help="comma-separated Δd of the dense cells")
     parser.add_argument("--dense-planners", default=",".join(DENSE_PLANNERS), help="comma-separated space-time planners")
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    parser = build_parser()
     args = parser.parse_args(argv)
     try:
         args.dense_obstacles = [int(v) for v in args.dense_obstacles.split(",")]

@@ -29,9 +29,9 @@ from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
-from bench_env import best_of, paired_ratio
 
 import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
+from agents.cli.bench import best_of, paired_ratio  # pathplan-env bench (scripts/bench_env.py)
 from pathplan_env.geometry.rays import beam_directions, scan_beams
 from pathplan_env.sensors.visible_state import visible_obstacles
 
@@ -116,7 +116,7 @@ def per_call_us(function, calls: int, repeats: int) -> float:
     return 1e6 * best
 
 
-def parse_args(argv=None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--repeats", type=int, default=7)
     parser.add_argument("--steps", type=int, default=20000, help="env steps per timed run")
@@ -125,7 +125,11 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--limit", action="store_true", help="with --planning: the clairvoyant oracle's success too")
     parser.add_argument("--n-obstacles", type=int, default=None, help="with --planning: obstacles per random scene (default: the preset's)")
     parser.add_argument("--skip-timing", action="store_true", help="only --planning")
-    return parser.parse_args(argv)
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    return build_parser().parse_args(argv)
 
 
 def main(argv=None) -> None:

@@ -161,7 +161,7 @@ def scene_table(rows: list[dict]) -> str:
 
 
 def speed_table(steps: int, repeats: int) -> None:
-    from bench_env import best_of, paired_ratio  # scripts/bench_env.py, next to this file
+    from agents.cli.bench import best_of, paired_ratio  # pathplan-env bench (scripts/bench_env.py)
 
     reference = gym.make("CartPole-v1")
     cartpole = best_of(lambda: reference, steps, repeats)
@@ -174,7 +174,7 @@ def speed_table(steps: int, repeats: int) -> None:
         print(f"| {robot} | {rate:.0f} | {ratio:.3f}x |", flush=True)
 
 
-def parse_args(argv=None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--episodes", type=int, default=40)
     parser.add_argument("--deltas", type=float, nargs="+", default=[0.25, 0.5])
@@ -197,7 +197,11 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--resume", action="store_true", help="--limit: continue the harness's runs under --out")
     parser.add_argument("--tables-only", action="store_true", help="print the --limit tables from the summary.json files under --out")
     parser.add_argument("--out", default="results/bench_unicycle", help="--limit: the harness's output directory")
-    return parser.parse_args(argv)
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    return build_parser().parse_args(argv)
 
 
 def main(argv=None) -> None:

@@ -57,7 +57,7 @@ def run_cell(name: str, delta_d: float | None, seeds: list[int], n_obstacles: in
     return float(won), float(hit), plan_ms, cpu_ms
 
 
-def parse_args(argv=None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--episodes", type=int, default=40)
     parser.add_argument("--deltas", type=float, nargs="+", default=[0.25, 0.5])
@@ -66,7 +66,11 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--obstacles", type=int, default=8)
     parser.add_argument("--scenario", default="random", help="a preset; any but random runs at its own speeds and obstacle count")
     parser.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE", help="overrides for the *-unicycle agents")
-    return parser.parse_args(argv)
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    return build_parser().parse_args(argv)
 
 
 def main(argv=None) -> None:

@@ -17,13 +17,17 @@ import agents
 import pathplan_env  # noqa: F401
 
 
-def parse_args(argv=None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--delta", type=float, required=True, help="Δd of the random scenes")
     parser.add_argument("--seeds", type=int, nargs="+", required=True, help="episode seeds (the test split's start at 1000000000)")
     parser.add_argument("--obstacles", type=int, default=8)
     parser.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE", help="the oracle's keyword arguments")
-    return parser.parse_args(argv)
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    return build_parser().parse_args(argv)
 
 
 def main(argv=None) -> None:

@@ -40,12 +40,16 @@ def episode(name: str, seed: int, steps: int = STEPS) -> tuple[int, int, int, fl
     return n, int(reached.sum()), int(stuck.sum()), float(gap)
 
 
-def parse_args(argv=None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--seeds", type=int, default=100)
     parser.add_argument("--steps", type=int, default=STEPS, help="episode length (200: the env's limit; more shows who is late, not lost)")
     parser.add_argument("--families", nargs="+", default=[f for f in CROWD_FAMILIES if f.endswith("-crowd")])
-    return parser.parse_args(argv)
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    return build_parser().parse_args(argv)
 
 
 def main(argv=None) -> None:

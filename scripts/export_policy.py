@@ -16,10 +16,15 @@ from pathlib import Path
 from agents.rl.export import export_any_policy
 
 
-def parse_args(argv=None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("model", help="an SB3 PPO .zip written by scripts/train_rl.py")
     parser.add_argument("--resave", action="store_true", help="save the .zip again with the installed versions")
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    parser = build_parser()
     args = parser.parse_args(argv)
     if not Path(args.model).is_file():
         parser.error(f"model: no file {args.model}")

@@ -118,10 +118,14 @@ def draw_office(out: Path) -> None:
     canvas.save(out, "office", (-(width / 2 + band), -(height / 2 + band)), "six rooms off a 2 m corridor, 1 m doors, tables, unknown band")
 
 
-def parse_args(argv=None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=ROOT / "pathplan_env" / "maps" / "data", help="folder to write the maps into")
-    return parser.parse_args(argv)
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    return build_parser().parse_args(argv)
 
 
 def main(argv=None) -> None:

@@ -17,11 +17,16 @@ from pathlib import Path
 import numpy as np
 
 
-def parse_args(argv=None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("runs", nargs="+", type=Path, help="output directories of scripts/train_rl.py")
     parser.add_argument("--labels", default="", help="comma-separated legend labels, one per run (default: the directory names)")
     parser.add_argument("--out", type=Path, default=Path("docs/results/ppo_set_learning_curve.png"))
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    parser = build_parser()
     args = parser.parse_args(argv)
     args.labels = [label.strip() for label in args.labels.split(",")] if args.labels else [run.name for run in args.runs]
     if len(args.labels) != len(args.runs):

@@ -26,12 +26,16 @@ from pathplan_env.scenarios.splits import heldout_seeds
 from pathplan_env.world.simulation import World
 
 
-def parse_args(argv=None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--delta-d", type=float, default=2.0)
     parser.add_argument("--search", type=int, default=500, help="test episodes to look through")
     parser.add_argument("--out", default="docs/img/lost_episode.png")
-    return parser.parse_args(argv)
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    return build_parser().parse_args(argv)
 
 
 def main(argv=None) -> None:

@@ -48,13 +48,17 @@ def errors(n_obstacles: int, delta_d: float, scenes: int, steps: int, warmup: in
     return np.array(from_obs), np.array(from_state)
 
 
-def parse_args(argv=None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--n-obstacles", default="8,30")
     parser.add_argument("--delta-d", default="1,2,4")
     parser.add_argument("--scenes", type=int, default=20)
     parser.add_argument("--steps", type=int, default=12)
-    return parser.parse_args(argv)
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    return build_parser().parse_args(argv)
 
 
 def main(argv=None) -> None:

@@ -1,109 +1,14 @@
-"""Render one episode of an agent to a GIF (or MP4 with the imageio-ffmpeg plugin installed).
+"""Render one episode of an agent to a GIF or MP4: ``pathplan-env render`` as a script, with the same flags (``--help``).
 
-    python scripts/render_episode.py --agent pso-predictive --scenario random --delta-d 0.5 --seed 3 --out docs/img/pso-predictive.gif
-    python scripts/render_episode.py --agent pf_agent:PotentialField --scenario scenes/corridor.yaml --delta-d own
-
-``--agent`` and ``--scenario`` take what ``scripts/evaluate.py`` does (``agents.evaluation.entrants``).
+The command lives in ``agents/cli/render.py`` (its docstring is this command's help); this file keeps
+``python scripts/render_episode.py ...`` working as every page of the documentation writes it.
 """
 
-from __future__ import annotations
-
-import argparse
-import json
-import os
 import sys
-from pathlib import Path
 
-os.environ.setdefault("SDL_VIDEODRIVER", "dummy")  # off-screen: no display needed
+from agents.cli.render import build_parser, main, parse_args, save_gif
 
-import gymnasium as gym
-import imageio.v3 as iio
-import numpy as np
-from PIL import Image
-
-import agents
-import pathplan_env  # noqa: F401
-from agents.evaluation import resolve_agents, resolve_scenarios
-from agents.evaluation.episodes import episode_policy
-from agents.evaluation.records import OWN_SPEEDS, delta_text
-
-
-def save_gif(frames: list[np.ndarray], out: Path, fps: int) -> None:
-    """GIF with an exact palette: the renderer draws a few flat colours, and per-frame quantisation
-    (imageio's default) would drop small marks such as the goal and the waypoint. Colours are
-    packed into one integer per pixel, so finding them is one sort of integers (np.unique on RGB
-    rows took 37 s for 27 frames)."""
-    stack = np.stack(frames).astype(np.uint32)
-    codes = (stack[..., 0] << 16) | (stack[..., 1] << 8) | stack[..., 2]
-    colours, index = np.unique(codes.ravel(), return_inverse=True)
-    if len(colours) > 256:
-        iio.imwrite(out, frames, duration=1000 / fps, loop=0)
-        return
-    palette = np.stack([colours >> 16, (colours >> 8) & 255, colours & 255], axis=1).astype(np.uint8).ravel().tolist()
-    images = []
-    for idx in index.reshape(codes.shape):
-        image = Image.frombytes("P", (idx.shape[1], idx.shape[0]), idx.astype(np.uint8).tobytes())
-        image.putpalette(palette)
-        images.append(image)
-    images[0].save(out, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)
-
-
-def _delta(text: str) -> float | None:
-    return None if text.strip().lower() == OWN_SPEEDS else float(text)
-
-
-def parse_args(argv=None) -> argparse.Namespace:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--agent", default="pso-predictive",
-                        help=f"one of {agents.available()}, name@model_path, module:attribute or path/to/file.py:attribute")
-    parser.add_argument("--scenario", default="random", help="a preset or a .json/.yaml/.yml scenario file")
-    parser.add_argument("--delta-d", type=_delta, default=0.5, help="Δd, or 'own' for the scenario's own obstacle speeds")
-    parser.add_argument("--n-obstacles", type=int, help="obstacles of the random (default 8) and CrowdNav (default 5) presets")
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--observation", default="state", help="the observation type: the frames show what a sensor sees")
-    parser.add_argument("--observation-params", type=json.loads, default=None, help="JSON: the observation's parameters")
-    parser.add_argument("--robot", default="holonomic", help="the robot model (holonomic, unicycle)")
-    parser.add_argument("--fps", type=int, default=10)
-    parser.add_argument("--out", default="results/episode.gif")
-    return parser.parse_args(argv)
-
-
-def main(argv=None) -> None:
-    args = parse_args(argv)
-    spec = resolve_agents([args.agent], argument="--agent")[0]
-    scenario = resolve_scenarios([args.scenario], argument="--scenario")[0]
-    args.agent, args.scenario, delta = spec.label, scenario.label, delta_text(args.delta_d)  # labels in captions
-
-    env = gym.make("DynamicObstacle-v0", scenario=scenario.scenario, delta_d=args.delta_d, n_obstacles=args.n_obstacles, render_mode="rgb_array",
-                   observation=args.observation, observation_params=args.observation_params, robot=args.robot)  # fmt: skip
-    obs, info = env.reset(seed=args.seed)
-    agent, act = episode_policy(spec, env, args.seed)  # as the harness plays it: the rendered episode is the scored one
-    view = env.unwrapped  # the renderer draws the agent's planned path and a caption when they are set
-    view.caption = f"{args.agent}, {args.scenario}, Δd = {delta}, seed {args.seed}: step 0"
-    frames = [env.render()]
-    step = 0
-    while True:
-        action = act(obs)
-        view.planned_path = getattr(agent, "last_plan", None)  # an agent of one's own need not have one
-        obs, _, terminated, truncated, info = env.step(action)
-        step += 1
-        outcome = " (goal)" if info["is_success"] else " (collision)" if info["collision"] else ""
-        view.caption = f"{args.agent}, {args.scenario}, Δd = {delta}, seed {args.seed}: step {step}{outcome}"
-        frames.append(env.render())
-        if terminated or truncated:
-            break
-    frames += [frames[-1]] * args.fps  # hold the last frame for a second
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    frames = frames[:: max(1, len(frames) // 150)]
-    if out.suffix.lower() == ".gif":
-        save_gif(frames, out, args.fps)
-    else:
-        iio.imwrite(out, frames, fps=args.fps)
-    outcome = "success" if info["is_success"] else "collision" if info["collision"] else "timeout"
-    print(f"{args.agent} on {args.scenario} (Δd={delta}, seed {args.seed}): {outcome}, "
-          f"{info['path_length']:.2f} m in {info['time']:.1f} s -> {out}")  # fmt: skip
-
+__all__ = ["build_parser", "main", "parse_args", "save_gif"]
 
 if __name__ == "__main__":
     try:

@@ -127,7 +127,7 @@ def plot_fig5(histories, out: Path) -> Path:
     return path
 
 
-def parse_args(argv=None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--runs", type=int, default=30, help="independent plans per case and planner (Table 1, Fig. 5)")
     parser.add_argument("--episodes", type=int, default=20, help="episodes per case and Δd (Table 2)")
@@ -139,6 +139,11 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--resume", action="store_true", help="continue Table 2's runs recorded under --out")
     parser.add_argument("--backend", choices=("process", "ray"), default="process", help="Table 2's executor (see scripts/evaluate.py)")
     parser.add_argument("--address", help="with --backend ray: a running cluster's address")
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    parser = build_parser()
     args = parser.parse_args(argv)
     for flag in ("runs", "episodes", "margin_episodes", "workers"):
         if getattr(args, flag) < 1:

@@ -43,12 +43,16 @@ def soak(steps: int, n_obstacles: int, delta_d: float, report=print) -> tuple[fl
     return (resident_mib() - baseline) if baseline is not None else 0.0, resets
 
 
-def parse_args(argv=None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--steps", type=int, default=1_000_000)
     parser.add_argument("--n-obstacles", type=int, default=8)
     parser.add_argument("--delta-d", type=float, default=1.0)
-    return parser.parse_args(argv)
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    return build_parser().parse_args(argv)
 
 
 def main(argv=None) -> None:

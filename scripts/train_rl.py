@@ -44,7 +44,7 @@ import sys
 from agents.rl.training import Args, field_docs, train
 
 
-def parse_args(argv=None) -> Args:
+def build_parser() -> argparse.ArgumentParser:
     """Flags from the dataclass's fields (``--total-timesteps``, ``--no-progress``, ...), with their docs."""
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     docs = field_docs(Args)
@@ -55,6 +55,11 @@ def parse_args(argv=None) -> Args:
             parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=f.default, help=text)
         else:
             parser.add_argument(flag, type={"int": int, "float": float}.get(f.type, str), default=f.default, help=text)
+    return parser
+
+
+def parse_args(argv=None) -> Args:
+    parser = build_parser()
     try:
         return Args(**vars(parser.parse_args(argv)))
     except ValueError as error:  # a bad combination: one line, before any work

@@ -21,7 +21,7 @@ from agents.rl.sarl.training.config import SARLArgs  # noqa: E402  (after the th
 from agents.rl.sarl.training.train import train  # noqa: E402
 
 
-def parse_args(argv: list[str] | None = None) -> SARLArgs:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     for f in dataclasses.fields(SARLArgs):
         default = f.default if f.default is not dataclasses.MISSING else f.default_factory()
@@ -32,6 +32,11 @@ def parse_args(argv: list[str] | None = None) -> SARLArgs:
             parser.add_argument(flag, type=json.loads, default=default, help=f"JSON (default {json.dumps(default)})")
         else:
             parser.add_argument(flag, type=type(default), default=default, help=f"(default {default})")
+    return parser
+
+
+def parse_args(argv: list[str] | None = None) -> SARLArgs:
+    parser = build_parser()
     return SARLArgs(**vars(parser.parse_args(argv)))
 
 

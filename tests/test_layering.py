@@ -25,7 +25,7 @@ def test_the_contracts_are_the_ones_we_mean():
     tomllib = pytest.importorskip("tomllib", reason="Python 3.11+")
     config = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["importlinter"]
     kinds = sorted(contract["type"] for contract in config["contracts"])
-    assert kinds == ["acyclic_siblings", "forbidden", "forbidden", "forbidden", "layers", "layers", "layers"]
+    assert kinds == ["acyclic_siblings", "forbidden", "forbidden", "forbidden", "forbidden", "layers", "layers", "layers"]
     forbidden = {tuple(c["source_modules"]): c["forbidden_modules"] for c in config["contracts"] if c["type"] == "forbidden"}
     assert forbidden[("pathplan_env",)] == ["agents"]
     assert any("agents.planners" in sources and targets == ["agents.evaluation"] for sources, targets in forbidden.items())

@@ -15,7 +15,8 @@ ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text()
 #: the front door and the site's pages written from it (the results' own pages are run records, not instructions)
 MOVED = ("getting_started", "your_agent", "environment", "world", "robots", "observations", "scenarios", "maps", "crowds",
-         "rewards", "seeding", "agents", "results/index", "benchmarks", "reproducing", "architecture", "limitations")
+         "rewards", "seeding", "agents", "results/index", "benchmarks", "reproducing", "architecture", "limitations",
+         *(f"tutorials/{page.stem}" for page in sorted((ROOT / "docs" / "tutorials").glob("*.md"))))
 PAGES = {"README.md": README, **{f"docs/{name}.md": (ROOT / "docs" / f"{name}.md").read_text("utf-8") for name in MOVED}}
 SCRIPT_COMMAND = re.compile(r"(?:\.venv/bin/)?python (scripts/[\w]+\.py)((?: (?:'[^']*'|\"[^\"]*\"|[^\s`|']+))*)")
 
@@ -106,3 +107,28 @@ def test_benchmark_your_own_runs_as_written(tmp_path):
     rows = json.loads((tmp_path / "results" / "pf" / "summary.json").read_text())["results"]
     labels = {(row["agent"], row["scenario"]) for row in rows}
     assert ("pf_agent:PotentialField", "crossing") in labels and ("oracle-clairvoyant", "crossing") in labels
+
+
+CONSOLE_COMMAND = re.compile(r"pathplan-env (\w+)((?: (?:'[^']*'|\"[^\"]*\"|[^\s`|'.][^\s`|']*))*)")
+
+
+def console_commands() -> list[tuple[str, str]]:
+    found = {(m.group(1), m.group(2).strip()) for text in PAGES.values() for m in CONSOLE_COMMAND.finditer(text)}
+    return sorted(found)
+
+
+def test_the_pages_name_the_console_command():
+    assert {name for name, _ in console_commands()} >= {"evaluate", "render", "bench", "compare"}
+
+
+@pytest.mark.parametrize("name, arguments", console_commands())
+def test_console_command_parses(name, arguments):
+    """``pathplan-env NAME ...`` as the README and the site write it: the subcommand exists and its
+    parser (the same as the script's) takes the flags."""
+    from agents.cli import COMMANDS, command_parser
+
+    assert name in COMMANDS, name
+    argv = [a for a in shlex.split(arguments) if a != "..."]
+    if name == "compare" and len(argv) < 2:
+        argv = ["a", "b"]
+    command_parser(name).parse_args(argv)

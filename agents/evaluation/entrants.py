@@ -10,6 +10,7 @@ An agent may be given as
     ``env`` only if it takes an argument);
   * any object with SB3's ``predict(observation, state=None, episode_start=None, deterministic=False)``,
     e.g. a loaded SB3 model: every episode gets a fresh copy of it as given.
+
 A scenario may be a preset's name, a :class:`pathplan_env.Scenario`, its dict, or a JSON/YAML file of one.
 A preset may carry its own obstacle count as ``"random:n_obstacles=30"`` (the run's ``n_obstacles``
 is for the others): a suite then runs one preset at several densities, each a scenario of its own.

@@ -12,6 +12,14 @@ from agents.evaluation.records import LIMIT_AGENT, EpisodeResult
 
 
 def wilson_interval(successes: int, n: int) -> tuple[float, float]:
+    """The 95 % Wilson score interval of a success rate (scipy's ``binomtest``): the ``[low, high]``
+    every table prints beside a rate; ``(0, 1)`` for no episodes.
+
+    >>> [round(bound, 3) for bound in wilson_interval(9, 10)]
+    [0.596, 0.982]
+    >>> wilson_interval(0, 0)
+    (0.0, 1.0)
+    """
     if n == 0:
         return (0.0, 1.0)
     ci = binomtest(successes, n).proportion_ci(confidence_level=0.95, method="wilson")

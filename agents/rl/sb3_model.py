@@ -80,13 +80,40 @@ ENV_IDS = ("DynamicObstacleFlat-v0", "DynamicObstacle-v0")
 _CHECKPOINT = re.compile(r"(.*)_(\d+)_steps")  # SB3's CheckpointCallback: <prefix>_<steps>_steps.zip
 
 
+#: The largest ``data`` JSON read from a zip (SB3 writes a few kB; a bomb expands to gigabytes).
+MAX_DATA_BYTES = 16 * 2**20
+#: The largest a zip may expand to in all (SB3's policies of this task are a few MB).
+MAX_MODEL_BYTES = 1 * 2**30
+#: What SB3's ``save`` always writes: the JSON of the algorithm and the policy's weights.
+REQUIRED_ENTRIES = ("data", "policy.pth")
+
+
 def _saved_data(path: Path) -> dict:
-    """The ``data`` JSON of an SB3 zip (read as JSON: nothing is unpickled)."""
+    """The ``data`` JSON of an SB3 zip (read as JSON: nothing is unpickled), after checking from the
+    zip's directory, before anything is decompressed, that it holds SB3's entries and expands to a
+    bounded size."""
+    def refuse(reason: str) -> ValueError:
+        return ValueError(f"path: {path} is not a stable-baselines3 model (a zip holding {' and '.join(REQUIRED_ENTRIES)}): {reason}")
+
     try:
         with zipfile.ZipFile(path) as archive:
-            return json.loads(archive.read("data"))
-    except (zipfile.BadZipFile, KeyError, json.JSONDecodeError) as error:
-        raise ValueError(f"path: {path} is not a stable-baselines3 model (a zip holding a 'data' JSON): {error}") from None
+            entries = {info.filename: info for info in archive.infolist()}
+            missing = [name for name in REQUIRED_ENTRIES if name not in entries]
+            if missing:
+                raise refuse(f"no {' or '.join(missing)} in it")
+            if entries["data"].file_size > MAX_DATA_BYTES:
+                raise refuse(f"its 'data' expands to {entries['data'].file_size} bytes, over {MAX_DATA_BYTES}")
+            expanded = sum(info.file_size for info in entries.values())
+            if expanded > MAX_MODEL_BYTES:
+                raise refuse(f"it expands to {expanded} bytes, over {MAX_MODEL_BYTES}")
+            with archive.open("data") as entry:  # read at most the stated size: a lying header cannot make it more
+                text = entry.read(MAX_DATA_BYTES + 1)
+            data = json.loads(text)
+    except (zipfile.BadZipFile, json.JSONDecodeError, UnicodeDecodeError, OSError, EOFError) as error:
+        raise refuse(str(error)) from None
+    if not isinstance(data, dict):
+        raise refuse(f"its 'data' is a JSON {type(data).__name__}, not an object")
+    return data
 
 
 def detect_algorithm(path: str | Path) -> tuple[str, ...]:
@@ -97,7 +124,8 @@ def detect_algorithm(path: str | Path) -> tuple[str, ...]:
     for the algorithms sharing a policy (PPO's ``clip_range``, TRPO's ``cg_max_steps``; DDPG is TD3
     with ``policy_delay=1`` and ``target_noise_clip=0``)."""
     data = _saved_data(Path(path))
-    module = str(data.get("policy_class", {}).get("__module__", ""))
+    policy_class = data.get("policy_class")
+    module = str(policy_class.get("__module__", "")) if isinstance(policy_class, dict) else ""
     if module.startswith(_STATEFUL):
         raise ValueError(f"path: {path} holds a recurrent or maskable sb3-contrib policy ({module}), which this agent does not run")
     if module == "stable_baselines3.common.policies":  # ActorCriticPolicy: PPO, A2C or TRPO
@@ -204,8 +232,10 @@ def _same_shapes(model_space: spaces.Space, env_space: spaces.Space) -> bool:
     if isinstance(model_space, spaces.Dict) and isinstance(env_space, spaces.Dict):
         if not any(k in model_space.spaces for k in MAP_KEYS):  # a model trained without walls: zero-shot
             env_space = _without_map(env_space)
+        # shapes and dtypes, not bounds: the positions' bounds are the arena's, and a model may run
+        # zero-shot in another arena
         return model_space.spaces.keys() == env_space.spaces.keys() and all(
-            model_space[k].shape == env_space[k].shape for k in env_space.spaces
+            model_space[k].shape == env_space[k].shape and model_space[k].dtype == env_space[k].dtype for k in env_space.spaces
         )
     return False
 
@@ -257,6 +287,7 @@ class SB3Agent(Agent):
         if not isinstance(env_space, spaces.Dict):
             raise ValueError(f"env: the agent acts on DynamicObstacle-v0's Dict observations, got {env_space}")
         self.path = path
+        _saved_data(path)  # SB3's entries, of a bounded size, before torch unpickles anything
         #: the algorithm's class (``stable_baselines3.PPO``, ...)
         self.algorithm, algo_text = self._resolve_algorithm(path, algo)
         key = (path.resolve(), self.algorithm, path.stat().st_mtime)
@@ -288,7 +319,7 @@ class SB3Agent(Agent):
 
     def _check_action_space(self) -> None:
         space = self.model.action_space
-        if not (isinstance(space, spaces.Box) and space.shape == (2,)):
+        if not (isinstance(space, spaces.Box) and space.shape == (2,) and np.all(space.low == -1.0) and np.all(space.high == 1.0)):
             raise ValueError(f"path: the model at {self.path} acts in {space}; the env and its learning wrappers take Box(-1, 1, (2,))")
 
     def _read_observation_space(self, env_space: spaces.Dict) -> tuple[int | None, str]:
@@ -298,7 +329,9 @@ class SB3Agent(Agent):
             return None, "DynamicObstacle-v0's Dict, as they come"
         if isinstance(space, spaces.Box) and len(space.shape) == 1:
             k = (space.shape[0] - ROBOT_FEATURES) // PER_OBSTACLE
-            if k >= 1 and feature_size(k) == space.shape[0]:
+            # the bounds too: another task's model of the same width takes other features
+            ours = np.all(space.low == -FEATURE_LIMIT) and np.all(space.high == FEATURE_LIMIT)
+            if k >= 1 and feature_size(k) == space.shape[0] and ours:
                 return k, f"DynamicObstacleFlat-v0's features (k={k}), actions relative waypoints"
         hint = ""
         if isinstance(space, spaces.Dict) and space.spaces.keys() == env_space.spaces.keys():

@@ -1,5 +1,7 @@
 """Maps in the ROS map_server format: a YAML beside a PGM or PNG, as polygons and free space.
 
+A scene on a map, in three lines::
+
     occupancy = load_ros_map("my_slam_map.yaml")         # or load_shipped_map("maze")
     kwargs = scenario_kwargs(occupancy, np.random.default_rng(seed), n_obstacles=8, obstacle_radius=0.3)
     Scenario(**kwargs, name="maze")                      # once Scenario has ``polygons``

@@ -117,6 +117,15 @@ class Scenario:
         default robot radius); 0 makes them lines.
     :param polygons: closed static polygons, convex or not, each a sequence of at least 3 vertices
         (a repeated closing vertex is dropped); simple (not self-intersecting), inside the arena.
+
+    >>> from pathplan_env import Obstacle, Scenario
+    >>> scene = Scenario(bounds=(0, 0, 10, 10), start=(1, 5), goal=(9, 5), obstacles=(Obstacle((5, 5), 0.5, (0, 1)),))
+    >>> scene.name, scene.robot_radius, len(scene.obstacles)
+    ('custom', 0.2, 1)
+    >>> Scenario(bounds=(0, 0, 10, 10), start=(1, 5), goal=(19, 5))
+    Traceback (most recent call last):
+    ...
+    ValueError: Scenario.goal ...
     """
 
     bounds: tuple[float, float, float, float]

@@ -61,3 +61,20 @@ def test_every_internal_link_of_the_site_resolves(site):
                 if unquote(anchor) not in ids[path]:
                     broken.append((page.relative_to(site).as_posix(), f"{target}#{anchor}"))
     assert not broken, broken[:20]
+
+
+def test_the_generated_pages_follow_the_code(site):
+    """Written at every build: a family's page from the registry, every script's flags from its parser,
+    a page a public module from its docstrings."""
+    import agents
+    from agents.cli import COMMANDS
+
+    for family in agents.families():
+        page = (site / "families" / f"{family}.html").read_text("utf-8")
+        assert all(preset in page for preset, p in agents.presets().items() if p.family == family), family
+    reference = re.sub(r"<[^>]+>", "", (site / "reference" / "scripts.html").read_text("utf-8"))
+    for script in (ROOT / "scripts").glob("*.py"):
+        assert f"python scripts/{script.name}" in reference, script.name
+    assert all(f"pathplan-env {name}" in reference for name in COMMANDS) and "--delta-d" in reference
+    for module in ("pathplan_env.env", "agents.registry", "agents.evaluation.harness"):
+        assert (site / "api" / "generated" / f"{module}.html").exists(), module

@@ -5,6 +5,7 @@ import copy
 import math
 import os
 import pickle
+import warnings
 
 import gymnasium as gym
 import numpy as np
@@ -18,6 +19,7 @@ def same_step(a, b) -> bool:
     return all(np.array_equal(a[0][k], b[0][k]) for k in a[0]) and a[1:4] == b[1:4] and a[4]["min_clearance"] == b[4]["min_clearance"]
 
 
+@pytest.mark.filterwarnings("ignore:.*after the episode terminated")  # it steps on after contact on purpose
 @pytest.mark.parametrize("clone", [lambda e: pickle.loads(pickle.dumps(e)), copy.deepcopy])
 def test_copies_made_mid_contact_continue_bit_for_bit(clone):
     env = gym.make("DynamicObstacle-v0", n_obstacles=50, delta_d=1.0)
@@ -170,3 +172,39 @@ def test_a_script_given_bad_input_says_so_in_one_line(tmp_path, command, named):
                          cwd=tmp_path, capture_output=True, text=True, timeout=300)  # fmt: skip
     assert out.returncode != 0 and "Traceback" not in out.stderr, out.stderr[-1500:]
     assert named in out.stderr.strip().splitlines()[-1]
+
+
+def test_a_long_time_limit_ends_on_its_own_step():
+    """The limit counts whole steps: a running sum of dt = 0.3 s falls short of 54,668 steps' 16,400.4 s
+    by more than a relative 1e-12 (the tolerance the sum was once compared with), a step late."""
+    dt, limit, steps = 0.3, 16400.4, 54668
+    assert abs(steps * dt - limit) < 1e-9 and sum([dt] * steps) < limit * (1.0 - 1e-12)
+    scene = Scenario((0, 0, 10, 10), (1, 1), (9, 9), (), dt=dt, time_limit=limit)
+    env = gym.make("DynamicObstacle-v0", scenario=scene, max_episode_steps=None).unwrapped
+    obs, _ = env.reset(seed=0)
+    still = env.waypoint_to_action(obs["robot_position"])
+    for step in range(1, steps + 2):  # noqa: B007 (read after the loop)
+        _, _, terminated, truncated, _ = env.step(still)
+        if terminated or truncated:
+            break
+    assert (step, truncated, terminated) == (steps, True, False)
+
+
+def test_a_step_after_the_end_warns_once_an_episode():
+    env = gym.make("DynamicObstacle-v0", scenario="paper-case-1").unwrapped
+    obs, _ = env.reset(seed=0)
+    toward_goal = env.waypoint_to_action(env.scenario.goal)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        for _ in range(200):
+            obs, _, terminated, truncated, _ = env.step(toward_goal)
+            if terminated or truncated:
+                break
+        assert terminated and not caught  # nothing said while the episode ran
+        env.step(toward_goal)
+        env.step(toward_goal)
+        assert [str(w.message) for w in caught if "after the episode terminated" in str(w.message)] != []
+        assert len(caught) == 1  # once, not every step
+        env.reset(seed=1)
+        env.step(toward_goal)
+        assert len(caught) == 1  # a new episode starts silent

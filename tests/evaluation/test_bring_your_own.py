@@ -207,7 +207,7 @@ def test_what_cannot_reach_the_workers_is_named_before_any_work(tmp_path):
 
 @pytest.mark.parametrize("args, named", [
     (["--agents", "no_such_module_here:Agent"], "--agents: 'no_such_module_here:Agent': no module named"),
-    (["--scenarios", "no/such/scene.yaml"], "--scenarios: scenario file no/such/scene.yaml: not a regular file"),
+    (["--scenarios", "no/such/scene.yaml"], "--scenarios: scenario file no/such/scene.yaml: does not exist"),
     (["--scenarios", "rand"], "--scenarios: unknown 'rand'"),
     (["--delta-d", "0.5,fast"], "--delta-d: expected comma-separated numbers or 'own', got 'fast'"),
 ])  # fmt: skip

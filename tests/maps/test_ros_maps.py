@@ -1,6 +1,7 @@
 """ROS map_server maps (pathplan_env.maps.ros_maps): the occupancy rule, row order, safety, polygons, free space."""
 
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -292,3 +293,66 @@ def test_truncated_or_corrupted_images_are_value_errors_naming_the_image(tmp_pat
             assert "'image'" in str(error) and str(path) in str(error)
             outcomes["refused"] += 1
     assert outcomes["refused"] > 100 and outcomes["loaded"] > 10, outcomes  # both paths were exercised
+
+
+# --- map files written to hurt: the same bounds as scene files (pathplan_env.validation) -----------
+
+# nine levels of nine aliases: 9**9 (387 million) items from about 400 bytes
+ALIAS_BOMB = "a: &a [1, 1, 1, 1, 1, 1, 1, 1, 1]\n" + "".join(
+    f"{a}: &{a} [{', '.join([f'*{b}'] * 9)}]\n" for b, a in zip("abcdefgh", "bcdefghi")
+)
+
+
+@pytest.mark.parametrize("field", ["image", "resolution", "origin", "extra"])
+def test_a_yaml_alias_bomb_in_a_map_file_is_refused_quickly(tmp_path, field):
+    write_map(tmp_path, np.full((2, 2), 254))
+    fields = {"image": "m.pgm", **FIELDS}
+    if field != "extra":
+        fields.pop(field)
+    text = ALIAS_BOMB + yaml.safe_dump(fields) + (f"{field}: *i\n" if field != "extra" else "")
+    path = tmp_path / "bomb.yaml"
+    path.write_text(text)
+    assert len(text.encode()) < 1000
+    started = time.perf_counter()
+    with pytest.raises(ValueError, match="bomb.yaml.*aliases expand") as error:
+        load_ros_map(path)
+    assert time.perf_counter() - started < 2.0
+    assert len(str(error.value)) < 1000  # the expanded value is never formatted into the message
+
+
+def test_duplicate_keys_in_a_map_file_are_refused_naming_the_key(tmp_path):
+    write_map(tmp_path, np.full((2, 2), 254))
+    path = tmp_path / "twice.yaml"
+    path.write_text(yaml.safe_dump({"image": "m.pgm", **FIELDS}) + "resolution: 0.25\n")
+    with pytest.raises(ValueError, match="twice.yaml.*duplicate key 'resolution'"):
+        load_ros_map(path)
+
+
+def test_a_map_file_that_is_not_utf8_is_refused_naming_the_file(tmp_path):
+    write_map(tmp_path, np.full((2, 2), 254))
+    path = tmp_path / "latin1.yaml"
+    path.write_bytes(yaml.safe_dump({"image": "m.pgm", **FIELDS}).encode() + b"# caf\xe9\n")
+    with pytest.raises(ValueError, match="latin1.yaml: not UTF-8"):
+        load_ros_map(path)
+
+
+@pytest.mark.parametrize("field, value", [
+    ("resolution", 1e308),             # the map's extent overflows to infinity
+    ("origin", [1e308, 0.0, 0.0]),     # x + width rounds back to x: a map of zero width
+    ("origin", [0.0, -1e300, 0.0]),
+])  # fmt: skip
+def test_extents_that_overflow_or_vanish_are_refused_naming_the_field(tmp_path, field, value):
+    path = write_map(tmp_path, np.full((4, 4), 254), **{field: value})
+    with pytest.raises(ValueError) as error:
+        load_ros_map(path)
+    assert str(path) in str(error.value) and repr(field) in str(error.value)
+
+
+@pytest.mark.parametrize("name", SHIPPED_MAPS)
+def test_free_space_sampling_with_no_clearance_stays_out_of_walls(name):
+    occupancy = load_shipped_map(name)
+    points = occupancy.sample_free(np.random.default_rng(3), 200, 0.0)
+    region = union(occupancy)
+    assert not np.any(shapely.contains(region, shapely.points(points)))
+    cells = np.floor((points - occupancy.origin) / occupancy.resolution).astype(int)  # row 0 is the lowest y
+    assert not np.any(occupancy.occupied[cells[:, 1], cells[:, 0]])

@@ -73,6 +73,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         feasibility offset for every obstacle touched within the horizon) or ``"first-contact"`` (how
         early the first predicted contact comes first, then Eq. 4: the plan that stays free longest wins
         where every plan touches something).
+
     Every other parameter is :class:`~agents.planners.metaheuristic.MetaheuristicAgent`'s; here
     ``constraint`` defaults to ``"deb"`` and ``stall`` to 5 (with ``violation="first-contact"``: at
     30 obstacles and Δd 2 on validation episodes ABC went from 0.49 to 0.91 × the limit, PSO from

@@ -47,8 +47,10 @@ class UnicycleMetaheuristicAgent(MetaheuristicAgent):
     :param prediction: the obstacles' prediction (``"physics"`` or ``"cone"``).
     :param turn_weight: weight of the time still needed at the horizon to face the goal.
     :param lookahead: how far along the cost-to-go's route the pursuit row aims (m).
+
     Every other parameter is :class:`~agents.planners.metaheuristic.MetaheuristicAgent`'s (``population``,
     ``iterations``, ``penalty_weight``, the PSO coefficients, ``abc_limit``, ``warm_start``).
+
     :raises ValueError: naming the parameter; for an env whose robot is no unicycle.
     """
 

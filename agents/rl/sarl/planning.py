@@ -14,7 +14,7 @@ arrives one step later outscore the arrival).
 What it buys: a move whose next state looks safe but leaves no safe move after it (a bouncing obstacle
 that turns into the robot's way) is seen one step earlier. On 500 validation episodes of random scenes
 at Δd 1, the shipped ``sarl-random`` collides in 39 with the one-step rule and 26 with ``width=3``
-(``docs/results/sarl.md``, session 17; records in ``docs/results/sarl/validation_s17/random``).
+(``docs/results/sarl.md``, commit fc33d36; records in ``docs/results/sarl/validation_planning/random``).
 """
 
 from __future__ import annotations

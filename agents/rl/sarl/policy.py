@@ -48,7 +48,7 @@ class SARLAgent(Agent):
         circle model, trained with the velocity: 0.99 at 11.19 s against 11.62 s, ``docs/results/sarl/time_gap.md``).
     :param planning_width: ``w`` > 0: RGL's two-step planning over the ``w`` best moves (:mod:`agents.rl.sarl.planning`;
         about ``1 + w`` forwards a step); 0: CrowdNav's one-step lookahead, as the models were trained. The default 3 was
-        chosen on validation episodes (``docs/results/sarl.md``, session 17); the value is the same network either way.
+        chosen on validation episodes (``docs/results/sarl.md``, commit fc33d36); the value is the same network either way.
     :param standing_search: when every human stands (slower than 5 % of the robot's speed, and at the step before), solve the still scene by
         value iteration on a grid with the learned value as a stopping payoff (:mod:`agents.rl.sarl.standing`), so
         that the robot does not freeze on a local maximum of its value; False: the lookahead alone (as with LM-SARL's

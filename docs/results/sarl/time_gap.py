@@ -1,6 +1,6 @@
 """Why SARL's circle-crossing navigation time is longer than CrowdNav's: a diagnostic on validation seeds.
 
-    PYTHONPATH=. python docs/results/sarl/time_gap.py --episodes 200                 # the model studied (shipped until session 14)
+    PYTHONPATH=. python docs/results/sarl/time_gap.py --episodes 200                 # the model studied (shipped until commit a936ac7)
     PYTHONPATH=. python docs/results/sarl/time_gap.py --episodes 200 --model agents/models/sarl_crowdnav.npz   # today's
 
 For each episode it plays the greedy SARL agent twice: ``predicted`` (the agent as shipped: the humans'
@@ -29,8 +29,8 @@ from agents.rl.sarl.kernel import lookahead_kernel
 from agents.rl.sarl.lookahead import N_SPEEDS, predict_humans, step_model
 from pathplan_env.scenarios.splits import validation_seeds
 
-#: the model studied here: sarl_crowdnav as shipped until session 14, trained with the robot's velocity (its sidecar beside it)
-STUDIED = Path(__file__).parent / "runs_s12" / "sarl_circle_best.npz"
+#: the model studied here: sarl_crowdnav as shipped until commit a936ac7, trained with the robot's velocity (its sidecar beside it)
+STUDIED = Path(__file__).parent / "runs_with_robot_velocity" / "sarl_circle_best.npz"
 #: a step is "free" when every human's gap to the robot exceeds this (m): nothing near enough to matter within 1 s
 FREE_GAP = 2.0
 

@@ -14,8 +14,8 @@ from pathlib import Path
 
 HERE = Path(__file__).parent
 RUNS = {  # label -> (with the velocity, without it)
-    "circle": (HERE / "runs_s12" / "sarl_circle_best.json", HERE / "runs_s14" / "sarl_circle_novel_best.json"),
-    "circle + square": (HERE / "runs_s12" / "sarl_both_best.json", HERE / "runs_s14" / "sarl_both_novel_best.json"),
+    "circle": (HERE / "runs_with_robot_velocity" / "sarl_circle_best.json", HERE / "runs_without_robot_velocity" / "sarl_circle_novel_best.json"),
+    "circle + square": (HERE / "runs_with_robot_velocity" / "sarl_both_best.json", HERE / "runs_without_robot_velocity" / "sarl_both_novel_best.json"),
 }
 
 

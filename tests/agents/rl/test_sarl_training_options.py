@@ -79,7 +79,7 @@ def test_goal_velocity_option_scores_every_move_with_the_same_velocity_features(
     obs, _ = env.reset(seed=5)
     obs = env.step(env.unwrapped.arena.waypoint_to_action(obs["robot_position"] + np.array([0.1, 0.2])))[0]
     # the first circle model, trained with the robot's velocity in the value (today's never sees it: nothing to substitute)
-    first = MODELS_DIR.parents[1] / "docs" / "results" / "sarl" / "runs_s12" / "sarl_circle_best.npz"
+    first = MODELS_DIR.parents[1] / "docs" / "results" / "sarl" / "runs_with_robot_velocity" / "sarl_circle_best.npz"
     agent = agents.make("sarl", env, velocity="goal", path=first)
     seen = []
 

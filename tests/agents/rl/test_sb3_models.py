@@ -4,6 +4,7 @@ the user's own loop, episode by episode; the algorithm and the observations are 
 
 import csv
 import json
+import zipfile
 from pathlib import Path
 
 import gymnasium as gym
@@ -205,6 +206,58 @@ def test_a_model_of_another_task_or_no_model_is_refused_naming_the_path(tmp_path
     (tmp_path / "notes.zip").write_text("not a zip")
     with pytest.raises(ValueError, match="not a stable-baselines3 model"):
         agents.make("sb3", env, path=tmp_path / "notes.zip")
+
+
+class _SameWidthOtherTask(_OtherTask):
+    """Another task's 65 unbounded inputs: the width of DynamicObstacleFlat-v0's features for k = 8."""
+
+    observation_space = gym.spaces.Box(-np.inf, np.inf, (65,), np.float32)
+
+
+def test_a_model_of_another_task_with_our_width_is_refused_by_its_bounds(tmp_path):
+    assert gym.make("DynamicObstacleFlat-v0").observation_space.shape == (65,)
+    PPO("MlpPolicy", _SameWidthOtherTask(), policy_kwargs=dict(SMALL), n_steps=8, batch_size=8, device="cpu").save(tmp_path / "other")
+    with pytest.raises(ValueError, match=r"path: the model at .*other.zip takes observations Box\(-inf, inf, \(65,\)"):
+        agents.make("sb3", gym.make("DynamicObstacle-v0"), path=tmp_path / "other.zip")
+
+
+def _zip(path: Path, entries: dict[str, bytes], compression=zipfile.ZIP_STORED) -> Path:
+    with zipfile.ZipFile(path, "w", compression=compression) as archive:
+        for name, payload in entries.items():
+            archive.writestr(name, payload)
+    return path
+
+
+NOT_SB3 = "path: .*odd.zip is not a stable-baselines3 model .*: "
+
+
+@pytest.mark.parametrize("entries, message", [
+    ({"data": b"[1, 2, 3]", "policy.pth": b""}, NOT_SB3 + "its 'data' is a JSON list"),
+    ({"data": b'{"policy_class": {}}'}, NOT_SB3 + "no policy.pth in it"),
+    ({"policy.pth": b""}, NOT_SB3 + "no data in it"),
+    ({"data": b'{"a": 1', "policy.pth": b""}, NOT_SB3 + "Expecting"),
+    ({"data": b"\xff\xfe", "policy.pth": b""}, NOT_SB3 + "Expecting value"),
+    ({"data": b'{"policy_class": [1]}', "policy.pth": b""}, "path: cannot tell the algorithm of .*odd.zip"),
+])  # fmt: skip
+def test_a_zip_that_is_not_sb3s_is_a_value_error_naming_the_file(tmp_path, entries, message):
+    path = _zip(tmp_path / "odd.zip", entries)
+    with pytest.raises(ValueError, match=message):
+        agents.make("sb3", gym.make("DynamicObstacle-v0"), path=path)
+
+
+def test_a_zip_bomb_is_refused_from_the_zips_directory_before_decompressing(tmp_path, monkeypatch):
+    bomb = _zip(tmp_path / "bomb.zip", {"data": b" " * (sb3_model.MAX_DATA_BYTES + 1), "policy.pth": b""}, zipfile.ZIP_DEFLATED)
+    assert bomb.stat().st_size < 100_000
+    monkeypatch.setattr(zipfile.ZipExtFile, "read", lambda *a, **k: pytest.fail("decompressed"))
+    with pytest.raises(ValueError, match=f"path: .*bomb.zip.*its 'data' expands to {sb3_model.MAX_DATA_BYTES + 1} bytes"):
+        agents.make("sb3", gym.make("DynamicObstacle-v0"), path=bomb)
+    with pytest.raises(ValueError, match="bomb.zip.*over"):  # the algorithm given: the zip is still checked first
+        agents.make("sb3", gym.make("DynamicObstacle-v0"), path=bomb, algo=PPO)
+
+
+def test_statistics_beside_a_model_can_be_refused(tmp_path, flat_model, capfd):
+    agent = agents.make("sb3", gym.make("DynamicObstacle-v0"), path=flat_model, vecnormalize=False)
+    assert agent.statistics is None and "VecNormalize: none" in agent.description
 
 
 def test_statistics_are_looked_for_only_beside_the_model(tmp_path, flat_model):

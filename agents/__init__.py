@@ -16,8 +16,8 @@ from agents.base import Agent, rollout
 from agents.families import register_families
 from agents.oracles import ClairvoyantOracle, StaticOracleAgent
 from agents.planners import MetaheuristicAgent, SpacetimeAStarAgent, SpacetimeMetaheuristicAgent
-from agents.planners.unicycle_astar import UnicycleAStarAgent
-from agents.planners.unicycle_metaheuristic import UnicycleMetaheuristicAgent
+from agents.planners.unicycle.astar_agent import UnicycleAStarAgent
+from agents.planners.unicycle.metaheuristic_agent import UnicycleMetaheuristicAgent
 from agents.presets import register_presets
 from agents.reactive import ORCAAgent, StraightAgent, VelocityObstacleAgent
 from agents.reactive.dwa import DWAAgent

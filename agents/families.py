@@ -12,17 +12,13 @@ from types import MappingProxyType
 from typing import Any
 
 from agents.oracles import ClairvoyantOracle, StaticOracleAgent
-from agents.planners import (
-    MetaheuristicAgent,
-    SpacetimeAStarAgent,
-    SpacetimeMetaheuristicAgent,
-    spacetime,
-    spacetime_metaheuristic,
-    unicycle_astar,
-    unicycle_metaheuristic,
-)
-from agents.planners.unicycle_astar import UnicycleAStarAgent
-from agents.planners.unicycle_metaheuristic import UnicycleMetaheuristicAgent
+from agents.planners import MetaheuristicAgent, SpacetimeAStarAgent, SpacetimeMetaheuristicAgent
+from agents.planners.spacetime import astar_agent as spacetime_astar
+from agents.planners.spacetime import metaheuristic_agent as spacetime_metaheuristic
+from agents.planners.unicycle import astar_agent as unicycle_astar
+from agents.planners.unicycle import metaheuristic_agent as unicycle_metaheuristic
+from agents.planners.unicycle.astar_agent import UnicycleAStarAgent
+from agents.planners.unicycle.metaheuristic_agent import UnicycleMetaheuristicAgent
 from agents.reactive import ORCAAgent, StraightAgent, VelocityObstacleAgent
 from agents.reactive.dwa import DWAAgent
 from agents.reactive.dwa_lidar import LidarDWAAgent
@@ -108,7 +104,7 @@ def astar(env, seed: int | None = None, *, plan: str = "spacetime", tuning: str 
     if _choice("plan", plan, PLANS) == "waypoint":
         raise ValueError("plan='waypoint': A* plans a path (plan='spacetime') or the unicycle's controls (plan='controls')")
     if plan == "spacetime":
-        return SpacetimeAStarAgent(env, seed, **_crowd(tuning, settings, spacetime.CROWD_SETTINGS))
+        return SpacetimeAStarAgent(env, seed, **_crowd(tuning, settings, spacetime_astar.CROWD_SETTINGS))
     return UnicycleAStarAgent(env, seed, **_crowd(tuning, settings, unicycle_astar.CROWD_SETTINGS))
 
 

@@ -3,14 +3,17 @@ markers (``python scripts/agent_tables.py``; a test checks the committed ones ar
 
 from __future__ import annotations
 
-from agents.planners import spacetime, spacetime_metaheuristic, unicycle_astar, unicycle_metaheuristic
+from agents.planners.spacetime import astar_agent as spacetime_astar
+from agents.planners.spacetime import metaheuristic_agent as spacetime_metaheuristic
+from agents.planners.unicycle import astar_agent as unicycle_astar
+from agents.planners.unicycle import metaheuristic_agent as unicycle_metaheuristic
 from agents.registry import families, presets, robots_of
 
 #: What ``tuning="crowd"`` sets, by family and plan: the constants the factories read.
 CROWD_TUNINGS = (
     ("pso, abc", "spacetime", spacetime_metaheuristic.CROWD_SETTINGS),
     ("pso, abc", "controls", unicycle_metaheuristic.CROWD_SETTINGS),
-    ("astar", "spacetime", spacetime.CROWD_SETTINGS),
+    ("astar", "spacetime", spacetime_astar.CROWD_SETTINGS),
     ("astar", "controls", unicycle_astar.CROWD_SETTINGS),
 )
 

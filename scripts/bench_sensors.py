@@ -67,12 +67,12 @@ class OurScan:
         self.start = -math.pi if start is None else start
         angles = self.start + (np.arange(beams) + 0.5) * self.step
         self.directions = beam_directions(0.0, 2 * math.pi, beams) if step is None else np.column_stack([np.cos(angles), np.sin(angles)])
-        self.scene, self.bounds = scene, np.array([0.0, 0.0, SIZE, SIZE])
+        self.scene, self.bounds = scene, (0.0, 0.0, float(SIZE), float(SIZE))
         self.ranges, self.hits = np.empty(beams), np.empty(beams, np.int64)
 
     def __call__(self) -> np.ndarray:
         centres, radii, segments = self.scene
-        scan_beams(*ROBOT, self.start, self.step, RANGE, self.directions, centres, radii, segments, self.bounds, self.ranges, self.hits)
+        scan_beams((*ROBOT, self.start, self.step, RANGE, self.directions), (centres, radii, segments, *self.bounds), self.ranges, self.hits)
         return self.ranges
 
 

@@ -4,7 +4,7 @@ against each robot's own clairvoyant limit, and the unicycle env's speed beside 
 Random scenes (8 obstacles), validation seeds (``pathplan_env.scenarios.splits.validation_seeds``, never the
 test split), the same episodes for every agent; ``tracked-<planner>`` is the planner driven by pure
 pursuit (``agents.reactive.tracker``), ``dwa`` the dynamic window approach (``agents.reactive.dwa``),
-``astar-unicycle`` the space-time A* over the unicycle's own moves (``agents.planners.unicycle_search``).
+``astar-unicycle`` the space-time A* over the unicycle's own moves (``agents.planners.unicycle.astar``).
 
 ``--limit`` runs the evaluation harness instead (``agents.evaluation.evaluate``, ``--split test`` by
 default): each robot's agents and its clairvoyant limit (``oracle-clairvoyant``, which searches the
@@ -92,7 +92,7 @@ def limit_table(episodes: int, deltas: list[float], split: str, workers: int, ou
                 resume: bool = False) -> list[dict]:  # fmt: skip
     """Run the harness per robot and scenario (outputs under ``out/<robot>-<scenario>``); print one row per
     (agent, scenario, Δd) with success ÷ limit, then the scene table (:func:`scene_table`)."""
-    from agents.evaluation import evaluate
+    from agents.evaluation import EvaluationSettings, evaluate
 
     rows = []
     chosen = [entry for entry in LIMIT_SCENARIOS if entry[0] in (scenarios or DEFAULT_SCENARIOS)]
@@ -101,8 +101,8 @@ def limit_table(episodes: int, deltas: list[float], split: str, workers: int, ou
         for robot in robots or list(LIMIT_AGENTS):
             names = [n for n in LIMIT_AGENTS[robot][kind] if not only or n in only]
             options = {"robot": robot} if robot != "holonomic" else None
-            rows += [r | {"robot": robot} for r in evaluate(names, [scenario], cells, episodes, f"{out}/{robot}-{scenario}", split=split,
-                                                            workers=workers, env_options=options, plots=False, resume=resume)]  # fmt: skip
+            settings = EvaluationSettings(split=split, workers=workers, env_options=options, plots=False, resume=resume)
+            rows += [r | {"robot": robot} for r in evaluate(names, [scenario], cells, episodes, f"{out}/{robot}-{scenario}", settings)]
     print_tables(rows, f"{episodes} {split} episodes a cell")
     return rows
 

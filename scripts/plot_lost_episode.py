@@ -21,7 +21,7 @@ import numpy as np
 
 import agents
 from agents.planners.reachable_set import provably_lost
-from agents.planners.spacetime_search import SpacetimeProblem
+from agents.planners.spacetime.astar import SpacetimeProblem
 from pathplan_env.scenarios.splits import heldout_seeds
 from pathplan_env.world.simulation import World
 

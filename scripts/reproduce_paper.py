@@ -74,13 +74,14 @@ def table_2(episodes: int, names: list[str], out: Path, workers: int, margin: fl
             backend: str = "process", address: str | None = None) -> list[dict]:
     """Verdicts per Δd over the three cases, run by the evaluation harness (same test episodes for
     every planner). ``margin`` (m) overrides the safety margin of the paper's planners (abc, pso)."""
-    from agents.evaluation import LIMIT_AGENT, evaluate
+    from agents.evaluation import LIMIT_AGENT, EvaluationSettings, evaluate
     from agents.evaluation.statistics import wilson_interval
 
     planners = [n for n in names if n != LIMIT_AGENT]
     kwargs = {n: {"margin": margin} for n in planners if n in PLANNERS} if margin is not None else {}
-    cells = evaluate(planners, CASES, sorted(PAPER_TABLE_2), episodes, out, workers=workers, agent_kwargs=kwargs,
-                     limit=LIMIT_AGENT in names, plots=False, resume=resume, backend=backend, address=address)  # fmt: skip
+    settings = EvaluationSettings(workers=workers, agent_kwargs=kwargs, limit=LIMIT_AGENT in names, plots=False,
+                                  resume=resume, backend=backend, address=address)  # fmt: skip
+    cells = evaluate(planners, CASES, sorted(PAPER_TABLE_2), episodes, out, settings)
     rows = []
     for delta_d in sorted(PAPER_TABLE_2, reverse=True):
         row = {"delta_d": delta_d}

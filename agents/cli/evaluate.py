@@ -34,7 +34,7 @@ import os
 import time
 from pathlib import Path
 
-from agents.evaluation import LIMIT_AGENT, SUITES, evaluate
+from agents.evaluation import LIMIT_AGENT, SUITES, EvaluationSettings, evaluate
 from agents.evaluation.harness import TABLE_NAME
 from agents.evaluation.records import OWN_SPEEDS
 from agents.evaluation.reporting import social_table, summary_tables
@@ -155,12 +155,13 @@ def main(argv=None, prog: str | None = None) -> list[dict]:
     env_options = _env_options(args)
     start = time.perf_counter()
     try:
-        rows = evaluate(
-            agent_specs, scenarios, deltas, args.episodes, args.out, seed=args.seed, split=args.split,
-            n_obstacles=args.n_obstacles, workers=args.workers, agent_kwargs=agent_kwargs, limit=not args.no_limit,
-            resume=args.resume, plots=not args.no_plots, config={"suite": args.suite}, backend=args.backend,
-            address=args.address, env_options=env_options, record=args.record,
+        settings = EvaluationSettings(
+            seed=args.seed, split=args.split, n_obstacles=args.n_obstacles, workers=args.workers,
+            agent_kwargs=agent_kwargs, limit=not args.no_limit, resume=args.resume, plots=not args.no_plots,
+            config={"suite": args.suite}, backend=args.backend, address=args.address, env_options=env_options,
+            record=args.record,
         )  # fmt: skip
+        rows = evaluate(agent_specs, scenarios, deltas, args.episodes, args.out, settings)
     except ValueError as error:  # named by the harness before any episode ran or anything was written
         raise SystemExit(f"{prog or 'evaluate.py'}: {error}") from None
     except KeyboardInterrupt:  # the harness has said what is on record and that --resume continues

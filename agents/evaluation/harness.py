@@ -3,6 +3,10 @@
     from agents.evaluation import evaluate
     rows = evaluate(["pso-spacetime", "velocity-obstacle"], ["random"], [0.5, 1.0], episodes=100, out="results/mine")
     rows = evaluate([MyPlanner, ("mine-tuned", MyPlanner(gain=2))], ["scenes/corridor.yaml"], [None], 20, "results/own")
+    rows = evaluate(["dwa"], ["random"], [0.25], 20, "results/u", EvaluationSettings(workers=2, env_options={"robot": "unicycle"}))
+
+How a run is made (seed, split, workers, backend, env options, resume, plots) is one
+:class:`~agents.evaluation.settings.EvaluationSettings` record; its fields may also be given by name.
 
 Agents and scenarios come in many forms (:mod:`agents.evaluation.entrants`), each named by a label.
 Every (agent, scenario, Δd) cell runs the same episodes: episode ``i`` uses seed
@@ -38,6 +42,7 @@ from agents.evaluation.records import LIMIT_AGENT, EpisodeResult, delta_order
 from agents.evaluation.report import write_report
 from agents.evaluation.reporting import markdown_table
 from agents.evaluation.run_log import LOG_NAME, LogWriter, RunLock, read_log, run_folder, set_aside
+from agents.evaluation.settings import EvaluationSettings
 from agents.evaluation.statistics import summarize
 from agents.provenance import versions
 from pathplan_env import _numba_cache
@@ -79,10 +84,8 @@ def _on_record(log: Path, jobs: list[Job], key_of: dict, resume: bool, existed: 
 
 
 def evaluate(
-    agent_names: list, scenarios: list, deltas: list[float | None], episodes: int, out: str | Path, *,
-    seed: int = 0, split: str = "test", n_obstacles: int | None = None, workers: int = 1, agent_kwargs: dict | None = None,
-    limit: bool = True, resume: bool = False, plots: bool = True, config: dict | None = None,
-    backend: str = "process", address: str | None = None, env_options: dict | None = None, record: bool = False,
+    agent_names: list, scenarios: list, deltas: list[float | None], episodes: int, out: str | Path,
+    settings: EvaluationSettings | None = None, **options,
 ) -> list[dict]:  # fmt: skip
     """Run the cells, write the results to ``out`` and return the summary rows (see the module doc).
 
@@ -91,39 +94,35 @@ def evaluate(
     ``scenarios``: preset names, ``Scenario`` objects, their dicts, or JSON/YAML files of them. Each
     may be labelled (``(label, entry)``); results name them by label (:mod:`agents.evaluation.entrants`).
     ``deltas``: Δd values; ``None`` (or ``"own"``) runs a scenario at its own obstacle speeds.
-    ``agent_kwargs``: for every agent, or ``{label: {...}}`` per agent.
-    ``split``: ``"test"``, ``"validation"`` or ``"crowdnav"`` (CrowdNav's own test cases, for its presets; at most 500 episodes).
-    ``env_options``: ``gym.make`` keywords for every episode's env, e.g. ``{"observation": "state"}``;
-    checked by building every cell with them before any episode, recorded in ``summary.json``, and
-    part of each episode's record (a resumed run with other options runs its episodes anew).
-    ``backend``: ``"process"`` (a local pool of ``workers`` processes) or ``"ray"`` (a local Ray, or
-    the cluster at ``address``; :mod:`agents.evaluation.ray_backend`). Both run the same jobs: same results.
-    ``record``: keep every episode's trajectory in ``out/episodes.h5`` (:mod:`agents.evaluation.recording`),
-    and add the social-navigation metrics to the rows. Every run writes ``out/report.html``."""
+    ``settings``: how the run is made (seed, split, workers, backend, env options, resume, ...):
+    an :class:`~agents.evaluation.settings.EvaluationSettings`, the defaults when ``None``.
+    ``options``: its fields by name (``workers=4``), replacing the record's; a name that is no field
+    is a ``ValueError``. With ``record=True`` every episode's trajectory is kept in ``out/episodes.h5``
+    (:mod:`agents.evaluation.recording`) and the rows gain the social-navigation metrics; every run
+    writes ``out/report.html``."""
     from pathplan_env.scenarios.episode_sources import source_of
 
-    if backend not in ("process", "ray"):
-        raise ValueError(f"backend must be 'process' or 'ray', got {backend!r}")
-    if backend == "ray":
+    if settings is not None and not isinstance(settings, EvaluationSettings):
+        raise ValueError(f"settings must be an EvaluationSettings, got {type(settings).__name__}")
+    settings = (settings or EvaluationSettings()).with_options(**options)
+    if settings.backend == "ray":
         try:
             import ray  # noqa: F401  (checked before any work)
         except ImportError:
             raise ValueError('--backend ray needs Ray: pip install -e ".[ray]"') from None
-
-    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
-        raise ValueError(f"workers must be an integer >= 1, got {workers!r}")  # before it decides the transport
-    transport = "ray" if backend == "ray" else "process" if workers > 1 else None
+    seed, split, n_obstacles, workers = settings.seed, settings.split, settings.n_obstacles, settings.workers
     run = check_run(agent_names, scenarios, deltas, episodes, seed=seed, split=split, n_obstacles=n_obstacles,
-                    workers=workers, agent_kwargs=agent_kwargs, transport=transport, env_options=env_options)  # fmt: skip
+                    workers=workers, agent_kwargs=settings.agent_kwargs, transport=settings.transport,
+                    env_options=settings.env_options)  # fmt: skip
     entrants, own, options = list(run.agents), run.overrides, run.env_options
     limit_spec = resolve_agents([LIMIT_AGENT])[0]
     for spec in entrants:
         if spec.label == LIMIT_AGENT and (spec.target is not limit_spec.target or spec.kwargs):
             raise ValueError(f"agent_names: the label {LIMIT_AGENT!r} is the physical limit's; give this agent another")
-    if limit and LIMIT_AGENT not in own:
+    if settings.limit and LIMIT_AGENT not in own:
         entrants.append(limit_spec)
         own[LIMIT_AGENT] = {}  # the kwargs are meant for the agents asked for
-    keep = bool(record)  # (the name `record` is the callback's below)
+    keep = settings.record
     source = source_of(split)
     seeds = source.episode_seeds(seed, episodes)
     jobs = [Job(a, s, d, i, e, s.obstacles(n_obstacles), own[a.label], options, split, keep)
@@ -132,13 +131,13 @@ def evaluate(
     key_of = {job.result_id(): job.key() for job in jobs}
     obstacles = {s.label: s.obstacles(n_obstacles) for s in run.scenarios}  # a preset's own count, else the run's
     existed = Path(out).is_dir()
-    if resume and not existed:
+    if settings.resume and not existed:
         print(f"resume: {out} does not exist, so there is no run to continue; starting a new run there", file=sys.stderr)
     out = run_folder(out)
     log = out / LOG_NAME
     with RunLock(out):
-        records = open_run_records(out, resume and log.exists(), keep)
-        results, jobs = _on_record(log, jobs, key_of, resume, existed, records.has)
+        records = open_run_records(out, settings.resume and log.exists(), keep)
+        results, jobs = _on_record(log, jobs, key_of, settings.resume, existed, records.has)
         on_record = len(results)
         if jobs and not _numba_cache.is_warm():
             print("compiling planners once (numba; later runs load them from its cache): the first episodes wait for it", file=sys.stderr)
@@ -151,10 +150,10 @@ def evaluate(
             records.write(res, key_of[result_id(res)])
 
         try:
-            if backend == "ray":
+            if settings.backend == "ray":
                 from agents.evaluation.ray_backend import run_jobs_on_ray
 
-                run_jobs_on_ray(jobs, record, address=address, num_cpus=workers)
+                run_jobs_on_ray(jobs, record, address=settings.address, num_cpus=workers)
             else:
                 run_jobs(jobs, workers, record)
         except KeyboardInterrupt:
@@ -168,12 +167,12 @@ def evaluate(
         results.sort(key=lambda r: (r.agent, r.scenario, delta_order(r.delta_d), r.episode))
         rows = _summarize(results)
         rows = records.add_social_metrics(rows)
-        config = (config or {}) | {"agents": [a.label for a in entrants], "scenarios": [s.label for s in run.scenarios],
+        config = (settings.config or {}) | {"agents": [a.label for a in entrants], "scenarios": [s.label for s in run.scenarios],
                                    "agent_sources": {a.label: a.source for a in entrants},
                                    "custom_scenarios": {s.label: s.definition for s in run.scenarios if s.definition},
                                    "delta_d": run.deltas, "episodes": episodes,
                                    "seed": seed, "split": split, "n_obstacles": n_obstacles, "scenario_n_obstacles": obstacles, "workers": workers,
-                                   "agent_kwargs": agent_kwargs or {}, "env_options": options, "episode_seeds": [seeds[0], seeds[-1]],
+                                   "agent_kwargs": settings.agent_kwargs or {}, "env_options": options, "episode_seeds": [seeds[0], seeds[-1]],
                                    **source.describe(episodes),
                                    "wall_seconds": round(elapsed, 1), "episodes_run": len(results) - on_record,
                                    "episodes_on_record": on_record}  # fmt: skip
@@ -186,7 +185,7 @@ def evaluate(
             for res in results:
                 row = {k: v for k, v in asdict(res).items() if k != "plan_ms"}
                 writer.writerow(row | {"plan_ms_median": float(np.median(res.plan_ms))})
-        if plots:
+        if settings.plots:
             from agents.evaluation.reporting import plot
 
             plot(rows, out, robot=str(options.get("robot", "holonomic")))

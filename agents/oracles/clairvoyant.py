@@ -7,7 +7,7 @@ world ahead, which gives every obstacle's position at every substep of the episo
 on what the robot does). When the env's robot is a unicycle, ``ClairvoyantOracle(env)`` is the
 unicycle's oracle (:mod:`agents.oracles.clairvoyant_unicycle`), which searches the unicycle's own
 moves on the same future. Otherwise it searches
-(step, position) for the earliest collision-free arrival (:mod:`agents.planners.spacetime_search`:
+(step, position) for the earliest collision-free arrival (:mod:`agents.planners.spacetime.astar`:
 the scene's walls and polygons in its contact test and its lost-episode proof, its heuristic the
 static cost-to-go around them and the obstacles that never move) and flies the plan, which
 replays exactly because every move was made with the env's own kinematics and contact test. The
@@ -28,7 +28,7 @@ from agents.base import Agent
 from agents.oracles.clairvoyant_unicycle import UnicycleClairvoyantOracle
 from agents.oracles.future import simulator_of, true_future
 from agents.planners.reachable_set import provably_lost
-from agents.planners.spacetime_search import BUDGET, FOUND, SearchSettings, SpacetimeProblem, heading_moves, search
+from agents.planners.spacetime.astar import BUDGET, FOUND, SearchSettings, SpacetimeProblem, heading_moves, search
 from pathplan_env.robots.unicycle import UnicycleAction
 
 #: What the oracle concludes about an episode: a plan, provably no plan, a failed search, or no

@@ -2,7 +2,7 @@
 
 It reads the simulator exactly as the holonomic oracle does (:func:`agents.oracles.future.true_future`:
 a fresh copy of the episode's world stepped ahead gives every obstacle's true future), and searches
-the unicycle's own moves on it (:mod:`agents.planners.unicycle_search`: (step, x, y, heading, v, ω),
+the unicycle's own moves on it (:mod:`agents.planners.unicycle.astar`: (step, x, y, heading, v, ω),
 the dynamic window's primitives, each the float32 action the env will receive, flown as the env's
 exact arc with the env's arc contact tests, the arena's edges as walls). Its plan replays exactly
 (tested): the limit is the unicycle's, with its acceleration and turn-rate limits.
@@ -30,9 +30,9 @@ import numpy as np
 from agents.base import Agent
 from agents.oracles.future import simulator_of, true_future
 from agents.planners.reachable_set import provably_lost
-from agents.planners.spacetime_search import BUDGET, EXHAUSTED, FOUND, HORIZON, SpacetimeProblem
-from agents.planners.unicycle_astar import unicycle_model
-from agents.planners.unicycle_search import UnicycleProblem, UnicycleResult, search, settings
+from agents.planners.spacetime.astar import BUDGET, EXHAUSTED, FOUND, HORIZON, SpacetimeProblem
+from agents.planners.unicycle.astar import UnicycleProblem, UnicycleResult, search, settings
+from agents.planners.unicycle.astar_agent import unicycle_model
 from pathplan_env.robots.unicycle import arena_edges
 
 
@@ -43,7 +43,7 @@ class UnicycleClairvoyantOracle(Agent):
     ``env``'s robot is a unicycle.
 
     :param speed_steps, turn_steps: the primitives, fractions of the dynamic window
-        (:func:`agents.planners.unicycle_search.settings`).
+        (:func:`agents.planners.unicycle.astar.settings`).
     :param receding: the first try, ``(horizon steps, steps committed, merge grid in m, heading bin in rad,
         node budget, retry factor)``: :meth:`receding_plan`, the ``astar-unicycle`` planner's scheme on
         the true future; ``None`` to skip it.

@@ -35,8 +35,20 @@ class ABCSettings(NamedTuple):
     rule: ConstraintRule = ConstraintRule()  # how candidates rank, and the early exit (:mod:`.constraints`)
 
 
+class Colony(NamedTuple):
+    """The food sources ``x`` (SN, D) and, for each, its cost, penalty and trials without improvement."""
+
+    x: np.ndarray
+    cost: np.ndarray
+    pen: np.ndarray
+    trials: np.ndarray
+
+
 @numba.njit(cache=True, error_model="numpy")
-def _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, problem, kind, lam):
+def _try_neighbour(rng, i, colony, lo, hi, problem, kind, lam):
+    """A bee at source ``i`` of the :class:`Colony` tries one coordinate moved toward or away from
+    another source (in the box ``[lo, hi]``) and keeps it if it ranks better."""
+    x, cost, pen, trials = colony
     SN, D = x.shape
     k = below(rng, SN - 1)
     if k >= i:
@@ -85,16 +97,17 @@ def abc_run(x0, lo, hi, settings, seed, problem):
     scouted = 0
     infeasible_run, feasible_run, unchanged = 0, 0, 0
     fitness = np.empty(SN)
+    colony = Colony(x, cost, pen, trials)
     while evaluations + 2 * SN <= max_evaluations:
         before = best_cost
         for i in range(SN):  # employed bees
-            _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, problem, kind, lam)
+            _try_neighbour(rng, i, colony, lo, hi, problem, kind, lam)
         for i in range(SN):
             fitness[i] = 1.0 / (1.0 + score(cost[i], pen[i], kind, lam))
         cumulative = np.cumsum(fitness / fitness.sum())
         for _ in range(SN):  # onlooker bees: roulette-wheel choice of a source
             i = min(np.searchsorted(cumulative, uniform(rng)), SN - 1)
-            _try_neighbour(rng, i, x, cost, pen, trials, lo, hi, problem, kind, lam)
+            _try_neighbour(rng, i, colony, lo, hi, problem, kind, lam)
         evaluations += 2 * SN
         for i in range(SN):  # memorise the best before the scouts discard anything
             if better(cost[i], pen[i], best_cost, best_pen, kind, lam):

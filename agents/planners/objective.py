@@ -186,13 +186,14 @@ def walk_along(pts, seg, px, py, distance):
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
-def _wall_contact(px, py, qx, qy, robot_radius, statics, reach, goal_t, step, touch, touch_depth):
-    """The robot's chord ``p -> q`` in step ``step`` (at most ``reach`` long) against the walls as
-    the env tests them (one swept test of the whole move): ``(when it first touches, in steps, and
-    the deepest overlap)``; ``(touch, touch_depth)`` as given if an earlier step touched already or
-    this one does not before the goal (at ``goal_t``)."""
+def _wall_contact(scene, px, py, qx, qy, goal_t, step, touch, touch_depth):
+    """The robot's chord ``p -> q`` in step ``step`` (at most ``scene.reach`` long) against the
+    scene's walls (``scene.statics``) as the env tests them (one swept test of the whole move):
+    ``(when it first touches, in steps, and the deepest overlap)``; ``(touch, touch_depth)`` as given
+    if an earlier step touched already or this one does not before the goal (at ``goal_t``)."""
     if touch >= 0.0:  # only the first touch counts, as for an obstacle
         return touch, touch_depth
+    robot_radius, statics, reach = scene.robot_radius, scene.statics, scene.reach
     t_first, depth = 2.0, 0.0
     for w in range(statics.shape[0]):
         x0, y0, x1, y1, half = statics[w, 0], statics[w, 1], statics[w, 2], statics[w, 3], statics[w, 4]
@@ -330,7 +331,7 @@ def timed_path_cost(x, scene):
                     touched[o] = near[o] = contact = True
                     depth[o] = max(depth[o], -gap)
                 ax, ay = bx, by
-        wall_touch, wall_depth = _wall_contact(px, py, qx, qy, robot_radius, statics, reach, goal_t, step, wall_touch, wall_depth)
+        wall_touch, wall_depth = _wall_contact(scene, px, py, qx, qy, goal_t, step, wall_touch, wall_depth)
         if goal_t <= 1.0:
             arrival = step + goal_t
             break

@@ -1,6 +1,6 @@
 """Whether an episode is lost whatever the robot does: an outer approximation of its reachable set
 on a grid, against known obstacle trajectories (the clairvoyant oracle's "lost" verdict). Split from
-:mod:`agents.planners.spacetime_search`, which re-exports :func:`provably_lost`."""
+:mod:`agents.planners.spacetime.astar`, which re-exports :func:`provably_lost`."""
 
 from __future__ import annotations
 
@@ -21,7 +21,7 @@ def provably_lost(problem, cell: float = 0.005, max_steps: int = 6,
                   history: list | None = None) -> tuple[bool | None, int]:
     """Whether no path can reach the goal, by an outer approximation of the reachable set.
 
-    ``problem``: a :class:`agents.planners.spacetime_search.SpacetimeProblem` (not imported here:
+    ``problem``: a :class:`agents.planners.spacetime.astar.SpacetimeProblem` (not imported here:
     that module imports this one).
 
     ``problem.trajectory[s]`` are the obstacle centres after ``s`` substeps. The set of

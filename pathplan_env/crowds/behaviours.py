@@ -28,6 +28,7 @@ import dataclasses
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -108,14 +109,14 @@ class ORCA:
         """Set the velocities of obstacles ``idx`` for this step (see :func:`_write_velocities`);
         ``statics``: the scene's :class:`~pathplan_env.crowds.routing.HumanStatics`, if it has walls."""
         pad = self.radius_padding + self.safety_space
+        crowd = (idx, state, body_state, speeds, radii, goals, preferred, robot, dt)  # a CrowdStep's fields
         if statics is None:
-            _orca_step_fields(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, self._params_fields, pad, _NO_OBSTACLE_FIELDS)
+            _orca_step_fields(crowd, self._params_fields, pad, _NO_OBSTACLE_FIELDS)
             return
         # routes and ORCA in one compiled call (each call's arguments cost ~0.4 µs an array); it
         # returns without steering when some human first loses sight of its goal: its route is
         # computed (scipy's Dijkstra) and the call repeated, as statics.targets does
-        args = (idx, state, body_state, speeds, radii, goals, preferred, robot, dt, self._params_fields, pad, statics.obstacle_fields,
-                statics.routes_fields, statics.scratch_targets, statics.missing)  # fmt: skip
+        args = (crowd, self._params_fields, pad, statics.obstacle_fields, statics.routes_fields, statics.scratch_targets, statics.missing)
         n_missing = _orca_routed_step_fields(*args)
         if n_missing:
             statics.fill_routes(n_missing)
@@ -160,8 +161,12 @@ class SocialForce:
         segments = _NO_SEGMENTS
         if statics is not None:
             goals, segments = statics.targets(idx, state, goals), statics.segments
-        _social_force_step(idx, state, body_state, speeds, radii, goals, preferred, robot, dt,
-                           self.relaxation_time, self.strength, self.range, segments, self.wall_strength, self.wall_range)  # fmt: skip
+        _social_force_step((idx, state, body_state, speeds, radii, goals, preferred, robot, dt), self._force_fields, segments)
+
+    @cached_property
+    def _force_fields(self) -> tuple:
+        """The :class:`SocialForceParams` fields, as the plain tuple :func:`_social_force_step` takes."""
+        return (self.relaxation_time, self.strength, self.range, self.wall_strength, self.wall_range)
 
 
 BEHAVIOURS = {"bounce": Bounce, "orca": ORCA, "social-force": SocialForce}
@@ -194,6 +199,35 @@ def make_behaviour(spec, where: str = "behaviour") -> Behaviour:
 
 
 # -- compiled steps: every driven obstacle in one call, velocities chosen and written -----------
+class CrowdStep(NamedTuple):
+    """What a behaviour's step reads and writes: the driven obstacles ``idx``, the world's ``state``
+    (rows ``x, y, vx, vy``) and its pymunk view ``body_state``, the ``speeds`` bounces keep, every
+    radius, goal and preferred speed, the ``robot`` (``(x, y, vx, vy, radius)``, or empty when the
+    obstacles do not see it) and the step ``dt``. The kernels called from Python take the plain
+    tuple of its fields and build it (numba types a NamedTuple argument in Python on every call,
+    ~5 µs, a tenth of a crowd's step; a plain tuple in C)."""
+
+    idx: np.ndarray
+    state: np.ndarray
+    body_state: np.ndarray
+    speeds: np.ndarray
+    radii: np.ndarray
+    goals: np.ndarray
+    preferred: np.ndarray
+    robot: np.ndarray
+    dt: float
+
+
+class SocialForceParams(NamedTuple):
+    """:class:`SocialForce`'s parameters as the kernel reads them (``decay``: its ``range``)."""
+
+    relaxation_time: float
+    strength: float
+    decay: float
+    wall_strength: float
+    wall_decay: float
+
+
 @numba.njit(cache=True)
 def _write_velocities(idx, chosen, state, body_state, speeds):
     """The chosen velocities into the world's state and its pymunk view, and the speeds that bounces
@@ -225,10 +259,11 @@ def _agents(state, radii, robot, pad):
 
 
 @numba.njit(cache=True)
-def _orca_step(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, params, pad, obstacles):
+def _orca_step(crowd, params, pad, obstacles):
     """ORCA velocities (:class:`~pathplan_env.crowds.orca.ORCAParams` ``params``, every radius plus ``pad``,
-    the static :class:`~pathplan_env.crowds.orca_obstacles.ORCAObstacles` ``obstacles``) for obstacles ``idx``, written
-    by :func:`_write_velocities`."""
+    the static :class:`~pathplan_env.crowds.orca_obstacles.ORCAObstacles` ``obstacles``) for the
+    :class:`CrowdStep` ``crowd``'s obstacles ``idx``, written by :func:`_write_velocities`."""
+    idx, state, body_state, speeds, radii, goals, preferred, robot, dt = crowd
     positions, velocities, padded = _agents(state, radii, robot, pad)
     out = np.empty((idx.shape[0], 2))
     work = orca_work(positions.shape[0], obstacles.point.shape[0])
@@ -241,30 +276,33 @@ def _orca_step(idx, state, body_state, speeds, radii, goals, preferred, robot, d
 
 
 @numba.njit(cache=True)
-def _orca_step_fields(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, params_fields, pad, obstacle_fields):
+def _orca_step_fields(crowd_fields, params_fields, pad, obstacle_fields):
     """:func:`_orca_step` with its records passed as plain tuples of their fields and rebuilt here:
     numba types a NamedTuple argument in Python on every call (~5 µs each, a tenth of a crowd's
     step), a plain tuple in C."""
-    _orca_step(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, ORCAParams(*params_fields), pad, ORCAObstacles(*obstacle_fields))
+    _orca_step(CrowdStep(*crowd_fields), ORCAParams(*params_fields), pad, ORCAObstacles(*obstacle_fields))
 
 
 @numba.njit(cache=True)
-def _orca_routed_step_fields(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, params_fields, pad, obstacle_fields, routes_fields,
-                             targets, missing):  # fmt: skip
+def _orca_routed_step_fields(crowd_fields, params_fields, pad, obstacle_fields, routes_fields, targets, missing):
     """:func:`_orca_step_fields` toward each human's route target (``routing.route_targets``, into the
     scratch ``targets``) around the walls; returns the count of humans in ``missing`` whose route is
     not computed yet, without steering (0 when it steered)."""
+    idx, state, body_state, speeds, radii, goals, preferred, robot, dt = crowd_fields
     n_missing = route_targets(Routes(*routes_fields), idx, state, goals, targets, missing)
     if n_missing == 0:
-        _orca_step(idx, state, body_state, speeds, radii, targets, preferred, robot, dt, ORCAParams(*params_fields), pad, ORCAObstacles(*obstacle_fields))
+        crowd = CrowdStep(idx, state, body_state, speeds, radii, targets, preferred, robot, dt)
+        _orca_step(crowd, ORCAParams(*params_fields), pad, ORCAObstacles(*obstacle_fields))
     return n_missing
 
 
 @numba.njit(cache=True)
-def _social_force_step(idx, state, body_state, speeds, radii, goals, preferred, robot, dt, relaxation_time, strength, decay,
-                       segments, wall_strength, wall_decay):  # fmt: skip
-    """Social-force velocities for obstacles ``idx`` (walls and polygon edges: the capsule rows
-    ``segments``), written by :func:`_write_velocities`."""
+def _social_force_step(crowd_fields, force_fields, segments):
+    """Social-force velocities (:class:`SocialForceParams`) for the :class:`CrowdStep`'s obstacles
+    ``idx`` (walls and polygon edges: the capsule rows ``segments``), written by
+    :func:`_write_velocities`; both records as plain tuples of their fields."""
+    idx, state, body_state, speeds, radii, goals, preferred, robot, dt = crowd_fields
+    relaxation_time, strength, decay, wall_strength, wall_decay = SocialForceParams(*force_fields)
     positions, velocities, padded = _agents(state, radii, robot, 0.0)
     m = positions.shape[0]
     out = np.empty((idx.shape[0], 2))

@@ -110,10 +110,29 @@ def _leg(rx, ry, dist_sq, radius, left):
     return (rx * leg + ry * radius) / dist_sq, (-rx * radius + ry * leg) / dist_sq
 
 
+class Legs(NamedTuple):
+    """An edge's velocity obstacle without collision, as RVO2 builds it: its left and right vertices
+    ``o1``, ``o2`` (one vertex when viewed obliquely), the unit left and right legs, and whether each
+    leg is a neighbouring edge's ("foreign": no line when the velocity projects on it)."""
+
+    o1: int
+    o2: int
+    llx: float
+    lly: float
+    rlx: float
+    rly: float
+    left_foreign: bool
+    right_foreign: bool
+
+
 @numba.njit(cache=True, inline="always")
-def _project(x, y, vx, vy, radius, inv_horizon, point, direction, o1, o2, llx, lly, rlx, rly, left_foreign, right_foreign, line):
+def _project(agent, inv_horizon, obstacles, legs, line):
     """The end of RVO2's obstacle case without collision: the velocity projected on the left or right
-    cut-off circle, the cut-off line or a leg; writes ``line`` and returns 1, or 0 for a foreign leg."""
+    cut-off circle, the cut-off line or a leg (:class:`Legs`); writes ``line`` and returns 1, or 0
+    for a foreign leg."""
+    x, y, vx, vy, radius = agent.x, agent.y, agent.vx, agent.vy, agent.radius
+    point, direction = obstacles.point, obstacles.direction
+    o1, o2, llx, lly, rlx, rly, left_foreign, right_foreign = legs
     lcx, lcy = inv_horizon * (point[o1, 0] - x), inv_horizon * (point[o1, 1] - y)  # cut-off centres
     rcx, rcy = inv_horizon * (point[o2, 0] - x), inv_horizon * (point[o2, 1] - y)
     cx, cy = rcx - lcx, rcy - lcy
@@ -157,7 +176,7 @@ def _obstacle_lines(agent, obstacles, order, inv_horizon, lines):
     """RVO2's obstacle ORCA lines of the edges ``order`` (neighbours, nearest first) into ``lines``
     (rows ``point_x, point_y, dir_x, dir_y``); returns their count. Follows
     ``Agent::computeNewVelocity`` case for case (the comments name its cases)."""
-    x, y, vx, vy, radius = agent.x, agent.y, agent.vx, agent.vy, agent.radius
+    x, y, radius = agent.x, agent.y, agent.radius
     point, direction, nxt, prv, convex = obstacles.point, obstacles.direction, obstacles.next, obstacles.prev, obstacles.convex
     count = order.shape[0]
     radius_sq = radius * radius
@@ -228,5 +247,5 @@ def _obstacle_lines(agent, obstacles, order, inv_horizon, lines):
         if convex[o2] and _det(rlx, rly, direction[o2, 0], direction[o2, 1]) <= 0.0:
             rlx, rly = direction[o2, 0], direction[o2, 1]
             right_foreign = True
-        n += _project(x, y, vx, vy, radius, inv_horizon, point, direction, o1, o2, llx, lly, rlx, rly, left_foreign, right_foreign, lines[n])
+        n += _project(agent, inv_horizon, obstacles, Legs(o1, o2, llx, lly, rlx, rly, left_foreign, right_foreign), lines[n])
     return n

@@ -234,6 +234,7 @@ class UnicycleAction(ActionType):
             episode = self._bind(world)
         _, steer, n, space, array, request, substep, dt, state, before, after, speeds = episode
         (x, y), heading, speed, turn_rate = world.robot_xy, world.robot_heading, world.robot_forward_speed, world.robot_angular_velocity
+        start = (a0, a1, command, x, y, heading, speed, turn_rate)  # a StepStart's fields
         if steer is not None:  # World.begin_step: goal-directed obstacles choose their velocities
             steer()
         # World.advance_obstacles inlined (as World.step does: a method call per substep was a tenth of the step)
@@ -241,7 +242,7 @@ class UnicycleAction(ActionType):
             space_step(space, substep)
             array.num = 0
             each_body(space, READ_BODY, request)
-            if fly_substep(a0, a1, command, x, y, heading, speed, turn_rate, k, n, state, before, after, speeds):
+            if fly_substep(start, k, n, state, before, after, speeds):
                 world.write_bodies()
         v, w, arc_x, arc_y, goal, _, _, min_gap, first_contact, _, x, y, heading, speed, turn_rate, vx, vy = state[ROBOT_SIZE : END_VY + 1].tolist()
         world.robot_xy, world.robot_heading = (x, y), heading

@@ -20,6 +20,7 @@ microsecond, a tenth of the unicycle's step.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numba
 
@@ -107,14 +108,28 @@ def pose(x, y, heading, speed, turn_rate, duration, f):
     return x + chord * math.cos(mid), y + chord * math.sin(mid), heading + 2.0 * half
 
 
-@numba.njit(cache=True)
-def begin_arc(a0, a1, command, x, y, heading, speed, turn_rate, params, segments, state):
-    """Start a step from pose ``(x, y, heading)`` at ``(speed, turn_rate)``: fill ``state`` (its robot
-    row's duration and radius are set once an episode).
+class StepStart(NamedTuple):
+    """Where a step starts: the action ``(a0, a1)`` (``command``: a normalised target, clipped to
+    [-1, 1]^2; finite), or the step's own ``(v, ω)`` to replay a recorded move (``command`` False),
+    from pose ``(x, y, heading)`` at ``(speed, turn_rate)``. Built once a step and handed to each
+    substep's call as the plain tuple of its fields (numba types a NamedTuple argument in Python on
+    every call, a plain tuple in C)."""
 
-    :param a0, a1: the action (``command``: a normalised target, clipped to [-1, 1]^2; finite), or
-        the step's own ``(v, ω)`` to replay a recorded move (``command`` False).
-    """
+    a0: float
+    a1: float
+    command: bool
+    x: float
+    y: float
+    heading: float
+    speed: float
+    turn_rate: float
+
+
+@numba.njit(cache=True)
+def begin_arc(start, params, segments, state):
+    """Start a step at ``start`` (a :class:`StepStart` or the plain tuple of its fields): fill
+    ``state`` (its robot row's duration and radius are set once an episode)."""
+    a0, a1, command, x, y, heading, speed, turn_rate = start
     robot, log = state[:ROBOT_SIZE], state
     if command:
         a0, a1 = step_velocity(a0, a1, speed, turn_rate, params)
@@ -139,17 +154,17 @@ def episode_arrays(state, n_obstacles):
 
 
 @numba.njit(cache=True)
-def fly_substep(a0, a1, command, x, y, heading, speed, turn_rate, k, n, state, before, after, speeds):
-    """Substep ``k`` of ``n`` (1-based) of the step from pose ``(x, y, heading)`` at ``(speed,
-    turn_rate)`` by the finite action ``(a0, a1)`` (:func:`begin_arc`'s arguments, read when ``k`` is
-    1: the step starts there), then :func:`arc_substep_logged`; ``state`` holds the episode's params,
-    radii and capsules (:func:`episode_arrays`), ``speeds`` the obstacles' speeds.
+def fly_substep(start, k, n, state, before, after, speeds):
+    """Substep ``k`` of ``n`` (1-based) of the step from ``start`` (a :class:`StepStart`, or the
+    plain tuple of its fields; read when ``k`` is 1: :func:`begin_arc`), then
+    :func:`arc_substep_logged`; ``state`` holds the episode's params, radii and capsules
+    (:func:`episode_arrays`), ``speeds`` the obstacles' speeds.
 
     :return: whether any obstacle's speed was restored (the caller writes the bodies back).
     """
     params, radii, segments = episode_arrays(state, before.shape[0])
     if k == 1:
-        begin_arc(a0, a1, command, x, y, heading, speed, turn_rate, params, segments, state)
+        begin_arc(start, params, segments, state)
     return arc_substep_logged(state, k, n, before, after, radii, speeds)
 
 

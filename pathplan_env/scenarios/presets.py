@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -70,14 +71,32 @@ def random_arena_bounds(n_obstacles: int) -> tuple[float, float, float, float]:
     return (0.0, 0.0, side, side)
 
 
+class Placement(NamedTuple):
+    """Where the random preset's obstacles may go: inside the box ``(xmin, ymin, xmax, ymax)``, more
+    than ``endpoint_clearance`` beyond their radius from the start ``(sx, sy)`` and the goal
+    ``(gx, gy)``, and more than ``gap`` apart."""
+
+    xmin: float
+    ymin: float
+    xmax: float
+    ymax: float
+    sx: float
+    sy: float
+    gx: float
+    gy: float
+    endpoint_clearance: float
+    gap: float
+
+
 @numba.njit(cache=True)
-def _place_obstacles(unit, radii, xmin, ymin, xmax, ymax, sx, sy, gx, gy, endpoint_clearance, gap):
+def _place_obstacles(unit, radii, placement):
     """Rejection sampling: obstacle ``i`` takes the first of its candidate points ``unit[i]`` that keeps
-    clear of the start ``(sx, sy)``, the goal ``(gx, gy)`` and the obstacles placed before it. Compiled:
+    clear of the start, the goal and the obstacles placed before it (a :class:`Placement`). Compiled:
     with 50 obstacles the loop over candidates and placed obstacles dominated the reset.
 
     :return: ``(centers, placed)``; ``placed < len(radii)`` when some obstacle found no free candidate.
     """
+    xmin, ymin, xmax, ymax, sx, sy, gx, gy, endpoint_clearance, gap = placement
     n, m = unit.shape[0], unit.shape[1]
     centers = np.empty((n, 2))
     for i in range(n):
@@ -133,7 +152,8 @@ def sample_random_scenario(rng: np.random.Generator, n_obstacles: int = 8, delta
     draws = rng.random(n + n * _CANDIDATES * 2)  # the radii's draws then the candidates', as two calls drew them (one call: a reset's tenth)
     radii = r_low + (r_high - r_low) * draws[:n]
     unit = draws[n:].reshape(n, _CANDIDATES, 2)
-    centers, placed = _place_obstacles(unit, radii, xmin, ymin, xmax, ymax, sx, sy, gx, gy, r + RANDOM_START_CLEARANCE, RANDOM_OBSTACLE_GAP)
+    placement = Placement(xmin, ymin, xmax, ymax, sx, sy, gx, gy, r + RANDOM_START_CLEARANCE, RANDOM_OBSTACLE_GAP)
+    centers, placed = _place_obstacles(unit, radii, placement)
     if placed < n:
         raise ValueError(f"n_obstacles: could not place {n} obstacles in the random arena {bounds} (placed {placed})")
     radius_list = radii.tolist()

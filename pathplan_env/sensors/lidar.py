@@ -70,9 +70,10 @@ class LidarObservation(ObservationType):
         self._slices = (slice(at.robot_position, at.robot_velocity), slice(at.robot_velocity, at.goal), slice(at.goal, at.size))
         self._template = np.zeros(at.size + p.lidar_beams, np.float32)
         self._goal_at, self._scan_at = at.goal, at.size
-        self._bounds = np.array(arena.bounds, np.float64)
-        #: What the fused kernel reads: the scan's start angle, step and range, then the arena's bounds.
-        self._sensor = np.zeros(7)
+        #: The arena's (xmin, ymin, xmax, ymax) and the scan's (start angle, step, range): the last
+        #: fields of the kernels' Scene and Beams records.
+        self._edges = tuple(float(b) for b in arena.bounds)
+        self._fan = (0.0, 0.0, 0.0)
         self._ranges, self._hits = np.empty(p.lidar_beams), np.empty(p.lidar_beams, np.int64)
         self._heading, self._directions = None, None
         self._rng: np.random.Generator | None = None
@@ -90,8 +91,7 @@ class LidarObservation(ObservationType):
 
     def reset(self, world, rng: np.random.Generator | None) -> None:
         self._template[self._goal_at : self._goal_at + 2] = world.scenario.goal
-        self._bounds[:] = world.scenario.bounds
-        self._sensor[3:] = self._bounds
+        self._edges = tuple(float(b) for b in world.scenario.bounds)
         self._rng = rng
 
     def _aim(self, world) -> None:
@@ -100,16 +100,24 @@ class LidarObservation(ObservationType):
         if heading != self._heading:
             p = self.params
             self._heading, self._directions = heading, beam_directions(heading, p.lidar_fov, p.lidar_beams)
-            self._sensor[:3] = heading - 0.5 * p.lidar_fov, p.lidar_fov / p.lidar_beams, p.lidar_range
+            self._fan = (float(heading - 0.5 * p.lidar_fov), float(p.lidar_fov / p.lidar_beams), float(p.lidar_range))
 
     def scan(self, world) -> np.ndarray:
         """The exact ranges (float64, before noise and the float32 cast) of the world as it is now;
         ``self.hits`` then says what each beam hit (``pathplan_env.geometry.rays.cast``)."""
         self._aim(world)
-        (x, y), (start, step, reach) = world.robot_xy, self._sensor[:3].tolist()
-        scan_beams(x, y, start, step, reach, self._directions, world.obstacle_state, world.radii, static_segments(world), self._bounds,
-                   self._ranges, self._hits)  # fmt: skip
+        scan_beams(self._beams(world), self._scene(world), self._ranges, self._hits)
         return self._ranges
+
+    def _beams(self, world) -> tuple:
+        """The fields of the scan's :class:`~pathplan_env.geometry.rays.Beams` as a plain tuple (numba
+        types a NamedTuple argument in Python on every call, a plain tuple in C)."""
+        x, y = world.robot_xy
+        return (float(x), float(y), *self._fan, self._directions)
+
+    def _scene(self, world) -> tuple:
+        """The fields of the :class:`~pathplan_env.geometry.rays.Scene` it scans, as a plain tuple."""
+        return (world.obstacle_state, world.radii, static_segments(world), *self._edges)
 
     def overlay(self, world) -> dict[str, np.ndarray]:
         p = self.params
@@ -130,8 +138,7 @@ class LidarObservation(ObservationType):
             block[self._scan_at :] = self._noisy(self.scan(world))
         else:  # one compiled call: the scan cast into a copy of the template, the robot's state written in
             self._aim(world)
-            block = _exact_block(self._template, x, y, vx, vy, self._sensor, self._directions, world.obstacle_state, world.radii,
-                                 static_segments(world), self._hits)  # fmt: skip
+            block = _exact_block(self._template, (vx, vy), self._beams(world), self._scene(world), self._hits)
         return {"robot_position": block[position], "robot_velocity": block[velocity], "goal": block[goal], "lidar": block[self._scan_at :]}
 
     def _noisy(self, ranges: np.ndarray) -> np.ndarray:
@@ -144,18 +151,18 @@ class LidarObservation(ObservationType):
 
 
 @numba.njit(cache=True)
-def _exact_block(template, x, y, vx, vy, sensor, directions, centres, radii, segments, hits):
-    """A copy of the template with the robot's position and velocity (where the state layout puts
-    them) and the scan (its last ``beams`` entries, float32) written in. ``sensor``: start, step,
-    range, then the arena's bounds."""
+def _exact_block(template, velocity, beams, scene, hits):
+    """A copy of the template with the robot's position (the beams' origin) and ``velocity`` (where
+    the state layout puts them) and the scan (its last ``beams`` entries, float32) written in.
+    ``beams``, ``scene``: a :class:`Beams` and a :class:`Scene`, or plain tuples of their fields."""
+    beams, scene = Beams(*beams), Scene(*scene)
     at = state_layout(0)
     block = template.copy()
-    block[at.robot_position], block[at.robot_position + 1] = x, y
-    block[at.robot_velocity], block[at.robot_velocity + 1] = vx, vy
-    count = directions.shape[0]
+    block[at.robot_position], block[at.robot_position + 1] = beams.x, beams.y
+    block[at.robot_velocity], block[at.robot_velocity + 1] = velocity[0], velocity[1]
+    count = beams.directions.shape[0]
     ranges = np.empty(count)
-    beams = Beams(x, y, sensor[0], sensor[1], sensor[2], directions)
-    cast(beams, Scene(centres, radii, segments, sensor[3], sensor[4], sensor[5], sensor[6]), ranges, hits)
+    cast(beams, scene, ranges, hits)
     offset = block.shape[0] - count
     for i in range(count):
         block[offset + i] = ranges[i]

@@ -218,10 +218,10 @@ class StateObservation(ObservationType):
         carried = self._carried
         in_kernel = len(carried) == 2
         if in_kernel:  # (a unicycle's heading and turn rate written by the same call: setting them from Python cost a twelfth of its step)
-            _observation_row_carrying(self._block, i, self._template, x, y, vx, vy, world.obstacle_state, self.max_obstacles,
-                                      getattr(world, carried[0]), getattr(world, carried[1]))  # fmt: skip
+            _observation_row_carrying(self._block, i, self._template, (x, y, vx, vy), world.obstacle_state, self.max_obstacles,
+                                      (getattr(world, carried[0]), getattr(world, carried[1])))  # fmt: skip
         else:
-            _observation_row(self._block[i], self._template, x, y, vx, vy, world.obstacle_state, self.max_obstacles)
+            _observation_row(self._block[i], self._template, (x, y, vx, vy), world.obstacle_state, self.max_obstacles)
         position, velocity, goal, positions, velocities, radii, mask = self._entries
         obs = {
             "robot_position": position[i],
@@ -283,9 +283,11 @@ def _fill_template(template, gx, gy, arena_low, radii, n_max):
 
 
 @numba.njit(cache=True)
-def _observation_row(block, template, x, y, vx, vy, obstacle_state, n_max):
-    """``block`` (an observation's row) := the episode's template with the robot's and the obstacles'
-    state written in (float32), in one compiled call instead of a copy and six numpy slice assignments."""
+def _observation_row(block, template, robot, obstacle_state, n_max):
+    """``block`` (an observation's row) := the episode's template with the robot's ``(x, y, vx, vy)``
+    and the obstacles' state written in (float32), in one compiled call instead of a copy and six
+    numpy slice assignments."""
+    x, y, vx, vy = robot
     at = state_layout(n_max)
     block[:] = template
     block[at.robot_position], block[at.robot_position + 1] = x, y
@@ -298,13 +300,13 @@ def _observation_row(block, template, x, y, vx, vy, obstacle_state, n_max):
 
 
 @numba.njit(cache=True)
-def _observation_row_carrying(block, i, template, x, y, vx, vy, obstacle_state, n_max, first, second):
-    """:func:`_observation_row` into ``block[i]``, then the two carried scalars ``first`` and ``second``
-    in the row's last two columns (float32, as a numpy assignment rounds them)."""
+def _observation_row_carrying(block, i, template, robot, obstacle_state, n_max, carried):
+    """:func:`_observation_row` into ``block[i]``, then the two ``carried`` scalars (a unicycle's
+    heading and turn rate) in the row's last two columns (float32, as a numpy assignment rounds them)."""
     row = block[i]
-    _observation_row(row, template, x, y, vx, vy, obstacle_state, n_max)
+    _observation_row(row, template, robot, obstacle_state, n_max)
     size = row.shape[0]
-    row[size - 2], row[size - 1] = first, second
+    row[size - 2], row[size - 1] = carried[0], carried[1]
 
 
 #: Observation types by the name ``DynamicObstacleEnv(observation=...)`` takes.

@@ -67,6 +67,38 @@ def test_evaluate_policy_runs_every_agent_on_a_two_env_vector_env(name, robot):
     np.testing.assert_allclose(batch[0], single, rtol=0, atol=1e-6)  # float32 matrix products batch differently
 
 
+# agents whose act draws no random numbers: on a vector env each env's episodes are those of the agent alone
+DETERMINISTIC = [("velocity-obstacle", "holonomic"), ("astar-spacetime", "holonomic"), ("dwa", "unicycle")]
+
+
+@pytest.mark.parametrize("name, robot", DETERMINISTIC)
+def test_evaluate_policy_on_a_vector_env_gives_each_envs_own_episodes(name, robot):
+    """What a user relies on when evaluating on a vector env: the returns and lengths are those of
+    the agent run alone on each env (its memory reset at each env's episode start, no env's plan
+    leaking into the other's), not merely some finite numbers."""
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    make_env = lambda: gym.make("DynamicObstacle-v0", scenario="paper-case-1", delta_d=0.25, robot=robot)
+    vec = DummyVecEnv([make_env] * 2)
+    vec.seed(7)  # env i: reset(seed=7 + i), then its episodes follow on without a seed
+    rewards, lengths = evaluate_policy(agents.make(name, vec, seed=0), vec, n_eval_episodes=4, return_episode_rewards=True, warn=False)
+    alone = []
+    for i in range(2):  # evaluate_policy takes two episodes from each env
+        env, agent = make_env(), agents.make(name, vec, seed=0)
+        seed = 7 + i
+        for _ in range(2):
+            agent.reset()
+            obs, _ = env.reset(seed=seed)
+            seed, total, steps, done = None, 0.0, 0, False
+            while not done:
+                obs, reward, terminated, truncated, _ = env.step(agent.predict(obs, deterministic=True)[0])
+                total, steps, done = total + reward, steps + 1, terminated or truncated
+            alone.append((steps, total))
+    vector = sorted(zip(lengths, rewards))
+    assert [n for n, _ in vector] == [n for n, _ in sorted(alone)]
+    assert [r for _, r in vector] == pytest.approx([r for _, r in sorted(alone)], rel=1e-5)  # DummyVecEnv keeps rewards as float32
+
+
 def test_same_seed_same_actions():
     env = gym.make("DynamicObstacle-v0", delta_d=0.5)
     obs, _ = env.reset(seed=4)

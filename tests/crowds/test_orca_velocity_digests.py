@@ -57,7 +57,7 @@ def velocity_digest(n_scenes: int = 300, seed: int = 11) -> str:
         robot = np.array([*rng.uniform(-spread, spread, 2), *rng.uniform(-1, 1, 2), 0.3]) if s % 3 == 0 else np.empty(0)
         idx = np.arange(m, dtype=np.int64) if s % 4 else np.sort(rng.choice(m, max(1, m // 2), replace=False)).astype(np.int64)
         body, speeds = state.copy(), np.zeros(m)
-        _orca_step_fields(idx, state, body, speeds, radii, goals, preferred, robot, 0.25, behaviour._params_fields, 0.01, obstacles)
+        _orca_step_fields((idx, state, body, speeds, radii, goals, preferred, robot, 0.25), behaviour._params_fields, 0.01, obstacles)
         h.update(state.tobytes())
         h.update(speeds.tobytes())
         agent = ORCAAgentState(*state[0], radii[0], 1.0, *rng.uniform(-1, 1, 2))

@@ -107,11 +107,29 @@ def test_scenario_of_episode_is_public_with_velocities():
         assert math.isclose(ob.speed * scenario.dt / ob.radius, 0.5)
 
 
-def test_reset_options_reconfigure():
+def test_reset_options_reconfigure_every_later_episode():
+    """The documented promise: options reconfigure the env "from that episode on", each option
+    alone, and a rejected reset keeps the configuration (and the episodes) of before."""
     env = gym.make("DynamicObstacle-v0", scenario="paper-case-1", delta_d=0.0)
     env.reset(seed=0, options={"scenario": "paper-case-2", "delta_d": 1.0})
     assert env.unwrapped.scenario.name == "paper-case-2"
     assert math.isclose(env.unwrapped.scenario.delta_d, 1.0)
+    env.reset(seed=1)  # no options: the last ones hold
+    assert env.unwrapped.scenario.name == "paper-case-2" and math.isclose(env.unwrapped.scenario.delta_d, 1.0)
+    env.reset(seed=2, options={"delta_d": 0.5})  # one option: the scenario given before stays
+    assert env.unwrapped.scenario.name == "paper-case-2" and math.isclose(env.unwrapped.scenario.delta_d, 0.5)
+    before = env.unwrapped.scenario
+    with pytest.raises(ValueError, match="delta_d"):
+        env.reset(seed=2, options={"delta_d": -1.0})
+    env.reset(seed=2)  # the same episode as before the rejected reset
+    assert env.unwrapped.scenario == before
+
+
+def test_a_reset_count_holds_for_later_random_scenes():
+    env = gym.make("DynamicObstacle-v0", scenario="random", delta_d=0.5)
+    env.reset(seed=0, options={"n_obstacles": 3})
+    counts = [env.reset(seed=s)[0]["obstacle_mask"].sum() for s in (1, 2, 3)]
+    assert counts == [3, 3, 3] and env.unwrapped.scenario.n_obstacles == 3
 
 
 def test_straight_run_reaches_goal_on_empty_arena_and_rewards_sum():

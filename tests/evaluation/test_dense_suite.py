@@ -9,7 +9,6 @@ import pytest
 
 from agents.evaluation import evaluate, resolve_scenarios
 from agents.evaluation.entrants import ScenarioSpec
-from agents.evaluation.suites import SUITES
 
 
 def test_a_preset_with_its_own_count_is_a_scenario_of_its_own():
@@ -53,13 +52,6 @@ def test_each_scenario_runs_records_and_resumes_with_its_own_count(tmp_path, cap
     again = evaluate(["straight"], scenarios, [1.0], 2, tmp_path, n_obstacles=12, limit=False, plots=False, resume=True)
     assert "4 episodes on record, 0 to run" in capsys.readouterr().err
     assert [r["success_rate"] for r in again] == [r["success_rate"] for r in rows]
-
-
-def test_the_dense_suite_runs_every_spacetime_planner_at_30_and_50_obstacles():
-    suite = SUITES["dense"]
-    assert set(suite["agents"].split(",")) >= {"astar-spacetime", "pso-spacetime", "abc-spacetime"}
-    assert [s.n_obstacles for s in resolve_scenarios(suite["scenarios"].split(","))] == [30, 50]
-    assert suite["delta_d"] == "1,2,4" and suite["episodes"] == 200
 
 
 def test_the_dense_plot_reads_each_cells_count_from_the_runs_config(tmp_path, capsys):

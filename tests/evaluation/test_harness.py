@@ -12,6 +12,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
 import evaluate
 
 from agents.evaluation.run_diff import diff_runs
+from agents.evaluation.statistics import wilson_interval
 from pathplan_env.scenarios.splits import TEST_SEED_BASE, heldout_seeds, is_training_seed
 
 TINY = ["--agents", "straight,pso-predictive", "--scenarios", "paper-case-1", "--delta-d", "0,0.5", "--episodes", "4", "--no-plots"]
@@ -40,8 +41,8 @@ def test_summary_schema_and_rates(tiny_run):
         assert cell["success_over_limit"] == pytest.approx(cell["success_rate"] / cell["limit"])
         rates = [cell["success_rate"], cell["collision_rate"], cell["timeout_rate"]]
         assert all(0 <= r <= 1 for r in rates) and sum(rates) == pytest.approx(1.0)
-        lo, hi = cell["success_ci95"]
-        assert 0 <= lo <= cell["success_rate"] <= hi <= 1
+        wins = round(cell["success_rate"] * cell["episodes"])  # the interval is Wilson's of the cell's own count
+        assert cell["success_ci95"] == list(wilson_interval(wins, cell["episodes"]))  # (checked by value: test_statistics.py)
         assert cell["episodes"] == 4
     straight = [c for c in summary["results"] if c["agent"] == "straight" and c["delta_d"] == 0][0]
     assert straight["collision_rate"] == 1.0  # the obstacle blocks the direct line

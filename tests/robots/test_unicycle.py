@@ -342,7 +342,7 @@ def test_unicycle_agents_need_a_unicycle():
 
 
 def test_the_harness_runs_the_unicycle_without_the_limit(tmp_path):  # with it: tests/agents/planners/test_unicycle_search.py
-    from agents.evaluation import evaluate
+    from agents.evaluation import EvaluationSettings, evaluate
 
-    summary = evaluate(["dwa"], ["random"], [0.25], 2, tmp_path / "b", env_options={"robot": "unicycle"}, limit=False, plots=False)
+    summary = evaluate(["dwa"], ["random"], [0.25], 2, tmp_path / "b", EvaluationSettings(env_options={"robot": "unicycle"}, limit=False, plots=False))
     assert summary is not None and (tmp_path / "b" / "summary.json").exists()

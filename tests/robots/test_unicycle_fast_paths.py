@@ -25,6 +25,7 @@ from pathplan_env.scenarios.presets import (
     RANDOM_RADIUS_RANGE,
     RANDOM_START_CLEARANCE,
     ROBOT_RADIUS,
+    Placement,
     _place_obstacles,
     random_arena_bounds,
     sample_random_scenario,
@@ -108,7 +109,7 @@ def _random_scene_with_numpy(rng, n, delta_d):
             break
     radii = RANDOM_RADIUS_RANGE[0] + (RANDOM_RADIUS_RANGE[1] - RANDOM_RADIUS_RANGE[0]) * rng.random(n)
     unit = rng.random((n, _CANDIDATES, 2))
-    centers, _ = _place_obstacles(unit, radii, xmin, ymin, xmax, ymax, sx, sy, gx, gy, ROBOT_RADIUS + RANDOM_START_CLEARANCE, RANDOM_OBSTACLE_GAP)
+    centers, _ = _place_obstacles(unit, radii, Placement(xmin, ymin, xmax, ymax, sx, sy, gx, gy, ROBOT_RADIUS + RANDOM_START_CLEARANCE, RANDOM_OBSTACLE_GAP))
     velocities = np.zeros((n, 2))
     if delta_d is not None:
         angles = (2 * np.pi) * rng.random(n)

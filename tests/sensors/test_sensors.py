@@ -76,7 +76,8 @@ def reference_scan(x, y, heading, fov, beams, max_range, centres, radii, segment
 def ours(x, y, heading, fov, beams, max_range, centres, radii, segments, bounds=BOUNDS):
     directions = np.column_stack([np.cos(a := heading - fov / 2 + (np.arange(beams) + 0.5) * (fov / beams)), np.sin(a)])
     ranges, hits = np.empty(beams), np.empty(beams, np.int64)
-    scan_beams(x, y, heading - fov / 2, fov / beams, max_range, np.ascontiguousarray(directions), centres, radii, segments, np.array(bounds), ranges, hits)
+    beams_fields = (x, y, heading - fov / 2, fov / beams, max_range, np.ascontiguousarray(directions))
+    scan_beams(beams_fields, (centres, radii, segments, *map(float, bounds)), ranges, hits)
     return ranges, hits
 
 

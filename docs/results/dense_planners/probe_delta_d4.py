@@ -33,7 +33,7 @@ import pathplan_env
 from agents.base import real_obstacles
 from agents.planners.prediction import predict_among, substeps_for
 from agents.planners.spacetime import SpacetimeModel
-from agents.planners.spacetime_search import SpacetimeProblem, replay
+from agents.planners.spacetime.astar import SpacetimeProblem, replay
 from pathplan_env.scenarios.splits import episode_seeds
 from pathplan_env.world.simulation import World
 

@@ -21,7 +21,7 @@ def _bend_rule(optimizer, population=None):
     import math
 
     from agents.planners.costtogo import distance_to_goal
-    from agents.planners.spacetime_metaheuristic import SpacetimeMetaheuristicAgent
+    from agents.planners.spacetime.metaheuristic_agent import SpacetimeMetaheuristicAgent
 
     class BendRule(SpacetimeMetaheuristicAgent):
         def plan(self, obs, memory):

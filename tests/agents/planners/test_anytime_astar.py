@@ -9,8 +9,8 @@ import pytest
 
 import agents
 import pathplan_env  # noqa: F401  (registers the env)
-from agents.planners.spacetime_anytime import partial_plan
-from agents.planners.spacetime_search import BUDGET, SearchSettings, SearchTree, SpacetimeProblem, replay, search
+from agents.planners.spacetime.anytime import partial_plan
+from agents.planners.spacetime.astar import BUDGET, SearchSettings, SearchTree, SpacetimeProblem, replay, search
 
 
 def dense_problem(seed: int = 3, n_obstacles: int = 30, delta_d: float = 4.0):

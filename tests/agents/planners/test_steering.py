@@ -8,7 +8,7 @@ import pytest
 
 import agents
 import pathplan_env  # noqa: F401  (registers the env)
-from agents.planners.spacetime_metaheuristic import CROWD_SETTINGS
+from agents.planners.spacetime.metaheuristic_agent import CROWD_SETTINGS
 from agents.planners.steering import SURPRISES, SteeringCheck
 
 

@@ -9,7 +9,7 @@ import pytest
 
 import agents
 import pathplan_env  # noqa: F401
-from agents.planners.unicycle_rollout import UnicycleScene, population_cost
+from agents.planners.unicycle.rollout import UnicycleScene, population_cost
 
 
 def _without_broad_phase(agent, obs, memory) -> UnicycleScene:

@@ -8,7 +8,7 @@ import pytest
 
 import agents
 import pathplan_env  # noqa: F401
-from agents.planners.unicycle_rollout import population_cost, rollout
+from agents.planners.unicycle.rollout import population_cost, rollout
 from pathplan_env import Obstacle, Scenario
 
 OPEN = Scenario(bounds=(0, 0, 20, 20), start=(10, 10), goal=(19, 19), obstacles=(Obstacle((2.0, 2.0), 0.5),), robot_radius=0.2)

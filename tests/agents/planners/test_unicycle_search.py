@@ -11,7 +11,7 @@ from rollouts import fly_unicycle as _fly
 import agents
 import pathplan_env  # noqa: F401
 from agents.oracles.clairvoyant_unicycle import UnicycleClairvoyantOracle
-from agents.planners.unicycle_search import settings
+from agents.planners.unicycle.astar import settings
 from pathplan_env import Obstacle, Scenario
 
 
@@ -86,9 +86,9 @@ def test_astar_unicycle_is_deterministic():
 
 
 def test_the_harness_runs_the_unicycle_with_its_limit(tmp_path):
-    from agents.evaluation import evaluate
+    from agents.evaluation import EvaluationSettings, evaluate
 
-    rows = evaluate(["astar-unicycle"], ["random"], [0.25], 2, tmp_path, env_options={"robot": "unicycle"}, plots=False)
+    rows = evaluate(["astar-unicycle"], ["random"], [0.25], 2, tmp_path, EvaluationSettings(env_options={"robot": "unicycle"}, plots=False))
     row = next(r for r in rows if r["agent"] == "astar-unicycle")
     limit = next(r for r in rows if r["agent"] == "oracle-clairvoyant")
     assert row["episodes"] == limit["episodes"] == 2

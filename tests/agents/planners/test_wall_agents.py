@@ -14,7 +14,7 @@ import pathplan_env  # noqa: F401  (registers the env)
 from agents.base import real_obstacles, real_static_segments
 from agents.planners.costtogo import cost_to_go, descent, distance_to_goal, grid_slack, route
 from agents.planners.reachable_set import provably_lost
-from agents.planners.spacetime_search import SpacetimeProblem
+from agents.planners.spacetime.astar import SpacetimeProblem
 from agents.reactive.walls import aim, goal_horizons, visible_waypoint, wall_contact_times
 from pathplan_env import Scenario
 from pathplan_env.arena import Arena

@@ -3,7 +3,7 @@
 Every step it predicts the obstacles from the observation exactly as ``astar-spacetime`` does
 (:class:`~agents.planners.spacetime.SpacetimeModel`: the env's bounce physics, a relative margin on
 the contact distance, the static cost-to-go around walls and resting obstacles), then searches the
-unicycle's own moves (:mod:`agents.planners.unicycle_search`: (step, x, y, heading, v, ω), the
+unicycle's own moves (:mod:`agents.planners.unicycle.astar`: (step, x, y, heading, v, ω), the
 dynamic window's primitives, exact arcs and the env's arc contact tests) from the observed pose and
 velocities, and sends the plan's first action. The previous plan is flown on without a search while
 the new prediction still finds it free (the primitives being exact, the robot is where it planned
@@ -17,9 +17,9 @@ from types import MappingProxyType
 import numpy as np
 
 from agents.base import Agent
-from agents.planners.spacetime import SpacetimeModel
-from agents.planners.spacetime_search import BUDGET
-from agents.planners.unicycle_search import UnicycleModel, UnicycleProblem, replay, search, settings
+from agents.planners.spacetime.astar import BUDGET
+from agents.planners.spacetime.astar_agent import SpacetimeModel
+from agents.planners.unicycle.astar import UnicycleModel, UnicycleProblem, replay, search, settings
 from pathplan_env.facts import EnvFacts
 from pathplan_env.robots.unicycle import arena_edges, limits_of
 
@@ -48,7 +48,7 @@ class UnicycleAStarAgent(Agent):
     :param horizon_steps: steps predicted and searched (a node this deep is a leaf).
     :param margin: relative margin on the contact distance.
     :param speed_steps, turn_steps, cell, heading_bin, h_weight: the search's primitives (fractions of
-        the dynamic window), merge grid and heuristic weight (:func:`agents.planners.unicycle_search.settings`).
+        the dynamic window), merge grid and heuristic weight (:func:`agents.planners.unicycle.astar.settings`).
     :param max_expansions: node budget per replan; a search that runs out is retried once with
         ``retry_factor`` times the budget.
     :param keep_plan_steps: the previous plan is flown on while the new prediction finds all of it

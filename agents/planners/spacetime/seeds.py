@@ -1,7 +1,7 @@
 """Seeds for the space-time PSO and ABC from a cheap, bounded space-time search.
 
 The population still optimises: these rows only join the warm start (the previous best, the
-straight line and the dodges). A bounded A* (:func:`agents.planners.spacetime_search.search`, a few
+straight line and the dodges). A bounded A* (:func:`agents.planners.spacetime.astar.search`, a few
 hundred expansions on a coarse grid, far cheaper than ``astar-spacetime``'s own search) on the same
 predicted obstacles gives a plan of one target per step; its corners become the candidate's ``k``
 waypoints and the time it takes between them the segment speeds. The timed path through those
@@ -16,7 +16,7 @@ from typing import NamedTuple
 import numpy as np
 
 from agents.planners.objective import TimedScene
-from agents.planners.spacetime_search import SearchSettings, SpacetimeProblem, heading_moves, search
+from agents.planners.spacetime.astar import SearchSettings, SpacetimeProblem, heading_moves, search
 
 
 class SearchSeed(NamedTuple):

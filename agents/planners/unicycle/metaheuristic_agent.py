@@ -4,7 +4,7 @@ Every step the agent predicts the obstacles from the observation (``spacetime.Sp
 env's bounce physics, as ``pso-spacetime`` does), optimises ``n_controls`` normalised targets
 ``(a_v, a_ω)``, each held ``hold`` steps, with the same compiled PSO or ABC as ``pso-spacetime`` /
 ``abc-spacetime`` (``pso.pso_run``, ``bee_colony.abc_run``) under the cost of
-:mod:`agents.planners.unicycle_rollout` (the env's kinematics rolled out exactly, the paper's
+:mod:`agents.planners.unicycle.rollout` (the env's kinematics rolled out exactly, the paper's
 Eq. 4 penalty on predicted contact with obstacles, walls and the arena's edges, the static
 cost-to-go past the horizon), and sends the first target as its action.
 
@@ -25,8 +25,8 @@ import numpy as np
 from agents.base import point_along
 from agents.planners.costtogo import route
 from agents.planners.metaheuristic import MetaheuristicAgent
-from agents.planners.spacetime import SpacetimeModel
-from agents.planners.unicycle_rollout import UnicycleScene, broad_phase, rollout, unicycle_params
+from agents.planners.spacetime.astar_agent import SpacetimeModel
+from agents.planners.unicycle.rollout import UnicycleScene, broad_phase, rollout, unicycle_params
 from pathplan_env.robots.unicycle import arena_edges, command, limits_of, next_velocity, pose
 
 #: ``tuning="crowd"`` (``pso-unicycle-crowd``), for crowds that steer (CrowdNav's circle crossing): the cone

@@ -1,6 +1,6 @@
 """A* over (step, x, y, heading, v, ω) for the unicycle against known obstacle trajectories.
 
-The unicycle's native counterpart of :mod:`agents.planners.spacetime_search`, shared the same way by
+The unicycle's native counterpart of :mod:`agents.planners.spacetime.astar`, shared the same way by
 the privileged clairvoyant oracle (the env's own future) and the ``astar-unicycle`` planner
 (obstacles predicted from the observation).
 
@@ -34,7 +34,7 @@ import numba
 import numpy as np
 
 from agents.planners.costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal
-from agents.planners.spacetime_search import BUDGET, EXHAUSTED, FOUND, HORIZON, _near_statics, _segment_distance, step_paths
+from agents.planners.spacetime.astar import BUDGET, EXHAUSTED, FOUND, HORIZON, Candidates, _near_statics, _segment_distance, step_paths
 from pathplan_env.geometry.contacts import NO_CONTACT
 from pathplan_env.robots.arc_contact import Arc, arc_capsule, arc_disc, arc_goal, arc_point
 
@@ -144,12 +144,17 @@ def turn_move(w, fraction, model):
 
 
 @numba.njit(cache=True)
-def fly_arc(traj, first, n, arc, robot_radius, radii, near, n_near, gx, gy, goal_radius, statics, near_s, n_near_s, ends, deviation):
-    """One step on ``arc`` from substep ``first``, as ``unicycle.drive`` flies it: 1 goal, 0 free, -1 contact.
+def fly_arc(problem, first, arc, candidates, ends, deviation):
+    """One step of the :class:`UnicycleProblem` on ``arc`` from substep ``first``, as
+    ``unicycle.drive`` flies it: 1 goal, 0 free, -1 contact.
 
-    Only the obstacles ``near[:n_near]`` are tested, and of those the ones whose step path (``ends``,
-    within ``deviation``) comes within the contact distance of the arc (its chord, inflated by the chord
-    bound ``L |φ| / 8``, as in ``arc_contact``); the static capsules ``near_s[:n_near_s]``."""
+    Only the obstacles ``near[:n_near]`` (:class:`~agents.planners.spacetime.astar.Candidates`) are
+    tested, and of those the ones whose step path (``ends``, within ``deviation``) comes within the
+    contact distance of the arc (its chord, inflated by the chord bound ``L |φ| / 8``, as in
+    ``arc_contact``); the static capsules ``near_s[:n_near_s]``."""
+    traj, n, robot_radius, radii, statics = problem.trajectory, problem.substeps, problem.robot_radius, problem.radii, problem.statics
+    gx, gy, goal_radius = problem.goal[0], problem.goal[1], problem.goal_radius
+    near, n_near, near_s, n_near_s = candidates
     goal = arc_goal(arc, gx, gy, goal_radius)
     f_end = min(goal, 1.0)
     for q in range(n_near_s):
@@ -302,8 +307,7 @@ def search(problem, settings):
             for ti in range(turn_steps.shape[0]):
                 a_w, nw = turn_move(w, turn_steps[ti], model)
                 arc = Arc(x, y, heading, nv, nw, model.dt)
-                result = fly_arc(traj, first, n, arc, robot_radius, radii, near, n_near, goal[0], goal[1], goal_radius, statics, near_s,
-                                 n_near_s, ends, deviation)  # fmt: skip
+                result = fly_arc(problem, first, arc, Candidates(near, n_near, near_s, n_near_s), ends, deviation)
                 if result < 0:
                     continue
                 nx, ny, nh = _next_pose(x, y, heading, nv, nw, model.dt)
@@ -340,7 +344,7 @@ def replay(problem, actions):
 
     :return: ``(steps, reached)``: the steps flown free of contact (all of them if none touches) and
         whether the goal is reached within them."""
-    traj, n, robot_radius, radii, model = problem.trajectory, problem.substeps, problem.robot_radius, problem.radii, problem.model
+    traj, n, radii, model = problem.trajectory, problem.substeps, problem.radii, problem.model
     statics = problem.statics
     x, y, heading, v, w = problem.start[X], problem.start[Y], problem.start[HEADING], problem.start[SPEED], problem.start[TURN_RATE]
     steps = min(actions.shape[0], (traj.shape[0] - 1) // n)
@@ -354,8 +358,8 @@ def replay(problem, actions):
         v = v + min(max(target_v - v, -model.dv), model.dv)
         w = w + min(max(target_w - w, -model.dw), model.dw)
         arc = Arc(x, y, heading, v, w, model.dt)
-        result = fly_arc(traj, k * n, n, arc, robot_radius, radii, near, radii.shape[0], problem.goal[0], problem.goal[1], problem.goal_radius,
-                         statics, every_static, statics.shape[0], paths.ends[k], paths.deviation[k])  # fmt: skip
+        candidates = Candidates(near, radii.shape[0], every_static, statics.shape[0])
+        result = fly_arc(problem, k * n, arc, candidates, paths.ends[k], paths.deviation[k])
         if result < 0:
             return k, False
         if result == 1:

@@ -19,8 +19,8 @@ from agents.observation import Observation
 from agents.planners.costtogo import around_obstacles, route, route_bends, waypoints_on
 from agents.planners.metaheuristic import MetaheuristicAgent
 from agents.planners.objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, TimedScene, walk_along
-from agents.planners.spacetime import SpacetimeModel
-from agents.planners.spacetime_seed import SearchSeed, search_seeds
+from agents.planners.spacetime.astar_agent import SpacetimeModel
+from agents.planners.spacetime.seeds import SearchSeed, search_seeds
 from agents.planners.steering import STEERING_RULES, SteeringCheck
 
 #: What ``pso-spacetime`` / ``abc-spacetime`` plan with once the obstacles are seen to steer
@@ -48,7 +48,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     :param margin: relative margin on the contact distance.
     :param n_dodges, dodge_steps: warm-start candidates besides the straight line (:meth:`seed_paths`).
     :param search_expansions: when positive, a bounded space-time search of this many expansions
-        seeds the population too (:mod:`agents.planners.spacetime_seed`); the population still optimises.
+        seeds the population too (:mod:`agents.planners.spacetime.seeds`); the population still optimises.
     :param dense_budget: when positive, a replan whose best still touches an obstacle runs again,
         from that best, with this many times the iterations: the budget grows where the scene is dense.
     :param prediction, cone_degrees: :class:`SpacetimeModel`'s obstacle prediction.

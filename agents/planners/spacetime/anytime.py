@@ -1,7 +1,7 @@
 """Which plan a space-time A* that ran out of budget acts on: the anytime half of ``astar-spacetime``.
 
-:func:`agents.planners.spacetime_search.search` stops when its work or expansions budget runs out,
-and returns every node it generated (:class:`~agents.planners.spacetime_search.SearchTree`). Each
+:func:`agents.planners.spacetime.astar.search` stops when its work or expansions budget runs out,
+and returns every node it generated (:class:`~agents.planners.spacetime.astar.SearchTree`). Each
 node's path from the start is free of contact on the prediction, so any of them is a plan the robot
 can fly; :func:`partial_plan` picks one by a rule chosen by name (:data:`PARTIAL_RULES`):
 
@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from agents.planners.spacetime_search import SearchTree
+from agents.planners.spacetime.astar import SearchTree
 
 #: The rules :func:`partial_plan` knows.
 PARTIAL_RULES = ("deepest", "progress")

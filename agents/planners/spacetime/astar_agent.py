@@ -5,10 +5,10 @@ physics (:mod:`agents.planners.prediction`: constant speeds, elastic bounces off
 then plans a time-parameterised path over a horizon (the robot may slow down or wait) and flies
 its first step:
 
-* ``astar-spacetime``: the A* of :mod:`agents.planners.spacetime_search` on the predicted trajectories
+* ``astar-spacetime``: the A* of :mod:`agents.planners.spacetime.astar` on the predicted trajectories
   (the same search the clairvoyant oracle runs on the true ones), bounded in expansions; once the
   obstacles are seen to steer (:mod:`agents.planners.steering`), on ``astar-crowd``'s (:data:`CROWD_SETTINGS`).
-* ``pso-spacetime`` / ``abc-spacetime`` (:mod:`agents.planners.spacetime_metaheuristic`): the paper's
+* ``pso-spacetime`` / ``abc-spacetime`` (:mod:`agents.planners.spacetime.metaheuristic_agent`): the paper's
   adaptive constraint PSO and modified ABC on the same predictions.
 
 They see only the observation and :class:`~pathplan_env.facts.EnvFacts`. Contacts are
@@ -29,8 +29,8 @@ from agents.base import real_static_segments as real_static_segments
 from agents.observation import Observation, covering_rows
 from agents.planners.costtogo import CostToGo, observed_cost_to_go
 from agents.planners.prediction import predict_among, substeps_for
-from agents.planners.spacetime_anytime import PARTIAL_RULES, partial_plan
-from agents.planners.spacetime_search import BUDGET, EXHAUSTED, SearchSettings, SpacetimeProblem, heading_moves, replay, search
+from agents.planners.spacetime.anytime import PARTIAL_RULES, partial_plan
+from agents.planners.spacetime.astar import BUDGET, EXHAUSTED, SearchSettings, SpacetimeProblem, heading_moves, replay, search
 from agents.planners.steering import STEERING_RULES, SteeringCheck
 from pathplan_env.facts import EnvFacts
 from pathplan_env.geometry.contacts import segment_segment_distance
@@ -106,24 +106,24 @@ class SpacetimeAStarAgent(Agent):
     ``max_expansions`` nodes, whichever comes first); both count work, not time, so an episode
     replays bit for bit on any machine. When the budget runs out before a plan reaches the goal or
     the horizon, the robot acts on the best partial plan found so far
-    (:func:`agents.planners.spacetime_anytime.partial_plan`: every node's path is free of contact on
+    (:func:`agents.planners.spacetime.anytime.partial_plan`: every node's path is free of contact on
     the prediction), and on the :meth:`escape` move when no move at all is free.
 
     :param horizon_steps: steps predicted and searched; a node this deep is a leaf scored by its
         steps to go at top speed.
     :param margin: relative margin on the contact distance.
     :param n_headings, speed_fractions, cell, h_weight: the search's moves, merge grid and
-        heuristic weight (:func:`agents.planners.spacetime_search.search`).
+        heuristic weight (:func:`agents.planners.spacetime.astar.search`).
     :param max_expansions: the search's node budget per replan.
     :param max_work: the search's work budget per replan (obstacle and wall tests,
-        :attr:`~agents.planners.spacetime_search.SearchSettings.max_work`); ``None``: none. The default
+        :attr:`~agents.planners.spacetime.astar.SearchSettings.max_work`); ``None``: none. The default
         (:data:`WORK_BUDGET`) keeps the replan's p95 near 50 ms at 30 obstacles (``scripts/bench_planners.py
         --dense``); among 8 obstacles it rarely binds.
     :param time_budget_ms: optional wall-clock budget per replan, off by default. It turns into a
         work budget from the rate of this agent's earlier searches, so it **breaks bit-for-bit
         determinism**: the same seed may fly another path on a busier machine.
     :param partial, partial_min_steps: the rule that picks the partial plan when the budget runs out
-        (:data:`agents.planners.spacetime_anytime.PARTIAL_RULES`) and the survival it asks for.
+        (:data:`agents.planners.spacetime.anytime.PARTIAL_RULES`) and the survival it asks for.
     :param coarse_cell, coarse_headings, fine_share: when the search (``cell``, ``n_headings``) runs
         out of ``fine_share`` of the work budget, a coarse one (``coarse_cell``, ``coarse_headings``
         at top and half speed) spends the rest: among many fast obstacles a fine grid floods the first

@@ -76,7 +76,7 @@ class SearchSettings(NamedTuple):
 
 class SearchTree(NamedTuple):
     """Every node :func:`search` generated (each one's path from the start is free of contact):
-    what :mod:`agents.planners.spacetime_anytime` chooses a partial plan from."""
+    what :mod:`agents.planners.spacetime.anytime` chooses a partial plan from."""
 
     x: np.ndarray  # (count,) m: the robot after the node's step
     y: np.ndarray
@@ -165,13 +165,23 @@ def step_paths(traj, n):
     return StepPaths(ends, deviation)
 
 
-@numba.njit(cache=True)
-def _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, gx, gy, goal_radius, ends, deviation, close,
-         statics, near_s, n_near_s):  # fmt: skip
-    """One step from ``(x, y)`` by ``(dx, dy)`` starting at substep ``first``: ``(result, pairs)``,
-    result 1 goal, 0 free, -1 contact, and the pairs tested substep by substep.
+class Candidates(NamedTuple):
+    """What a step's broad phase left to test: the obstacles ``near[:n_near]`` and the static
+    capsules ``near_s[:n_near_s]`` (rows of the problem's ``statics``)."""
 
-    Only the obstacles ``near[:n_near]`` are tested (the others cannot reach the robot this step),
+    near: np.ndarray
+    n_near: int
+    near_s: np.ndarray
+    n_near_s: int
+
+
+@numba.njit(cache=True)
+def _fly(problem, first, move, candidates, ends, deviation, close):
+    """One step of the :class:`SpacetimeProblem` from ``(x, y)`` by ``(dx, dy)`` (``move``) starting
+    at substep ``first``: ``(result, pairs)``, result 1 goal, 0 free, -1 contact, and the pairs tested
+    substep by substep.
+
+    Only the obstacles ``near[:n_near]`` (:class:`Candidates`) are tested (the others cannot reach the robot this step),
     and of those only the ones whose path this step (``ends``: its first and last centre; every
     substep centre within ``deviation`` of that segment, hence every point between them too) comes
     within the contact distance of the robot's straight move: the rest could not touch at any
@@ -179,6 +189,10 @@ def _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, gx, gy
     env's ``swept_contact``, substep by substep. The static capsules ``near_s[:n_near_s]`` (rows of
     ``statics``) are tested as the env tests them: one exact swept test of the whole move
     (``pathplan_env.geometry.walls.static_stop``)."""
+    traj, n, robot_radius, radii, statics = problem.trajectory, problem.substeps, problem.robot_radius, problem.radii, problem.statics
+    gx, gy, goal_radius = problem.goal[0], problem.goal[1], problem.goal_radius
+    x, y, dx, dy = move
+    near, n_near, near_s, n_near_s = candidates
     slack = 1e-9 * (1.0 + abs(x) + abs(y) + abs(dx) + abs(dy))  # far above rounding, far below a miss
     pairs = 0
     for q in range(n_near):
@@ -304,8 +318,7 @@ def search(problem, settings):
                 tx, ty = goal[0], goal[1]
             action = _to_action(tx, ty, box)
             _, _, _, dx, dy = robot_move(action, box, x, y, reach)
-            result, pairs = _fly(traj, first, n, x, y, dx, dy, robot_radius, radii, near, n_near, goal[0], goal[1], goal_radius,
-                                 ends, deviation, close, statics, near_s, n_near_s)  # fmt: skip
+            result, pairs = _fly(problem, first, (x, y, dx, dy), Candidates(near, n_near, near_s, n_near_s), ends, deviation, close)
             work += n_near + pairs * n + n_near_s
             if result < 0:
                 continue
@@ -349,8 +362,8 @@ def replay(problem, targets):
     :return: ``(steps, reached)``: how many steps stay free of contact (all of them if none
         touches) and whether the goal is reached within them.
     """
-    traj, n, robot_radius, radii = problem.trajectory, problem.substeps, problem.robot_radius, problem.radii
-    start, goal, goal_radius, box, reach = problem.start, problem.goal, problem.goal_radius, problem.box, problem.reach
+    traj, n, radii = problem.trajectory, problem.substeps, problem.radii
+    start, box, reach = problem.start, problem.box, problem.reach
     x, y = start[0], start[1]
     steps = min(targets.shape[0], (traj.shape[0] - 1) // n)
     near = np.arange(radii.shape[0])
@@ -361,8 +374,8 @@ def replay(problem, targets):
     for k in range(steps):
         action = _to_action(targets[k, 0], targets[k, 1], box)
         _, _, _, dx, dy = robot_move(action, box, x, y, reach)
-        result, _ = _fly(traj, k * n, n, x, y, dx, dy, robot_radius, radii, near, radii.shape[0], goal[0], goal[1], goal_radius,
-                         paths.ends[k], paths.deviation[k], close, statics, every_static, statics.shape[0])  # fmt: skip
+        candidates = Candidates(near, radii.shape[0], every_static, statics.shape[0])
+        result, _ = _fly(problem, k * n, (x, y, dx, dy), candidates, paths.ends[k], paths.deviation[k], close)
         if result < 0:
             return k, False
         if result == 1:

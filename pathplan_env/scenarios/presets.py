@@ -10,6 +10,7 @@ import numba
 import numpy as np
 
 from pathplan_env.arguments import check_count
+from pathplan_env.scenarios.clutter import CLUTTER_PRESETS
 from pathplan_env.scenarios.crowd_families import CROWD_FAMILIES
 from pathplan_env.scenarios.crowdnav import CROWDNAV_PRESETS
 from pathplan_env.scenarios.scenario import Obstacle, Scenario, Vec2
@@ -169,12 +170,13 @@ PRESETS: dict[str, Callable[[np.random.Generator, int | None], Scenario]] = {
     **CROWDNAV_PRESETS,
     **FAMILIES,  # static geometry: corridor, doorway, intersection, cluttered-room (families.py)
     **CROWD_FAMILIES,  # their -crowd versions (ORCA humans), maze and maze-crowd (crowd_families.py)
+    **CLUTTER_PRESETS,  # clutter and clutter-crowd: a few hundred resting cylinders, movers crossing (clutter.py)
 }
 #: The presets whose obstacle count ``n_obstacles`` sets; every other scenario has its own obstacles.
-COUNTED_PRESETS = frozenset({"random", *CROWDNAV_PRESETS, *FAMILIES, *CROWD_FAMILIES})
+COUNTED_PRESETS = frozenset({"random", *CROWDNAV_PRESETS, *FAMILIES, *CROWD_FAMILIES, *CLUTTER_PRESETS})
 #: The presets' own Δd, applied when ``make_scenario`` gets none (presets not listed keep their speeds).
 PRESET_DELTA_D: dict[str, float] = {**dict.fromkeys(PAPER_CASES, DEFAULT_DELTA_D), "random": DEFAULT_DELTA_D, **dict.fromkeys(FAMILIES, DEFAULT_DELTA_D),
-                                 **dict.fromkeys(CROWD_FAMILIES, DEFAULT_DELTA_D)}  # fmt: skip
+                                 **dict.fromkeys(CROWD_FAMILIES, DEFAULT_DELTA_D), **dict.fromkeys(CLUTTER_PRESETS, DEFAULT_DELTA_D)}  # fmt: skip
 
 
 def make_scenario(
@@ -199,6 +201,8 @@ def make_scenario(
             delta_d = PRESET_DELTA_D.get(spec)
         if spec == "random":  # Δd applied while sampling: the same draws, without a second copy
             return sample_random_scenario(rng, RANDOM_DEFAULT_OBSTACLES if n_obstacles is None else n_obstacles, delta_d)
+        if spec in CLUTTER_PRESETS:  # Δd moves their movers only: the cylinders are static geometry
+            return CLUTTER_PRESETS[spec](rng, n_obstacles, delta_d)
         scenario = PRESETS[spec](rng, n_obstacles)
     else:
         raise ValueError(f"scenario must be a preset name or a Scenario, got {type(spec).__name__}")

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from pathlib import Path
 
 import numba
 import numpy as np
@@ -13,6 +14,7 @@ from pathplan_env.arguments import check_count
 from pathplan_env.scenarios.clutter import CLUTTER_PRESETS
 from pathplan_env.scenarios.crowd_families import CROWD_FAMILIES
 from pathplan_env.scenarios.crowdnav import CROWDNAV_PRESETS
+from pathplan_env.scenarios.map_scenes import MapScenes, is_map_file
 from pathplan_env.scenarios.scenario import Obstacle, Scenario, Vec2
 from pathplan_env.scenarios.wall_families import FAMILIES
 
@@ -188,7 +190,11 @@ def make_scenario(
     for the paper's cases and ``random``; CrowdNav's humans their 1 m/s), a :class:`Scenario`'s own
     velocities. ``n_obstacles`` sets the random and CrowdNav presets' counts (``None``: their own)."""
     if isinstance(spec, dict):
-        spec = Scenario.from_dict(spec)
+        spec = MapScenes.from_dict(spec) if "map" in spec else Scenario.from_dict(spec)
+    elif isinstance(spec, (str, Path)) and not (isinstance(spec, str) and spec in PRESETS) and is_map_file(spec):
+        spec = MapScenes(str(spec))
+    if isinstance(spec, MapScenes):
+        return spec(rng, n_obstacles, delta_d)
     if n_obstacles is not None and not (isinstance(spec, str) and spec in COUNTED_PRESETS):
         named = repr(spec) if isinstance(spec, str) else "a Scenario"
         raise ValueError(f"n_obstacles: {named} has its own obstacles (leave n_obstacles None); it applies to the presets {sorted(COUNTED_PRESETS)}")

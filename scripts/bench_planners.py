@@ -38,7 +38,7 @@ from tqdm import tqdm
 import agents
 import pathplan_env  # noqa: F401  (registers the env)
 from agents.planners.objective import evaluate
-from pathplan_env.geometry.shortest_paths import shortest_path_to_goal
+from pathplan_env.geometry.reference_path import shortest_path_to_goal
 
 BUDGET_PARTICLES, BUDGET_ITERATIONS = 30, 100
 

@@ -15,7 +15,7 @@ import numpy as np
 
 from pathplan_env import Obstacle, Scenario
 from pathplan_env.arena import Arena
-from pathplan_env.geometry import shortest_paths
+from pathplan_env.geometry import reference_path, shortest_paths
 from pathplan_env.maps.ros_maps import load_shipped_map
 from pathplan_env.scenarios.on_maps import scenario_kwargs
 
@@ -51,13 +51,13 @@ def _timed(fn, *args):
 
 
 def main() -> None:
-    shortest_paths.shortest_path_to_goal(Scenario(bounds=(0, 0, 5, 5), start=(1, 1), goal=(4, 4), obstacles=(Obstacle((2.5, 2.5), 0.5),)))  # compile
+    reference_path.shortest_path_to_goal(Scenario(bounds=(0, 0, 5, 5), start=(1, 1), goal=(4, 4), obstacles=(Obstacle((2.5, 2.5), 0.5),)))  # compile
     print("| scene | discs | capsules | length m | numpy graph s | compiled s | cached s | lengths equal (1e-9) |")
     print("|---|---:|---:|---:|---:|---:|---:|---|")
     for scenario in (_cylinders(), _office()):
         before, t_before = _timed(_numpy, scenario)
-        after, t_after = _timed(shortest_paths.shortest_path_to_goal, scenario)
-        again, t_again = _timed(shortest_paths.shortest_path_to_goal, scenario)
+        after, t_after = _timed(reference_path.shortest_path_to_goal, scenario)
+        again, t_again = _timed(reference_path.shortest_path_to_goal, scenario)
         equal = (before == after or abs(before - after) <= 1e-9) and after == again
         print(f"| {scenario.name} | {scenario.n_obstacles} | {len(scenario.static_segments)} | {after:.3f} | {t_before:.2f} | {t_after:.3f} | "
               f"{t_again * 1e3:.3f} ms | {equal} |", flush=True)  # fmt: skip

@@ -102,7 +102,7 @@ def run_episode(agent: AgentSpec | str, scenario: ScenarioSpec | str, delta_d: f
     """One episode of one agent (the unit of work every executor runs). ``agent`` and ``scenario``
     are specs (:mod:`.entrants`) or anything they resolve, e.g. a registered name and a preset.
     ``env_options`` and ``split``: :func:`make_episode_env` (the env and agent are seeded with ``seed`` on any split)."""
-    from pathplan_env.geometry.shortest_paths import shortest_path_to_goal
+    from pathplan_env.geometry.reference_path import shortest_path_to_goal
 
     agent = agent if isinstance(agent, AgentSpec) else resolve_agents([agent])[0]
     scenario = scenario if isinstance(scenario, ScenarioSpec) else resolve_scenarios([scenario])[0]

@@ -145,6 +145,6 @@ class MapScenes:
 
     @staticmethod
     def _connected(layout) -> bool:
-        from pathplan_env.geometry.shortest_paths import shortest_path_to_goal
+        from pathplan_env.geometry.reference_path import shortest_path_to_goal
 
         return math.isfinite(shortest_path_to_goal(layout))

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from agents.evaluation import resolve_scenarios
-from pathplan_env.geometry.shortest_paths import shortest_path_to_goal
+from pathplan_env.geometry.reference_path import shortest_path_to_goal
 from pathplan_env.scenarios.map_scenes import MapScenes, is_map_file
 from pathplan_env.scenarios.presets import make_scenario
 

@@ -1,7 +1,7 @@
 """Time the harness's reference path (the length-ratio metric's exact static shortest path) before and
 after 0.2.0: the numpy tangent graph (``geometry.shortest_paths.shortest_path``) against the compiled
 one (``geometry.tangent_graph``) that ``shortest_path_to_goal`` now uses, and its second call on the
-same scene (cached). Scenes: ~200 resting cylinders of radius 0.075 m in a 12 m x 8 m field, and the
+same scene (cached). Scenes: the ``clutter`` preset's first scene (200 resting cylinders of radius 0.075 m), and the
 shipped office map (a ROS map_server YAML) with 5 bouncing discs.
 
     python scripts/bench_reference_path.py
@@ -18,16 +18,11 @@ from pathplan_env.arena import Arena
 from pathplan_env.geometry import reference_path, shortest_paths
 from pathplan_env.maps.ros_maps import load_shipped_map
 from pathplan_env.scenarios.on_maps import scenario_kwargs
+from pathplan_env.scenarios.presets import make_scenario
 
 
-def _cylinders(n: int = 200, seed: int = 0) -> Scenario:
-    rng, centres = np.random.default_rng(seed), []
-    while len(centres) < n:
-        p = rng.uniform((2.0, 0.2), (10.0, 7.8))
-        if all(np.hypot(*(p - q)) >= 0.15 for q in centres):
-            centres.append(p)
-    return Scenario(bounds=(0.0, 0.0, 12.0, 8.0), start=(1.0, 4.0), goal=(11.0, 4.0), robot_radius=0.333,
-                    obstacles=tuple(Obstacle(center=tuple(c), radius=0.075) for c in centres), name="cylinders-200")  # fmt: skip
+def _cylinders() -> Scenario:
+    return make_scenario("clutter", np.random.default_rng(0))  # 200 resting cylinders, a corridor through them
 
 
 def _office() -> Scenario:

@@ -135,3 +135,21 @@ def test_no_path_holds_still_and_says_so():
         assert not info["collision"]
     assert np.allclose(obs["robot_position"], (2.0, 2.0), atol=1e-5)
     assert agent.verdict == "no path" and agent.no_path_steps == 5
+
+
+def test_among_resting_cylinders_it_flies_on_along_its_plan(monkeypatch):
+    """Nothing moved: the rest of the last plan is the shortest path, and no graph is built again;
+    once an obstacle moves, every step plans afresh."""
+    import agents.oracles.static as static
+
+    calls, original = [], static.shortest_path
+    monkeypatch.setattr(static, "shortest_path", lambda *a, **k: calls.append(1) or original(*a, **k))
+    for delta_d, built in ((None, 1), (0.5, 10)):
+        scenario = _clutter(4, 60) if delta_d is None else _clutter(4, 60).with_delta_d(delta_d, np.random.default_rng(0))
+        env = gym.make("DynamicObstacle-v0", scenario=scenario)
+        agent = agents.make("oracle-static", env, seed=0)
+        obs, _ = env.reset(seed=0)
+        calls.clear()
+        for _ in range(10):
+            obs, *_ = env.step(agent.predict(obs, deterministic=True)[0])
+        assert len(calls) == built

@@ -73,6 +73,7 @@ MOVED_MODULES = {
     "agents.rl.set_numpy": "agents.rl.obstacle_set.numpy_net",
     "agents.rl.numpy_conv": "agents.rl.lidar.numpy_encoder",
     "agents.rl.set_policy": "agents.rl.obstacle_set.policy",
+    "agents.oracles.tangent_graph": "pathplan_env.geometry.tangent_graph",
 }
 #: old module -> {name: the module it lives in now}, for names that left their module's room
 MOVED_NAMES = {

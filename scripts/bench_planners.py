@@ -16,6 +16,9 @@
    on validation episodes (the seeds ``astar-spacetime``'s work budget was calibrated on), with each
    planner's success over them.
 5. ``--unicycle`` (this part alone): part 3's unicycle rows (issue 23's target: replanning <= 5 ms median).
+7. ``--static-clutter`` (this part alone): ``oracle-static``'s replan times among 300 resting
+   cylinders (``clutter_scenario(n_cylinders=300)``: its first plan, which builds the tangent graph,
+   and the replans after it, which fly on along it) and among 8 moving obstacles (random, Δd 0.5).
 6. ``--learned`` (this part alone): the shipped learned agents' acting time (one ``predict``, numpy
    forward, no torch) in the scenes each was trained for, over whole test episodes (issue 20's
    target: <= 2 ms median), wall clock and this process's CPU time.
@@ -24,6 +27,7 @@
     python scripts/bench_planners.py --dense [--dense-episodes 5] [--dense-obstacles 30,50] [--dense-delta-d 1,2,4]
     python scripts/bench_planners.py --unicycle [--spacetime-episodes 20] [--unicycle-planners pso-unicycle,pso-unicycle-crowd]
     python scripts/bench_planners.py --learned [--spacetime-episodes 20]
+    python scripts/bench_planners.py --static-clutter [--spacetime-episodes 20]
 """
 
 from __future__ import annotations
@@ -38,7 +42,7 @@ from tqdm import tqdm
 import agents
 import pathplan_env  # noqa: F401  (registers the env)
 from agents.planners.objective import evaluate
-from pathplan_env.geometry.shortest_paths import shortest_path_to_goal
+from pathplan_env.geometry.reference_path import shortest_path_to_goal
 
 BUDGET_PARTICLES, BUDGET_ITERATIONS = 30, 100
 
@@ -244,6 +248,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--scenes", type=int, default=20)
     parser.add_argument("--spacetime-episodes", type=int, default=20)
     parser.add_argument("--dense", action="store_true", help="only the dense cells (30 and 50 obstacles x Δd 1, 2, 4)")
+    parser.add_argument("--static-clutter", action="store_true", help="only oracle-static's replan times among 300 resting cylinders")
     parser.add_argument("--learned", action="store_true", help="only the learned agents' acting times (their own scenes)")
     parser.add_argument("--unicycle", action="store_true", help="only the unicycle's space-time rows (random scenes, circle crossing)")
     parser.add_argument("--unicycle-planners", default=",".join(UNICYCLE_SPACETIME + CROWD_PLANNERS),
@@ -283,8 +288,47 @@ def print_dense(args: argparse.Namespace) -> None:
         print(f"| {name} | {n} | {delta_d:g} | {count} | {median:.2f} | {p95:.2f} | {wins}/{args.dense_episodes} |")
 
 
+def static_clutter_times(episodes: int) -> list[tuple[str, int, float, float]]:
+    """``oracle-static``'s plan times (ms) over whole episodes: (scene, plans, first plan's median, later replans' median)."""
+    from pathplan_env.scenarios.clutter import clutter_scenario
+
+    rows = []
+    scenes = (("300 resting cylinders", lambda seed: clutter_scenario(np.random.default_rng(seed), n_cylinders=300)),
+              ("random, 8 moving (Δd 0.5)", None))  # fmt: skip
+    for label, make in scenes:
+        env = gym.make("DynamicObstacle-v0", scenario=make(0) if make else "random", delta_d=None if make else 0.5)
+        agent = agents.make("oracle-static", env, seed=0)
+        agents.rollout(agent, env, seed=0)  # warm-up: compilation
+        first, later = [], []
+        for seed in range(1, episodes + 1):
+            if make:
+                env = gym.make("DynamicObstacle-v0", scenario=make(seed))
+                agent = agents.make("oracle-static", env, seed=0)
+            agent.reset()
+            obs, _ = env.reset(seed=seed)
+            for step in range(400):
+                action, _ = agent.predict(obs, deterministic=True)
+                (first if step == 0 else later).append(1e3 * agent.last_plan_seconds)
+                obs, _, terminated, truncated, _ = env.step(action)
+                if terminated or truncated:
+                    break
+        rows.append((label, len(first) + len(later), float(np.median(first)), float(np.median(later))))
+    return rows
+
+
+def print_static_clutter(episodes: int) -> None:
+    print(f"\noracle-static: plan times over {episodes} episodes, ms (the first builds the graph; among resting shapes the rest fly on along it)")
+    print("| scene | plans | first plan (median) | later replans (median) |")
+    print("|---|---:|---:|---:|")
+    for label, count, first, later in static_clutter_times(episodes):
+        print(f"| {label} | {count} | {first:.1f} | {later:.2f} |", flush=True)
+
+
 def main(argv=None) -> None:
     args = parse_args(argv)
+    if args.static_clutter:
+        print_static_clutter(args.spacetime_episodes)
+        return
     if args.dense:
         print_dense(args)
         return

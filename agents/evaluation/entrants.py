@@ -42,6 +42,7 @@ from pathplan_env import PRESETS, Scenario
 from pathplan_env.arguments import check_n_obstacles
 from pathplan_env.facts import EnvFacts
 from pathplan_env.scenarios.files import SUFFIXES, is_scenario_file, load_scenario
+from pathplan_env.scenarios.map_scenes import MapScenes, is_map_file
 
 _LABELLED = re.compile(r"([\w.+-]+)=(.+)")  # "label=entry": a label has no '/', ':', '@' or '='
 AGENT_FORMS = "a registered name, name@model_path, module:attribute or path/to/file.py:attribute"
@@ -93,19 +94,20 @@ class AgentSpec:
 
 @dataclass(frozen=True, eq=False)
 class ScenarioSpec:
-    """One scenario of a run: a preset's name, or the :class:`Scenario` itself (a file is read once, here).
+    """One scenario of a run: a preset's name, the :class:`Scenario` itself (a file is read once, here),
+    or a map's :class:`~pathplan_env.scenarios.map_scenes.MapScenes` (episodes drawn on the map).
 
     ``n_obstacles``: a preset's own obstacle count (``"random:n_obstacles=30"``), which overrides the
     run's; ``None``: the run's (or the preset's default)."""
 
     label: str
-    scenario: str | Scenario
+    scenario: str | Scenario | MapScenes
     n_obstacles: int | None = None
 
     def __post_init__(self):
         if self.n_obstacles is not None:
-            if not isinstance(self.scenario, str):
-                raise ValueError(f"n_obstacles: only a preset takes its own obstacle count, not the scene {self.label!r}")
+            if not isinstance(self.scenario, (str, MapScenes)):
+                raise ValueError(f"n_obstacles: only a preset or a map takes its own obstacle count, not the scene {self.label!r}")
             check_n_obstacles(self.n_obstacles)
 
     def obstacles(self, run_n_obstacles: int | None) -> int | None:
@@ -306,6 +308,12 @@ def _scenario_spec(entry, argument: str) -> ScenarioSpec:
             spec = ScenarioSpec(entry.strip(), entry.strip())
         elif isinstance(entry, str) and entry.strip().partition(":")[0] in PRESETS and not Path(entry.strip()).exists():
             spec = preset_with_fields(entry.strip())
+        elif isinstance(entry, (str, Path)) and is_map_file(str(entry).strip()):  # a map_server YAML: episodes drawn on the map
+            scenes = MapScenes(str(entry).strip())
+            spec = ScenarioSpec(scenes.name, scenes)
+        elif isinstance(entry, dict) and "map" in entry:
+            scenes = MapScenes.from_dict(entry)
+            spec = ScenarioSpec(scenes.name, scenes)
         elif isinstance(entry, (str, Path)) and (is_scenario_file(entry) or Path(entry).is_file()):
             scenario = load_scenario(entry)
             spec = ScenarioSpec(scenario.name, scenario)

@@ -107,7 +107,7 @@ def run_episode(agent: AgentSpec | str, scenario: ScenarioSpec | str, delta_d: f
     ``env_options`` and ``split``: :func:`make_episode_env` (the env and agent are seeded with ``seed`` on any split).
     ``record``: the result carries the episode's trajectory as ``result.trajectory``
     (a :class:`pathplan_env.records.Episode`; not a field, so the episode's row is the same either way)."""
-    from pathplan_env.geometry.shortest_paths import shortest_path_to_goal
+    from pathplan_env.geometry.reference_path import shortest_path_to_goal
 
     agent = agent if isinstance(agent, AgentSpec) else resolve_agents([agent])[0]
     scenario = scenario if isinstance(scenario, ScenarioSpec) else resolve_scenarios([scenario])[0]

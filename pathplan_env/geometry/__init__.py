@@ -5,7 +5,8 @@
 
 from pathplan_env.arena import Arena
 from pathplan_env.geometry.contacts import NO_CONTACT, point_segment_distance, segment_segment_distance, swept_contact, swept_pair
-from pathplan_env.geometry.shortest_paths import shortest_path, shortest_path_to_goal
+from pathplan_env.geometry.reference_path import shortest_path_to_goal
+from pathplan_env.geometry.shortest_paths import shortest_path
 
 __all__ = [
     "Arena", "NO_CONTACT", "point_segment_distance", "segment_segment_distance", "shortest_path", "shortest_path_to_goal", "swept_contact",

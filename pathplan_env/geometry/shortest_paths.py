@@ -10,23 +10,7 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
-from pathplan_env.arena import Arena
 from pathplan_env.geometry.contacts import point_segment_distance, segment_segment_distance
-
-
-def shortest_path_to_goal(scenario, margin: float = 0.0) -> float:
-    """Length of the exact shortest path of the robot's centre from the start to the goal's disc
-    among the scenario's obstacles at the start, walls and polygons (inflated by the robot radius
-    and ``margin``), inside the box where the robot's disc fits: the reference every length ratio
-    divides by."""
-    arrays = scenario.arrays()
-    inflated = arrays["radii"] + scenario.robot_radius + margin
-    capsules = scenario.static_segments.copy()
-    capsules[:, 4] += scenario.robot_radius + margin
-    _, length = shortest_path(
-        scenario.start, scenario.goal, arrays["positions"], inflated, bounds=Arena.of(scenario).robot_box, capsules=capsules
-    )
-    return length - scenario.goal_radius  # the episode ends on the goal's disc
 
 
 def _capsule_ends(capsules: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -172,7 +172,7 @@ def check_static_geometry(scenario) -> None:
             raise ValueError(f"Scenario.{label} {point}: the robot's disc (radius {r}) there touches {_owner(scenario, row)}")
     for i in np.flatnonzero(inside[2 : 2 + n] >= 0)[:1]:
         raise ValueError(f"Scenario.obstacles[{i}] at {scenario.obstacles[i].center} is inside Scenario.polygons[{inside[2 + i]}]")
-    for i, row in np.argwhere(gaps[2 : 2 + n] < radii[:, None])[:1]:
+    for i, row in np.argwhere(gaps[2 : 2 + n] < radii[:, None] - 1e-9)[:1]:  # touching allowed (scenario.TOUCHING_TOLERANCE)
         raise ValueError(f"Scenario.obstacles[{i}] at {scenario.obstacles[i].center} with radius {radii[i]} overlaps {_owner(scenario, row)}")
     for k, (i, goal) in enumerate(goals):
         if inside[2 + n + k] >= 0 or (gaps[2 + n + k] < radii[i]).any():

@@ -5,14 +5,17 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from pathlib import Path
 from typing import NamedTuple
 
 import numba
 import numpy as np
 
 from pathplan_env.arguments import check_count
+from pathplan_env.scenarios.clutter import CLUTTER_PRESETS
 from pathplan_env.scenarios.crowd_families import CROWD_FAMILIES
 from pathplan_env.scenarios.crowdnav import CROWDNAV_PRESETS
+from pathplan_env.scenarios.map_scenes import MapScenes, is_map_file
 from pathplan_env.scenarios.scenario import Obstacle, Scenario, Vec2
 from pathplan_env.scenarios.variation import VariedScenario
 from pathplan_env.scenarios.wall_families import FAMILIES
@@ -190,12 +193,13 @@ PRESETS: dict[str, Callable[[np.random.Generator, int | None], Scenario]] = {
     **CROWDNAV_PRESETS,
     **FAMILIES,  # static geometry: corridor, doorway, intersection, cluttered-room (families.py)
     **CROWD_FAMILIES,  # their -crowd versions (ORCA humans), maze and maze-crowd (crowd_families.py)
+    **CLUTTER_PRESETS,  # clutter and clutter-crowd: a few hundred resting cylinders, movers crossing (clutter.py)
 }
 #: The presets whose obstacle count ``n_obstacles`` sets; every other scenario has its own obstacles.
-COUNTED_PRESETS = frozenset({"random", *CROWDNAV_PRESETS, *FAMILIES, *CROWD_FAMILIES})
+COUNTED_PRESETS = frozenset({"random", *CROWDNAV_PRESETS, *FAMILIES, *CROWD_FAMILIES, *CLUTTER_PRESETS})
 #: The presets' own Δd, applied when ``make_scenario`` gets none (presets not listed keep their speeds).
 PRESET_DELTA_D: dict[str, float] = {**dict.fromkeys(PAPER_CASES, DEFAULT_DELTA_D), "random": DEFAULT_DELTA_D, **dict.fromkeys(FAMILIES, DEFAULT_DELTA_D),
-                                 **dict.fromkeys(CROWD_FAMILIES, DEFAULT_DELTA_D)}  # fmt: skip
+                                 **dict.fromkeys(CROWD_FAMILIES, DEFAULT_DELTA_D), **dict.fromkeys(CLUTTER_PRESETS, DEFAULT_DELTA_D)}  # fmt: skip
 
 
 def make_scenario(
@@ -207,7 +211,11 @@ def make_scenario(
     for the paper's cases and ``random``; CrowdNav's humans their 1 m/s), a :class:`Scenario`'s own
     velocities. ``n_obstacles`` sets the random and CrowdNav presets' counts (``None``: their own)."""
     if isinstance(spec, dict):
-        spec = Scenario.from_dict(spec)
+        spec = MapScenes.from_dict(spec) if "map" in spec else Scenario.from_dict(spec)
+    elif isinstance(spec, (str, Path)) and not (isinstance(spec, str) and spec in PRESETS) and is_map_file(spec):
+        spec = MapScenes(str(spec))
+    if isinstance(spec, MapScenes):
+        return spec(rng, n_obstacles, delta_d)
     if n_obstacles is not None and not (isinstance(spec, str) and spec in COUNTED_PRESETS):
         named = repr(spec) if isinstance(spec, str) else "a Scenario"
         raise ValueError(f"n_obstacles: {named} has its own obstacles (leave n_obstacles None); it applies to the presets {sorted(COUNTED_PRESETS)}")
@@ -222,6 +230,8 @@ def make_scenario(
             delta_d = PRESET_DELTA_D.get(spec)
         if spec == "random":  # Δd applied while sampling: the same draws, without a second copy
             return sample_random_scenario(rng, RANDOM_DEFAULT_OBSTACLES if n_obstacles is None else n_obstacles, delta_d)
+        if spec in CLUTTER_PRESETS:  # Δd moves their movers only: the cylinders are static geometry
+            return CLUTTER_PRESETS[spec](rng, n_obstacles, delta_d)
         scenario = PRESETS[spec](rng, n_obstacles)
     else:
         raise ValueError(f"scenario must be a preset name or a Scenario, got {type(spec).__name__}")

@@ -37,6 +37,10 @@ MIN_LENGTH = 1e-6
 #: Most obstacles a scenario holds: its checks compare every pair (in blocks of rows, so memory stays
 #: bounded), and no observation or physics step is meant for more.
 MAX_OBSTACLES = 5000
+#: How far (m) two shapes may seem to overlap and still count as touching: discs placed exactly two
+#: radii apart (cylinders in a row, coordinates written as decimals) read as overlapping by a few
+#: 1e-16 m of rounding; a nanometre is far above that and far below any physical size.
+TOUCHING_TOLERANCE = 1e-9
 #: Rows of the pairwise gap matrix computed at once (a block is ``_GAP_ROWS x n`` floats).
 _GAP_ROWS = 256
 
@@ -248,7 +252,7 @@ class Scenario:
             gaps = np.hypot(pos[block, None, 0] - pos[None, :, 0], pos[block, None, 1] - pos[None, :, 1]) - rad[block, None] - rad[None, :]
             rows = np.arange(gaps.shape[0])
             gaps[rows, rows + first] = np.inf
-            for i, j in np.argwhere(gaps < 0)[:1]:
+            for i, j in np.argwhere(gaps < -TOUCHING_TOLERANCE)[:1]:  # touching is allowed
                 i += first
                 raise ValueError(f"Scenario.obstacles[{i}] at {self.obstacles[i].center} overlaps Scenario.obstacles[{j}] at {self.obstacles[j].center}")
         too_fast = np.hypot(vel[:, 0], vel[:, 1]) * self.dt > max_step

@@ -300,7 +300,7 @@ def test_the_renderer_draws_walls_and_polygons():
 
 @pytest.mark.parametrize("family", ["corridor", "doorway", "intersection", "cluttered-room"])
 def test_preset_families_are_seeded_valid_and_keep_obstacles_out_of_the_walls(family):
-    from pathplan_env.geometry.shortest_paths import shortest_path_to_goal
+    from pathplan_env.geometry.reference_path import shortest_path_to_goal
     from pathplan_env.scenarios.presets import make_scenario
     from pathplan_env.scenarios.wall_families import FAMILIES
 
@@ -340,7 +340,7 @@ def _around_a_corner(a, centre, reach):
 
 
 def test_the_static_shortest_path_goes_around_walls_and_polygons():
-    from pathplan_env.geometry.shortest_paths import shortest_path_to_goal
+    from pathplan_env.geometry.reference_path import shortest_path_to_goal
     from pathplan_env.scenarios.presets import make_scenario
 
     base = {"bounds": ARENA, "start": (1.0, 5.0), "goal": (9.0, 5.0)}

@@ -1,4 +1,4 @@
-"""The static oracle's fast tangent graph (agents/oracles/tangent_graph.py) is the reference's
+"""The static oracle's fast tangent graph (pathplan_env/geometry/tangent_graph.py) is the reference's
 (pathplan_env.geometry.shortest_paths.shortest_path) to the bit: the same polyline and length on random scenes of
 discs, walls and polygons, and the same episodes."""
 
@@ -8,8 +8,8 @@ import pytest
 
 import agents
 import agents.oracles.static as static_oracle
-from agents.oracles.tangent_graph import shortest_path as fast
 from pathplan_env.geometry.shortest_paths import shortest_path as reference
+from pathplan_env.geometry.tangent_graph import shortest_path as fast
 
 
 def _scene(rng, trial):

@@ -12,7 +12,7 @@ name (``{"robot_0": "orca", "robot_1": "astar-spacetime"}``; a robot left out ta
 
 Per robot: success, collision and with what (robot, obstacle, wall), time to goal, path length; per
 episode: all arrived, makespan (the last arrival's time, when all arrived), sum of times (each
-robot's time to goal, or the episode's end). Rates carry Wilson intervals. Episodes are appended to
+robot's time to its goal, its contact, or the episode's end). Rates carry Wilson intervals. Episodes are appended to
 ``multi_episodes.jsonl`` as they finish (``resume=True`` skips those on record; ``workers`` run them
 on the single harness's process pool, ``agents.evaluation.executors``); ``multi_summary.json`` at the end.
 """
@@ -201,6 +201,7 @@ def evaluate_multi(entries: list, scenarios: list, deltas: list[float | None], e
         done = {(r.agent, r.scenario, r.delta_d, r.episode) for r in results}
         left = [j for j in jobs if (agent_label(j[0]), j[1] if isinstance(j[1], str) else getattr(j[1], "name", "custom"), j[2], j[3]) not in done]
         with log.open("a") as stream:
+
             def keep(result: MultiEpisodeResult) -> None:
                 results.append(result)
                 stream.write(json.dumps(asdict(result)) + "\n")
@@ -219,9 +220,10 @@ def table(rows: list[dict]) -> str:
     for r in rows:
         lo, hi = r["all_arrived_ci95"]
         c = r["collisions"]
-        lines.append(f"| {r['scenario']} | {'own' if r['delta_d'] is None else r['delta_d']} | {r['agent']} | {r['episodes']} | "
-                     f"{r['all_arrived']:.2f} ({lo:.2f}-{hi:.2f}) | {r['robot_success']:.2f} | "
-                     f"robot {c['robot']:.2f}, obstacle {c['obstacle']:.2f}, wall {c['wall']:.2f} | {r['makespan']:.1f} | {r['sum_of_times']:.1f} |")  # fmt: skip
+        delta = "own" if r["delta_d"] is None else r["delta_d"]
+        collisions = f"robot {c['robot']:.2f}, obstacle {c['obstacle']:.2f}, wall {c['wall']:.2f}"
+        lines.append(f"| {r['scenario']} | {delta} | {r['agent']} | {r['episodes']} | {r['all_arrived']:.2f} ({lo:.2f}-{hi:.2f}) | "
+                     f"{r['robot_success']:.2f} | {collisions} | {r['makespan']:.1f} | {r['sum_of_times']:.1f} |")  # fmt: skip
     return "\n".join(lines)
 
 

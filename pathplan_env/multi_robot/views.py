@@ -23,15 +23,22 @@ class RobotWorld:
         self.scenario = multi.scenarios[index]
         self.static_segments = multi.world.static_segments
         self.others: tuple[int, ...] = ()
+        self._rows: list[int] = []
+        self._seen = None
         self.radii = multi.world.radii
 
     def refresh(self) -> bool:
         """Follow the robots in the world; ``True`` if the set of others changed (the caller resets
         the observation type, whose padding and radii are set once per set of bodies)."""
-        others = tuple(j for j in self.multi.present() if j != self.index)
+        present = self.multi.present()
+        if present is self._seen:  # (the same list object: nothing left the world since the last look)
+            return False
+        self._seen = present
+        others = tuple(j for j in present if j != self.index)
         if others == self.others and len(self.radii) == self.multi.world.n_obstacles + len(others):
             return False
         self.others = others
+        self._rows = list(others)
         self.radii = np.concatenate([self.multi.world.radii, self.multi.radii[list(others)]])
         return True
 
@@ -44,7 +51,7 @@ class RobotWorld:
         world = self.multi.world
         if not self.others:
             return world.obstacle_state
-        return np.concatenate([world.obstacle_state, self.multi.robot_rows(self.others)])
+        return np.concatenate([world.obstacle_state, self.multi.robot_states[self._rows]])
 
     @property
     def time(self) -> float:

@@ -72,6 +72,15 @@ class MultiWorld:
             state.heading = math.atan2(s.goal[1] - s.start[1], s.goal[0] - s.start[0])  # a unicycle starts facing its goal
         self._leave = scene.arrival == "leave"
         self._rows = np.empty(5 * scene.n_robots)
+        self._sync()
+
+    def _sync(self) -> None:
+        """The robots' states as one array and the robots present, kept for the step's readers (the
+        observations of every robot read every other's: a per-read rebuild grew with the square of the robots)."""
+        self.robot_states = np.array([(*r.xy, *r.velocity) for r in self.robots], np.float64).reshape(-1, 4)
+        present = [i for i, r in enumerate(self.robots) if r.status in (ACTIVE, ARRIVED)]
+        if present != getattr(self, "_present", None):  # a new list only when the set changes (views compare identity)
+            self._present = present
 
     # -- what observations read ------------------------------------------------------------
     @property
@@ -84,11 +93,11 @@ class MultiWorld:
 
     def present(self) -> list[int]:
         """The robots in the world: moving, or resting at their goal."""
-        return [i for i, r in enumerate(self.robots) if r.status in (ACTIVE, ARRIVED)]
+        return self._present
 
     def robot_rows(self, indices) -> np.ndarray:
         """``(k, 4)`` states ``(x, y, vx, vy)`` of the robots ``indices`` (what the others see of them)."""
-        return np.array([(*self.robots[i].xy, *self.robots[i].velocity) for i in indices], np.float64).reshape(-1, 4)
+        return self.robot_states[list(indices)]
 
     def _steer(self) -> None:
         world = self.world
@@ -195,6 +204,7 @@ class MultiWorld:
                 r.status = COLLIDED
             elif step.goal <= 1.0:
                 r.status = LEFT if self._leave else ARRIVED
+        self._sync()
         return out
 
     def clearance(self, i: int) -> float:

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 pytest.importorskip("pettingzoo")
-from agents.evaluation.multi_robot import agents_for, evaluate_multi, run_multi_episode  # noqa: E402
-from agents.oracles.prioritized import PrioritizedOracle  # noqa: E402
-from pathplan_env.multi_robot import MultiScenario, make_multi_scenario, parallel_env  # noqa: E402
+from agents.evaluation.multi_robot import agents_for, evaluate_multi, run_multi_episode
+from agents.oracles.prioritized import PrioritizedOracle
+from pathplan_env.multi_robot import MultiScenario, make_multi_scenario, parallel_env
 
 
 def test_straight_robots_swapping_head_on_collide_with_each_other():

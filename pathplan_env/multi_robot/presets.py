@@ -18,14 +18,17 @@ from __future__ import annotations
 
 import math
 import re
+from pathlib import Path
 
 import numpy as np
 
 from pathplan_env.multi_robot.scene import MultiScenario, RobotSpec
 from pathplan_env.scenarios.crowdnav import crowdnav_scenario
+from pathplan_env.scenarios.files import MAX_SCENE_BYTES, is_scenario_file
 from pathplan_env.scenarios.presets import RANDOM_RADIUS_RANGE, RANDOM_ROBOT_SPEED
 from pathplan_env.scenarios.scenario import Obstacle, Scenario
 from pathplan_env.scenarios.wall_families import corridor, doorway
+from pathplan_env.validation import load_json, load_yaml, read_text
 
 CIRCLE_RADIUS = 4.0
 ARENA = (-6.0, -6.0, 6.0, 6.0)
@@ -156,12 +159,42 @@ PRESETS = (
 )
 
 
+def load_multi_scenario(path) -> MultiScenario:
+    """The :class:`MultiScenario` a JSON or YAML file describes: a single-robot scenario file's fields
+    (``pathplan_env.scenarios.files``) with a ``robots:`` list in place of the start and goal.
+
+    :raises ValueError: naming the file, and the robot and field where it is invalid.
+    """
+    path = Path(path)
+    text = read_text(path, MAX_SCENE_BYTES, "scenario file")
+    try:
+        data = load_json(text) if path.suffix.lower() == ".json" else load_yaml(text)
+    except RecursionError:
+        raise ValueError(f"scenario file {path}: nested too deeply") from None
+    except Exception as error:  # a parse error or a duplicate key: the message says where
+        raise ValueError(f"scenario file {path}: not valid {path.suffix[1:].upper()}: {error}") from None
+    if not isinstance(data, dict):
+        raise ValueError(f"scenario file {path}: expected a mapping with a 'robots' list, got {type(data).__name__}")
+    data = {"name": path.stem, **data}
+    if isinstance(data.get("bounds"), list):
+        data["bounds"] = tuple(data["bounds"])
+    obstacles = data.get("obstacles", ())
+    if isinstance(obstacles, list):
+        data["obstacles"] = [{k: tuple(v) if isinstance(v, list) else v for k, v in ob.items()} if isinstance(ob, dict) else ob for ob in obstacles]
+    try:
+        return MultiScenario.from_dict(data)
+    except (ValueError, TypeError) as error:
+        raise ValueError(f"scenario file {path}: {error}") from None
+
+
 def make_multi_scenario(spec, rng: np.random.Generator, delta_d: float | None = None) -> MultiScenario:
-    """Resolve a preset name, a :class:`MultiScenario` or its dict form, then apply ``delta_d`` to
+    """Resolve a preset name, a :class:`MultiScenario`, its dict form or a JSON/YAML file of it, then apply ``delta_d`` to
     its obstacles (``None``: the scene's own; Δd 0.25 for the ``-bouncing`` presets).
 
     :raises ValueError: naming ``scenario`` for an unknown name or a robot count out of range.
     """
+    if is_scenario_file(spec):
+        spec = load_multi_scenario(spec)
     if isinstance(spec, dict):
         spec = MultiScenario.from_dict(spec)
     if isinstance(spec, MultiScenario):
@@ -183,4 +216,4 @@ def make_multi_scenario(spec, rng: np.random.Generator, delta_d: float | None = 
     return scene
 
 
-__all__ = ["FAMILIES", "PRESETS", "make_multi_scenario"]
+__all__ = ["FAMILIES", "PRESETS", "load_multi_scenario", "make_multi_scenario"]

@@ -21,6 +21,8 @@ from pathplan_env.scenarios.scenario import Scenario
 #: What a robot does on reaching its goal: rest there as a body the others must avoid
 #: (gym-collision-avoidance's convention) or leave the world.
 ARRIVALS = ("stay", "leave")
+#: A single-robot ``Scenario``'s fields that are a robot's own here, and their names in a ``RobotSpec``.
+_ROBOT_FIELDS = {"start": "start", "goal_radius": "goal_radius", "goal": "goal", "robot_radius": "radius", "robot_speed": "speed"}
 
 
 @dataclass(frozen=True)
@@ -108,7 +110,10 @@ class MultiScenario:
         try:  # the single robot's checks: a start or goal outside the arena, in a wall, on an obstacle
             return dataclasses.replace(world, **fields)
         except ValueError as error:
-            raise ValueError(f"robots[{i}]: {str(error).replace('Scenario.robot_', 'Scenario.').replace('Scenario.', f'robots[{i}].')}") from None
+            message = str(error)
+            for field, own in _ROBOT_FIELDS.items():  # the robot's own fields named as its; the shared world's stay Scenario's
+                message = message.replace(f"Scenario.{field}", f"robots[{i}].{own}")
+            raise ValueError(message if f"robots[{i}]." in message else f"robots[{i}]: {message}") from None
 
     def _check_pairs(self, scenarios: tuple[Scenario, ...]) -> None:
         """No two robots overlap at the start; with ``arrival="stay"`` no two goals either (an arrived

@@ -149,7 +149,7 @@ def test_bad_input_names_the_robot_and_the_field():
     world = Scenario(bounds=(0.0, 0.0, 10.0, 10.0), start=(1.0, 1.0), goal=(9.0, 9.0), walls=(((5.0, 0.0), (5.0, 10.0)),))
     with pytest.raises(ValueError, match=r"robots\[1\]\.start .* overlaps robots\[0\]\.start"):
         MultiScenario(world, (RobotSpec((1.0, 1.0), (9.0, 9.0)), RobotSpec((1.2, 1.0), (9.0, 7.0))))
-    with pytest.raises(ValueError, match=r"robots\[1\].*goal"):
+    with pytest.raises(ValueError, match=r"robots\[1\]\.goal \(5\.0, 5\.0\).* touches Scenario\.walls\[0\]"):
         MultiScenario(world, (RobotSpec((1.0, 1.0), (9.0, 9.0)), RobotSpec((1.0, 3.0), (5.0, 5.0))))
     with pytest.raises(ValueError, match=r"robots\[0\]\.robot"):
         MultiScenario(world, (RobotSpec((1.0, 1.0), (9.0, 9.0), robot="tank"),))
@@ -169,3 +169,22 @@ def test_the_scene_file_form_takes_a_robots_list():
     assert scene.n_robots == 2 and scene.robots[1].robot == "unicycle"
     with pytest.raises(ValueError, match=r"robots\[0\]: unknown keys \['speeed'\]"):
         MultiScenario.from_dict({"bounds": [0, 0, 10, 10], "robots": [{"start": [1, 1], "goal": [9, 9], "speeed": 1}]})
+
+
+def test_a_frame_renders_without_a_display():
+    env = parallel_env(scenario="multi-circle-4-bouncing", render_mode="rgb_array")
+    env.reset(seed=0)
+    env.step(toward_goals(env))
+    frame = env.render()
+    assert frame.dtype == np.uint8 and frame.shape[2] == 3 and frame.std() > 0
+
+
+def test_a_scene_file_with_a_robots_list_runs(tmp_path):
+    path = tmp_path / "pair.yaml"
+    path.write_text("bounds: [0, 0, 10, 10]\nrobots:\n  - {start: [1, 1], goal: [9, 9]}\n  - {start: [9, 1], goal: [1, 9], radius: 0.3}\n")
+    env = parallel_env(scenario=str(path))
+    env.reset(seed=0)
+    assert env.scene.name == "pair" and env.robot_env("robot_1").robot_radius == 0.3
+    path.write_text("bounds: [0, 0, 10, 10]\nrobots:\n  - {start: [1, 1], goal: [9, 9]}\n  - {start: [1.1, 1], goal: [1, 9]}\n")
+    with pytest.raises(ValueError, match=r"pair\.yaml: robots\[1\]\.start"):
+        parallel_env(scenario=str(path))

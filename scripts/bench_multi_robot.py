@@ -2,10 +2,11 @@
 
     python scripts/bench_multi_robot.py [--robots 4,8,12,16,20] [--steps 100] [--repeats 3]
 
-Every robot of ``multi-circle-<n>`` turns about the circle's centre at a quarter of its top speed (a quarter turn in 100 steps: no robot reaches its goal), so every
-robot moves every step and none touches another (all ``n`` stay in the world: the step pays for
-every pair's swept test and every robot's observation of the ``n - 1`` others). Scenes with
-obstacles are left out: robots circling among them collide and leave, and fewer robots step faster. Prints the median
+Every robot of ``multi-circle-<n>`` turns about the circle's centre at a quarter of its top speed (a
+quarter turn in 100 steps: no robot reaches its goal), so every robot moves every step and none
+touches another (all ``n`` stay in the world: the step pays for every pair's swept test and every
+robot's observation of the ``n - 1`` others). Scenes with obstacles are left out: robots circling
+among them collide and leave, and fewer robots step faster. Prints the median
 step time over ``--repeats`` episodes, per robot, and the ratio to the first row against the ratio of robots
 (growth no worse than linear: the ratio stays at or below the robots' ratio).
 """

@@ -40,3 +40,11 @@ def test_the_crowd_humans_see_the_robots():
 def test_an_unknown_preset_or_count_is_refused(name):
     with pytest.raises(ValueError, match="scenario"):
         make_multi_scenario(name, np.random.default_rng(0))
+
+
+def test_the_scenes_import_without_pettingzoo():
+    import subprocess
+    import sys
+
+    code = "import sys, pathplan_env, pathplan_env.multi_robot; assert 'pettingzoo' not in sys.modules"
+    subprocess.run([sys.executable, "-c", code], check=True)

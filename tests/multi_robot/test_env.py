@@ -188,3 +188,28 @@ def test_a_scene_file_with_a_robots_list_runs(tmp_path):
     path.write_text("bounds: [0, 0, 10, 10]\nrobots:\n  - {start: [1, 1], goal: [9, 9]}\n  - {start: [1.1, 1], goal: [1, 9]}\n")
     with pytest.raises(ValueError, match=r"pair\.yaml: robots\[1\]\.start"):
         parallel_env(scenario=str(path))
+
+
+def test_orca_humans_see_the_robots_only_when_robot_visible():
+    paths = {}
+    for visible in (True, False):
+        env = parallel_env(scenario="multi-crowd-4", robot_visible=visible)
+        env.reset(seed=2)
+        for _ in range(12):
+            if not env.agents:
+                break
+            env.step(toward_goals(env))
+        paths[visible] = env.multi.obstacle_state.copy()
+    assert not np.array_equal(paths[True], paths[False])
+
+
+def test_a_robot_driven_into_a_wall_stops_there_and_is_removed():
+    env = parallel_env(scenario="multi-corridor-4")
+    env.reset(seed=0)
+    up = {a: env.robot_env(a).waypoint_to_action(np.array([env.multi.robots[int(a[-1])].xy[0], 5.9])) for a in env.agents}
+    for _ in range(30):
+        _, _, terms, _, infos = env.step({a: up[a] for a in env.agents})
+        if all(terms.values()):
+            break
+    assert {info["collision_with"] for info in infos.values()} == {"wall"}
+    assert env.agents == []

@@ -9,7 +9,8 @@
 - ``multi-crowd-<n>``: ``n`` robots on a circle of radius 3 m among CrowdNav's 5 ORCA humans on
   their circle of 4 m (the humans see the robots), at CrowdNav's speeds, dt and 25 s.
 - ``multi-corridor-<n>``, ``multi-doorway-<n>``: the single env's corridor and doorway walls, half
-  the robots going each way (no obstacles).
+  the robots going each way (no obstacles); ``multi-maze-<n>``: the shipped maze map, each robot
+  between two points drawn in its free space.
 
 The robots are the random preset's: radius 0.2 m, 2.5 m/s, dt 0.1 s (CrowdNav's in ``multi-crowd``).
 """
@@ -147,15 +148,29 @@ def multi_doorway(rng: np.random.Generator, n: int) -> MultiScenario:
     return _walled(doorway(rng, 0), f"multi-doorway-{n}", (1.5, 1.0, 2.5, 7.0), (9.5, 1.0, 10.5, 7.0), n, rng)
 
 
+def multi_maze(rng: np.random.Generator, n: int) -> MultiScenario:
+    """``n`` robots in the shipped maze (``pathplan_env.maps``), starts and goals drawn in its free
+    space with 0.1 m of clearance and apart from each other; robot ``i`` goes from start ``i`` to goal ``i``."""
+    from pathplan_env.maps.ros_maps import load_shipped_map
+
+    occupancy = load_shipped_map("maze")
+    points = occupancy.sample_free(rng, 2 * n, ROBOT_RADIUS + 0.1, min_separation=2 * ROBOT_RADIUS + 0.1)
+    starts, goals = points[:n], points[n:]
+    name = f"multi-maze-{n}"
+    world = Scenario(bounds=occupancy.bounds, start=tuple(starts[0]), goal=tuple(goals[0]), polygons=occupancy.polygons, robot_radius=ROBOT_RADIUS,
+                     robot_speed=RANDOM_ROBOT_SPEED, dt=DT, name=name)  # fmt: skip
+    return MultiScenario(world, _robots(starts, goals), name=name)
+
+
 #: The families by prefix: ``<prefix>-<n>`` draws ``n`` robots.
 FAMILIES = {"multi-circle": multi_circle, "multi-swap": multi_swap, "multi-crossing": multi_crossing, "multi-crowd": multi_crowd,
-            "multi-corridor": multi_corridor, "multi-doorway": multi_doorway}  # fmt: skip
+            "multi-corridor": multi_corridor, "multi-doorway": multi_doorway, "multi-maze": multi_maze}  # fmt: skip
 _NAME = re.compile(r"^(multi-[a-z]+)-(\d+)(-bouncing)?$")
 #: The names the docs and tests list (any ``n`` from 2 to :data:`MAX_ROBOTS` works).
 PRESETS = (
     tuple(f"multi-circle-{n}" for n in (2, 4, 10, 20))
     + tuple(f"multi-circle-{n}-bouncing" for n in (4, 10))
-    + ("multi-swap-2", "multi-crossing-4", "multi-crossing-10", "multi-crowd-4", "multi-corridor-4", "multi-doorway-4")
+    + ("multi-swap-2", "multi-crossing-4", "multi-crossing-10", "multi-crowd-4", "multi-corridor-4", "multi-doorway-4", "multi-maze-4")
 )
 
 

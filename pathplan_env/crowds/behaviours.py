@@ -242,19 +242,21 @@ def _write_velocities(idx, chosen, state, body_state, speeds):
 
 @numba.njit(cache=True)
 def _agents(state, radii, robot, pad):
-    """Every agent's position, velocity and padded radius: the obstacles, then the robot if visible
-    (``robot`` is ``(x, y, vx, vy, radius)`` or empty)."""
+    """Every agent's position, velocity and padded radius: the obstacles, then the visible robots
+    (``robot`` is ``(x, y, vx, vy, radius)`` per robot, flattened: empty, one robot or several)."""
     n = state.shape[0]
-    m = n + (1 if robot.shape[0] == 5 else 0)
+    k = robot.shape[0] // 5
+    m = n + k
     positions, velocities, padded = np.empty((m, 2)), np.empty((m, 2)), np.empty(m)
     for i in range(n):
         positions[i, 0], positions[i, 1] = state[i, 0], state[i, 1]
         velocities[i, 0], velocities[i, 1] = state[i, 2], state[i, 3]
         padded[i] = radii[i] + pad
-    if m > n:
-        positions[n, 0], positions[n, 1] = robot[0], robot[1]
-        velocities[n, 0], velocities[n, 1] = robot[2], robot[3]
-        padded[n] = robot[4] + pad
+    for j in range(k):
+        row = 5 * j
+        positions[n + j, 0], positions[n + j, 1] = robot[row], robot[row + 1]
+        velocities[n + j, 0], velocities[n + j, 1] = robot[row + 2], robot[row + 3]
+        padded[n + j] = robot[row + 4] + pad
     return positions, velocities, padded
 
 

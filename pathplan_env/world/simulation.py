@@ -114,9 +114,14 @@ class World(SpaceKeeper):
             robot[0], robot[1], robot[2], robot[3] = x, y, vx, vy
         else:
             robot = _NO_ROBOT
+        self.steer(robot)
+
+    def steer(self, robots: np.ndarray) -> None:
+        """Goal-directed obstacles choose this step's velocities, seeing ``robots`` (``(x, y, vx, vy,
+        radius)`` per robot, flattened; empty: none): :meth:`_steer`'s, for a world of several robots."""
         state, dt = self.obstacle_state, self.scenario.dt
         for behaviour, idx, goals, preferred in self._drivers:
-            behaviour.steer(idx, state, self._pymunk_state, self._speeds, self.radii, goals, preferred, robot, dt, self._human_statics)
+            behaviour.steer(idx, state, self._pymunk_state, self._speeds, self.radii, goals, preferred, robots, dt, self._human_statics)
         self._write_bodies()
 
     # -- stepping ------------------------------------------------------------------------------

@@ -1,0 +1,51 @@
+"""Evaluate agents on multi-robot scenes and print the Markdown table (docs/results/multi_robot.md).
+
+    python scripts/evaluate_multi.py --agents astar-spacetime,pso-spacetime,abc-spacetime,orca,oracle-prioritized \\
+        --scenarios multi-circle-4,multi-circle-10 --bouncing multi-circle-4-bouncing,multi-circle-10-bouncing \\
+        --episodes 20 --workers 2 --out results/multi_robot
+
+Every robot is driven by its own instance of the agent (seeded ``seed + robot``); ``--scenarios`` run at
+their own speeds (no obstacles on the circle), ``--bouncing`` at ``--delta-d`` (default 0.25). Episodes
+use the test split's seeds (``--split validation`` the validation seeds), as ``scripts/evaluate.py`` does.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from agents.evaluation.multi_robot import evaluate_multi, table
+
+
+def names(text: str) -> list[str]:
+    return [part for part in text.split(",") if part]
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--agents", type=names, required=True, help="agent names, comma-separated (oracle-prioritized too)")
+    parser.add_argument("--scenarios", type=names, default=[], help="multi-robot presets at their own speeds")
+    parser.add_argument("--bouncing", type=names, default=[], help="multi-robot presets with obstacles, run at --delta-d")
+    parser.add_argument("--delta-d", type=float, default=0.25, help="the obstacles' Δd in the --bouncing scenes")
+    parser.add_argument("--episodes", type=int, default=20)
+    parser.add_argument("--seed", type=int, default=0, help="the split's seed (as scripts/evaluate.py)")
+    parser.add_argument("--split", default="test", choices=["test", "validation"])
+    parser.add_argument("--workers", type=int, default=1)
+    parser.add_argument("--out", type=Path, default=None, help="folder for multi_episodes.jsonl and multi_summary.json")
+    parser.add_argument("--resume", action="store_true", help="keep the episodes on record in --out and run the rest")
+    return parser
+
+
+def main(argv=None) -> None:
+    args = build_parser().parse_args(argv)
+    rows = []
+    for label, scenarios, delta in (("own", args.scenarios, None), ("bouncing", args.bouncing, args.delta_d)):
+        if scenarios:
+            out = None if args.out is None else args.out / label
+            rows += evaluate_multi(args.agents, scenarios, [delta], args.episodes, out, seed=args.seed, split=args.split,
+                                   workers=args.workers, resume=args.resume)  # fmt: skip
+    print(table(rows))
+
+
+if __name__ == "__main__":
+    main()

@@ -22,7 +22,7 @@ import numpy as np
 
 from agents.base import Agent
 from agents.planners.costtogo import STRAIGHT_LINE, cost_to_go
-from agents.planners.spacetime_search import FOUND, SearchSettings, SpacetimeProblem, heading_moves, search
+from agents.planners.spacetime.astar import FOUND, SearchSettings, SpacetimeProblem, heading_moves, search
 from pathplan_env.robots.holonomic import substep_point
 from pathplan_env.world.simulation import World
 

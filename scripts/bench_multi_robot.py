@@ -49,12 +49,20 @@ def step_seconds(scenario: str, steps: int, repeats: int) -> float:
     return float(np.median(times))
 
 
-def main(argv=None) -> None:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--robots", default="4,8,12,16,20", help="robot counts, comma-separated")
     parser.add_argument("--steps", type=int, default=100)
     parser.add_argument("--repeats", type=int, default=3)
-    args = parser.parse_args(argv)
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    return build_parser().parse_args(argv)
+
+
+def main(argv=None) -> None:
+    args = parse_args(argv)
     counts = [int(n) for n in args.robots.split(",")]
     print("| scene | robots | step (ms) | per robot (ms) | time ratio | robots ratio |")
     print("|---|---|---|---|---|---|")

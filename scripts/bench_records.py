@@ -24,13 +24,17 @@ from pathplan_env.records import EpisodeRecorder
 from pathplan_env.records.store import RecordWriter
 
 
-def parse_args(argv=None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--rounds", type=int, default=3, help="alternating pairs of runs")
     parser.add_argument("--episodes", type=int, default=10, help="episodes per cell of the timed runs")
     parser.add_argument("--agents", default="pso-predictive,velocity-obstacle")
     parser.add_argument("--scenarios", default="random,crowdnav-circle-crossing")
-    return parser.parse_args(argv)
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    return build_parser().parse_args(argv)
 
 
 def episode_size(folder: Path, steps: int = 200, obstacles: int = 8) -> tuple[float, str]:

@@ -9,6 +9,7 @@ shipped office map (a ROS map_server YAML) with 5 bouncing discs.
 
 from __future__ import annotations
 
+import argparse
 import time
 
 import numpy as np
@@ -45,7 +46,16 @@ def _timed(fn, *args):
     return out, time.perf_counter() - begin
 
 
-def main() -> None:
+def build_parser() -> argparse.ArgumentParser:
+    return argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    return build_parser().parse_args(argv)
+
+
+def main(argv=None) -> None:
+    parse_args(argv)
     reference_path.shortest_path_to_goal(Scenario(bounds=(0, 0, 5, 5), start=(1, 1), goal=(4, 4), obstacles=(Obstacle((2.5, 2.5), 0.5),)))  # compile
     print("| scene | discs | capsules | length m | numpy graph s | compiled s | cached s | lengths equal (1e-9) |")
     print("|---|---:|---:|---:|---:|---:|---:|---|")

@@ -22,11 +22,15 @@ from pathplan_env.records.compact import pack, scene_of
 from pathplan_env.records.store import open_records
 
 
-def parse_args(argv=None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("run", help="an evaluate.py --record run")
     parser.add_argument("--episodes", default="1000,10000", help="comma-separated page sizes (episodes)")
-    return parser.parse_args(argv)
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    return build_parser().parse_args(argv)
 
 
 def _wait(driver, script: str, limit: float = 120.0) -> float:

@@ -21,14 +21,22 @@ from agents.evaluation.multi_robot import _build
 from pathplan_env.multi_robot import parallel_env
 
 
-def main(argv=None) -> None:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--scenario", default="multi-circle-10")
     parser.add_argument("--agent", default="astar-spacetime")
     parser.add_argument("--seed", type=int, default=1_000_000_000, help="the episode's seed (the test split's first)")
     parser.add_argument("--size", type=int, default=360, help="frame width (px)")
     parser.add_argument("--out", type=Path, default=Path("docs/img/multi_circle_10.gif"))
-    args = parser.parse_args(argv)
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    return build_parser().parse_args(argv)
+
+
+def main(argv=None) -> None:
+    args = parse_args(argv)
     env = parallel_env(scenario=args.scenario, render_mode="rgb_array")
     observations, _ = env.reset(seed=args.seed)
     built = {a: _build(args.agent, env.robot_env(a), args.seed + i) for i, a in enumerate(env.possible_agents)}

@@ -20,7 +20,7 @@ from pathlib import Path
 from agents.evaluation.report.browser import chromium, missing
 
 
-def parse_args(argv=None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("run", help="an evaluate.py --out folder with report.html (recorded with --record)")
     parser.add_argument("--episode", type=int, default=0, help="the episode's row in the page's list")
@@ -31,7 +31,11 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--section", default="player", help="the page's section at the top of the screenshot")
     parser.add_argument("--colours", type=int, default=0, help="write a palette PNG of this many colours (small enough for a README); 0: full colour")
     parser.add_argument("--out", default="results/report.png")
-    return parser.parse_args(argv)
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    return build_parser().parse_args(argv)
 
 
 def main(argv=None) -> None:

@@ -41,8 +41,12 @@ def test_summary_schema_and_rates(tiny_run):
         assert cell["success_over_limit"] == pytest.approx(cell["success_rate"] / cell["limit"])
         rates = [cell["success_rate"], cell["collision_rate"], cell["timeout_rate"]]
         assert all(0 <= r <= 1 for r in rates) and sum(rates) == pytest.approx(1.0)
-        wins = round(cell["success_rate"] * cell["episodes"])  # the interval is Wilson's of the cell's own count
-        assert cell["success_ci95"] == list(wilson_interval(wins, cell["episodes"]))  # (checked by value: test_statistics.py)
+        # the interval is Wilson's of the distinct episodes (paper-case-1 at Δd 0 plays one episode four times)
+        distinct = cell["distinct_episodes"]
+        assert 1 <= distinct <= cell["episodes"]
+        if cell["success_rate"] in (0.0, 1.0) or distinct == cell["episodes"]:  # the distinct ones' wins follow
+            wins = round(cell["success_rate"] * distinct)
+            assert cell["success_ci95"] == list(wilson_interval(wins, distinct))  # (checked by value: test_statistics.py)
         assert cell["episodes"] == 4
     straight = [c for c in summary["results"] if c["agent"] == "straight" and c["delta_d"] == 0][0]
     assert straight["collision_rate"] == 1.0  # the obstacle blocks the direct line

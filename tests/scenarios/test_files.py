@@ -119,8 +119,8 @@ def test_a_file_that_is_not_utf8_is_refused_naming_the_file(tmp_path):
 
 def test_a_directory_or_a_missing_file_is_a_value_error(tmp_path):
     (tmp_path / "d.yaml").mkdir()
-    for path in (tmp_path / "d.yaml", tmp_path / "missing.yaml"):
-        with pytest.raises(ValueError, match="not a regular file"):
+    for path, says in ((tmp_path / "d.yaml", "not a regular file"), (tmp_path / "missing.yaml", "does not exist")):
+        with pytest.raises(ValueError, match=f"{path.name}: {says}"):
             load_scenario(path)
 
 

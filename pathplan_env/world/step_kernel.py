@@ -1,0 +1,113 @@
+"""``World.step`` in one compiled call: the open-space ORCA crowd's steering, the bodies written to
+Chipmunk, every substep (Chipmunk's step, the bodies read back, the robot's swept test, the speeds
+restored) and the robot's stop, with the arithmetic of the Python loop it replaces, operation for
+operation (the episode digests hold bit for bit).
+
+A step of a small crowd cost four times navground's, all of it fixed cost: a dozen calls across the
+Python/compiled boundary, each paying for its arguments (``scripts/bench_crowds.py``). Here the
+world's arrays travel as one packed float64 array and one int64 array (:class:`KernelLayout`),
+and Chipmunk is called through its functions' addresses (``chipmunk.call_step``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from pathplan_env.crowds.behaviours import _orca_step
+from pathplan_env.crowds.orca import ORCAParams
+from pathplan_env.crowds.orca_obstacles import ORCAObstacles
+from pathplan_env.geometry.contacts import NO_CONTACT
+from pathplan_env.world.chipmunk import as_pointer, call_each_body, call_step
+from pathplan_env.world.substep_kernels import _finish_substep, _gap_until
+
+#: What the kernel steers itself: nothing (bouncing obstacles), one ORCA group with no walls, or a
+#: crowd steered by ``World._steer`` before the call (other behaviours, walls and routes).
+STEER_NONE, STEER_ORCA, STEER_OUTSIDE = 0, 1, 2
+
+# the int64 array's header: Chipmunk's handles and functions, then counts and flags; the ORCA
+# group's obstacle indices follow it
+SPACE, REQUEST, FLOATS, STEP, EACH, READ, WRITE, SUBSTEPS, MODE, COUNT, VISIBLE, MAX_NEIGHBORS = range(12)
+INT_HEADER = 12
+# the float64 array's constants, after the (N, 4) state, speeds, radii, (N, 2) goals, preferred
+# speeds and the robot's row (x, y, vx, vy, radius): 9 N + 5 floats
+DT, ROBOT_RADIUS, NEIGHBOR_DIST, TIME_HORIZON, TIME_HORIZON_OBST, PAD = range(6)
+FLOAT_CONSTANTS = 6
+
+
+def float_length(n: int) -> int:
+    """Floats of the packed array of ``n`` obstacles."""
+    return 9 * n + 5 + FLOAT_CONSTANTS
+
+
+@numba.njit(cache=True)
+def _write_bodies(ints, header):
+    """``SpaceKeeper._write_bodies``: the batch iterator reads the array from its start."""
+    filled = header[0]
+    header[0] = 0
+    call_each_body(ints[EACH], ints[SPACE], ints[WRITE], ints[REQUEST])
+    header[0] = filled
+
+
+@numba.njit(cache=True)
+def world_step(ints, floats, x0, y0, dx, dy, goal_fraction, static_contact, min_gap):
+    """One step of ``World.step`` from the static stop on (``goal_fraction``, ``static_contact`` and
+    ``min_gap`` as the walls left them); returns ``(x, y, moving, min_gap, first_contact)``."""
+    m, n = ints[COUNT], ints[SUBSTEPS]
+    header = numba.carray(as_pointer(ints[FLOATS]), 4, np.int32)  # pmFloatArray: num, max, then its array's address
+    body_address = numba.carray(as_pointer(ints[FLOATS]), 2, np.int64)[1]
+    body = numba.carray(as_pointer(body_address), (m, 4), np.float64)  # the obstacles' rows of the batch array
+    state = floats[: 4 * m].reshape((m, 4))
+    speeds, radii = floats[4 * m : 5 * m], floats[5 * m : 6 * m]
+    c = 9 * m + 5
+    dt, robot_radius = floats[c + DT], floats[c + ROBOT_RADIUS]
+    if ints[MODE] == STEER_ORCA:
+        goals, preferred = floats[6 * m : 8 * m].reshape((m, 2)), floats[8 * m : 9 * m]
+        robot = floats[9 * m : 9 * m + 5] if ints[VISIBLE] else floats[:0]
+        params = ORCAParams(floats[c + NEIGHBOR_DIST], ints[MAX_NEIGHBORS], floats[c + TIME_HORIZON], floats[c + TIME_HORIZON_OBST])
+        none = ORCAObstacles(np.empty((0, 2)), np.empty((0, 2)), np.empty(0, np.int64), np.empty(0, np.int64), np.empty(0, np.bool_))
+        _orca_step(ints[INT_HEADER:], state, body, speeds, radii, goals, preferred, robot, dt, params, floats[c + PAD], none)
+        _write_bodies(ints, header)
+    first_contact = NO_CONTACT
+    ax, ay = x0, y0
+    moving = True
+    goal_substep = min(n, max(1, math.ceil(goal_fraction * n))) if goal_fraction <= 1.0 else 0
+    gap = 0.0
+    h = dt / n
+    for k in range(1, n + 1):
+        call_step(ints[STEP], ints[SPACE], h)
+        header[0] = 0
+        call_each_body(ints[EACH], ints[SPACE], ints[READ], ints[REQUEST])
+        if moving:
+            if k == n:
+                bx, by = x0 + dx, y0 + dy
+            else:
+                bx, by = x0 + (k / n) * dx, y0 + (k / n) * dy
+            if k == goal_substep:  # the gap counts up to the goal only (before the states move on)
+                goal_here = min(goal_fraction * n - (k - 1), 1.0)
+                gap = _gap_until(ax, ay, bx, by, goal_here, robot_radius, state, body, radii)
+        else:
+            bx, by = ax, ay
+        sweep_gap, t, restored = _finish_substep(state, body, ax, ay, bx, by, robot_radius, radii, speeds)
+        if restored:
+            _write_bodies(ints, header)
+        if not moving:
+            continue
+        if t <= 1.0 and (k - 1 + t) / n <= goal_fraction:  # contact first: the robot stops touching
+            first_contact = (k - 1 + t) / n
+            min_gap = min(min_gap, 0.0)
+            bx, by = ax + t * (bx - ax), ay + t * (by - ay)
+            moving = False
+        elif k == goal_substep:  # at the goal, or where it touches a wall: the robot stops there
+            if static_contact:
+                first_contact, min_gap = goal_fraction, 0.0
+            else:
+                min_gap = min(min_gap, gap)
+            bx, by = x0 + goal_fraction * dx, y0 + goal_fraction * dy
+            moving = False
+        elif sweep_gap < min_gap:
+            min_gap = sweep_gap
+        ax, ay = bx, by
+    return ax, ay, moving, min_gap, first_contact

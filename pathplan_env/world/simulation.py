@@ -115,7 +115,12 @@ class World(SpaceKeeper):
         views of one float64 array, Chipmunk's handles and the ORCA group's indices one int64 array.
         Run at construction and after unpickling (the views are copies then)."""
         m, scenario = self.n_obstacles, self.scenario
-        floats = np.zeros(step_kernel.float_length(m))
+        mode, idx, behaviour = step_kernel.STEER_NONE, np.empty(0, np.int64), None
+        if self._drivers:
+            mode = step_kernel.STEER_OUTSIDE
+            if len(self._drivers) == 1 and isinstance(self._drivers[0][0], ORCA) and self._human_statics is None:
+                mode, behaviour, idx = step_kernel.STEER_ORCA, self._drivers[0][0], self._drivers[0][1]
+        floats = np.zeros(step_kernel.float_length(m, mode == step_kernel.STEER_ORCA))
         floats[: 4 * m] = self.obstacle_state.ravel()
         floats[4 * m : 5 * m], floats[5 * m : 6 * m] = self._speeds, self.radii
         floats[9 * m : 9 * m + 5] = self._robot_row
@@ -124,21 +129,17 @@ class World(SpaceKeeper):
         goals, preferred = floats[6 * m : 8 * m].reshape(m, 2), floats[8 * m : 9 * m]
         if self._drivers:  # every group shares the goals and preferred speeds
             goals[:], preferred[:] = self._drivers[0][2], self._drivers[0][3]
-            self._drivers = [(behaviour, idx, goals, preferred) for behaviour, idx, _, _ in self._drivers]
+            self._drivers = [(group, members, goals, preferred) for group, members, _, _ in self._drivers]
         constants = floats[9 * m + 5 :]
         constants[step_kernel.DT], constants[step_kernel.ROBOT_RADIUS] = scenario.dt, scenario.robot_radius
-        mode, idx, max_neighbors = step_kernel.STEER_NONE, np.empty(0, np.int64), 0
-        if self._drivers:
-            mode = step_kernel.STEER_OUTSIDE
-            behaviour = self._drivers[0][0]
-            if len(self._drivers) == 1 and isinstance(behaviour, ORCA) and self._human_statics is None:
-                mode, idx, max_neighbors = step_kernel.STEER_ORCA, self._drivers[0][1], behaviour.max_neighbors
-                constants[step_kernel.NEIGHBOR_DIST], constants[step_kernel.TIME_HORIZON] = behaviour.neighbor_dist, behaviour.time_horizon
-                constants[step_kernel.TIME_HORIZON_OBST] = behaviour.time_horizon_obst
-                constants[step_kernel.PAD] = behaviour.radius_padding + behaviour.safety_space  # (as ORCA.steer adds them)
+        if behaviour is not None:
+            constants[step_kernel.NEIGHBOR_DIST], constants[step_kernel.TIME_HORIZON] = behaviour.neighbor_dist, behaviour.time_horizon
+            constants[step_kernel.TIME_HORIZON_OBST] = behaviour.time_horizon_obst
+            constants[step_kernel.PAD] = behaviour.radius_padding + behaviour.safety_space  # (as ORCA.steer adds them)
         header = [address_of(self.space._space), address_of(self._request), address_of(self._buffer._float_arr), _STEP, _EACH, _READ, _WRITE,
-                  self.substeps, mode, m, int(scenario.robot_visible), max_neighbors]  # fmt: skip
-        self._floats, self._ints, self._mode = floats, np.concatenate([np.array(header, np.int64), idx]), mode
+                  self.substeps, mode, m, int(scenario.robot_visible), behaviour.max_neighbors if behaviour else 0, len(idx)]  # fmt: skip
+        order = np.zeros(m + 1 if behaviour else 0, np.int64)  # ORCA's neighbour order (scratch)
+        self._floats, self._ints, self._mode = floats, np.concatenate([np.array(header, np.int64), idx, order]), mode
 
     def _steer(self) -> None:
         """Goal-directed obstacles choose this step's velocities (all from the same snapshot); the

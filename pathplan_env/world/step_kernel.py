@@ -16,8 +16,8 @@ import math
 import numba
 import numpy as np
 
-from pathplan_env.crowds.behaviours import _orca_step
-from pathplan_env.crowds.orca import ORCAParams
+from pathplan_env.crowds.behaviours import _agents_into, _orca_step_in
+from pathplan_env.crowds.orca import ORCAParams, ORCAWork
 from pathplan_env.crowds.orca_obstacles import ORCAObstacles
 from pathplan_env.geometry.contacts import NO_CONTACT
 from pathplan_env.world.chipmunk import as_pointer, call_each_body, call_step
@@ -29,17 +29,26 @@ STEER_NONE, STEER_ORCA, STEER_OUTSIDE = 0, 1, 2
 
 # the int64 array's header: Chipmunk's handles and functions, then counts and flags; the ORCA
 # group's obstacle indices follow it
-SPACE, REQUEST, FLOATS, STEP, EACH, READ, WRITE, SUBSTEPS, MODE, COUNT, VISIBLE, MAX_NEIGHBORS = range(12)
-INT_HEADER = 12
+# group's obstacle indices and ORCA's neighbour-order scratch (N + 1) follow it
+SPACE, REQUEST, FLOATS, STEP, EACH, READ, WRITE, SUBSTEPS, MODE, COUNT, VISIBLE, MAX_NEIGHBORS, STEERED = range(13)
+INT_HEADER = 13
 # the float64 array's constants, after the (N, 4) state, speeds, radii, (N, 2) goals, preferred
-# speeds and the robot's row (x, y, vx, vy, radius): 9 N + 5 floats
+# speeds and the robot's row (x, y, vx, vy, radius): 9 N + 5 floats; ORCA's scratch follows them
 DT, ROBOT_RADIUS, NEIGHBOR_DIST, TIME_HORIZON, TIME_HORIZON_OBST, PAD = range(6)
 FLOAT_CONSTANTS = 6
 
 
-def float_length(n: int) -> int:
-    """Floats of the packed array of ``n`` obstacles."""
-    return 9 * n + 5 + FLOAT_CONSTANTS
+def float_length(n: int, orca: bool) -> int:
+    """Floats of the packed array of ``n`` obstacles (with ORCA's scratch if ``orca``)."""
+    return 9 * n + 5 + FLOAT_CONSTANTS + (_scratch_length(n) if orca else 0)
+
+
+def _scratch_length(n: int) -> int:
+    """ORCA's scratch for ``n`` humans and the robot (``M = n + 1`` agents): positions and velocities
+    (M, 2), padded radii (M,), the chosen velocities (n, 2), squared distances (M,), lines and
+    projected lines (M + 1, 4) each, the result (2,)."""
+    agents = n + 1
+    return 14 * agents + 2 * n + 10
 
 
 @numba.njit(cache=True)
@@ -49,6 +58,33 @@ def _write_bodies(ints, header):
     header[0] = 0
     call_each_body(ints[EACH], ints[SPACE], ints[WRITE], ints[REQUEST])
     header[0] = filled
+
+
+@numba.njit(cache=True)
+def _steer_orca(ints, floats, m, c, state, body, speeds, radii, dt):
+    """``behaviours._orca_step`` (no walls) with its arrays in the packed ones: the same arithmetic,
+    no allocation."""
+    goals, preferred = floats[6 * m : 8 * m].reshape((m, 2)), floats[8 * m : 9 * m]
+    visible = ints[VISIBLE] != 0
+    robot = floats[9 * m : 9 * m + 5] if visible else floats[:0]
+    params = ORCAParams(floats[c + NEIGHBOR_DIST], ints[MAX_NEIGHBORS], floats[c + TIME_HORIZON], floats[c + TIME_HORIZON_OBST])
+    pad = floats[c + PAD]
+    steered = ints[INT_HEADER : INT_HEADER + ints[STEERED]]
+    a, big = m + (1 if visible else 0), m + 1  # the agents, and the agents the scratch is sized for
+    s = c + FLOAT_CONSTANTS
+    positions, velocities = floats[s : s + 2 * a].reshape((a, 2)), floats[s + 2 * big : s + 2 * big + 2 * a].reshape((a, 2))
+    padded = floats[s + 4 * big : s + 4 * big + a]
+    out = floats[s + 5 * big : s + 5 * big + 2 * steered.shape[0]].reshape((steered.shape[0], 2))
+    s += 5 * big + 2 * m
+    dist_sq = floats[s : s + a]
+    s += big
+    lines, projected = floats[s : s + 4 * (a + 1)].reshape((a + 1, 4)), floats[s + 4 * (big + 1) : s + 4 * (big + 1) + 4 * (a + 1)].reshape((a + 1, 4))
+    result = floats[s + 8 * (big + 1) : s + 8 * (big + 1) + 2]
+    order = ints[INT_HEADER + ints[STEERED] : INT_HEADER + ints[STEERED] + a]
+    work = ORCAWork(order, dist_sq, ints[:0], floats[:0], lines, projected, result)
+    none = ORCAObstacles(floats[:0].reshape((0, 2)), floats[:0].reshape((0, 2)), ints[:0], ints[:0], np.empty(0, np.bool_))
+    _agents_into(state, radii, robot, pad, positions, velocities, padded)
+    _orca_step_in(steered, state, body, speeds, goals, preferred, dt, params, none, positions, velocities, padded, out, work)
 
 
 @numba.njit(cache=True)
@@ -64,11 +100,7 @@ def world_step(ints, floats, x0, y0, dx, dy, goal_fraction, static_contact, min_
     c = 9 * m + 5
     dt, robot_radius = floats[c + DT], floats[c + ROBOT_RADIUS]
     if ints[MODE] == STEER_ORCA:
-        goals, preferred = floats[6 * m : 8 * m].reshape((m, 2)), floats[8 * m : 9 * m]
-        robot = floats[9 * m : 9 * m + 5] if ints[VISIBLE] else floats[:0]
-        params = ORCAParams(floats[c + NEIGHBOR_DIST], ints[MAX_NEIGHBORS], floats[c + TIME_HORIZON], floats[c + TIME_HORIZON_OBST])
-        none = ORCAObstacles(np.empty((0, 2)), np.empty((0, 2)), np.empty(0, np.int64), np.empty(0, np.int64), np.empty(0, np.bool_))
-        _orca_step(ints[INT_HEADER:], state, body, speeds, radii, goals, preferred, robot, dt, params, floats[c + PAD], none)
+        _steer_orca(ints, floats, m, c, state, body, speeds, radii, dt)
         _write_bodies(ints, header)
     first_contact = NO_CONTACT
     ax, ay = x0, y0

@@ -118,8 +118,9 @@ class World(SpaceKeeper):
         mode, idx, behaviour = step_kernel.STEER_NONE, np.empty(0, np.int64), None
         if self._drivers:
             mode = step_kernel.STEER_OUTSIDE
-            if len(self._drivers) == 1 and isinstance(self._drivers[0][0], ORCA) and self._human_statics is None:
-                mode, behaviour, idx = step_kernel.STEER_ORCA, self._drivers[0][0], self._drivers[0][1]
+            if len(self._drivers) == 1 and isinstance(self._drivers[0][0], ORCA):
+                mode = step_kernel.STEER_ORCA if self._human_statics is None else step_kernel.STEER_ROUTED
+                behaviour, idx = self._drivers[0][0], self._drivers[0][1]
         floats = np.zeros(step_kernel.float_length(m, mode == step_kernel.STEER_ORCA))
         floats[: 4 * m] = self.obstacle_state.ravel()
         floats[4 * m : 5 * m], floats[5 * m : 6 * m] = self._speeds, self.radii
@@ -138,7 +139,7 @@ class World(SpaceKeeper):
             constants[step_kernel.PAD] = behaviour.radius_padding + behaviour.safety_space  # (as ORCA.steer adds them)
         header = [address_of(self.space._space), address_of(self._request), address_of(self._buffer._float_arr), _STEP, _EACH, _READ, _WRITE,
                   self.substeps, mode, m, int(scenario.robot_visible), behaviour.max_neighbors if behaviour else 0, len(idx)]  # fmt: skip
-        order = np.zeros(m + 1 if behaviour else 0, np.int64)  # ORCA's neighbour order (scratch)
+        order = np.zeros(m + 1 if mode == step_kernel.STEER_ORCA else 0, np.int64)  # ORCA's neighbour order (scratch)
         self._floats, self._ints, self._mode = floats, np.concatenate([np.array(header, np.int64), idx, order]), mode
 
     def _steer(self) -> None:
@@ -181,7 +182,7 @@ class World(SpaceKeeper):
         mode = self._mode
         if mode == step_kernel.STEER_OUTSIDE:
             self._steer()
-        elif mode == step_kernel.STEER_ORCA and self.scenario.robot_visible:  # the compiled step steers; the humans see the robot here
+        elif mode != step_kernel.STEER_NONE and self.scenario.robot_visible:  # the compiled step steers; the humans see the robot here
             (x, y), (vx, vy) = self.robot_xy, self.robot_velocity_xy
             robot = self._robot_row
             robot[0], robot[1], robot[2], robot[3] = x, y, vx, vy
@@ -192,7 +193,16 @@ class World(SpaceKeeper):
             # the substeps stop at the walls' first contact as at the goal (an obstacle touched earlier still comes first)
             goal_fraction, static_contact, gap = static_stop(x0, y0, dx, dy, goal_fraction, self.scenario.robot_radius, self.static_segments)
             min_gap = min(min_gap, gap)
-        ax, ay, moving, min_gap, first_contact = step_kernel.world_step(self._ints, self._floats, x0, y0, dx, dy, goal_fraction, static_contact, min_gap)
+        if mode == step_kernel.STEER_ROUTED:
+            statics = self._human_statics
+            args = (self._ints, self._floats, statics.routes_fields, statics.obstacle_fields, statics.scratch_targets, statics.missing,
+                    x0, y0, dx, dy, goal_fraction, static_contact, min_gap)  # fmt: skip
+            ax, ay, moving, min_gap, first_contact, n_missing = step_kernel.world_step_routed(*args)
+            if n_missing:  # some human first lost sight of its goal: its route (scipy's Dijkstra), then the step
+                statics.fill_routes(n_missing)
+                ax, ay, moving, min_gap, first_contact, n_missing = step_kernel.world_step_routed(*args)
+        else:
+            ax, ay, moving, min_gap, first_contact = step_kernel.world_step(self._ints, self._floats, x0, y0, dx, dy, goal_fraction, static_contact, min_gap)
         self.robot_xy = (ax, ay)
         dt = self.scenario.dt
         self.robot_velocity_xy = (dx / dt, dy / dt) if moving else (0.0, 0.0)

@@ -16,16 +16,18 @@ import math
 import numba
 import numpy as np
 
-from pathplan_env.crowds.behaviours import _agents_into, _orca_step_in
+from pathplan_env.crowds.behaviours import _agents_into, _orca_step, _orca_step_in
 from pathplan_env.crowds.orca import ORCAParams, ORCAWork
 from pathplan_env.crowds.orca_obstacles import ORCAObstacles
+from pathplan_env.crowds.routing import Routes, route_targets
 from pathplan_env.geometry.contacts import NO_CONTACT
 from pathplan_env.world.chipmunk import as_pointer, call_each_body, call_step
 from pathplan_env.world.substep_kernels import _finish_substep, _gap_until
 
-#: What the kernel steers itself: nothing (bouncing obstacles), one ORCA group with no walls, or a
-#: crowd steered by ``World._steer`` before the call (other behaviours, walls and routes).
-STEER_NONE, STEER_ORCA, STEER_OUTSIDE = 0, 1, 2
+#: What the kernel steers itself: nothing (bouncing obstacles), one ORCA group with no walls, a crowd
+#: steered by ``World._steer`` before the call (other behaviours, several groups), or one ORCA group
+#: among walls (:func:`world_step_routed`).
+STEER_NONE, STEER_ORCA, STEER_OUTSIDE, STEER_ROUTED = 0, 1, 2, 3
 
 # the int64 array's header: Chipmunk's handles and functions, then counts and flags; the ORCA
 # group's obstacle indices follow it
@@ -88,20 +90,53 @@ def _steer_orca(ints, floats, m, c, state, body, speeds, radii, dt):
 
 
 @numba.njit(cache=True)
-def world_step(ints, floats, x0, y0, dx, dy, goal_fraction, static_contact, min_gap):
-    """One step of ``World.step`` from the static stop on (``goal_fraction``, ``static_contact`` and
-    ``min_gap`` as the walls left them); returns ``(x, y, moving, min_gap, first_contact)``."""
-    m, n = ints[COUNT], ints[SUBSTEPS]
+def _views(ints, floats):
+    """The packed arrays' views: Chipmunk's batch array header, the obstacles' rows of it, the state,
+    speeds and radii, and where the constants start."""
+    m = ints[COUNT]
     header = numba.carray(as_pointer(ints[FLOATS]), 4, np.int32)  # pmFloatArray: num, max, then its array's address
     body_address = numba.carray(as_pointer(ints[FLOATS]), 2, np.int64)[1]
     body = numba.carray(as_pointer(body_address), (m, 4), np.float64)  # the obstacles' rows of the batch array
-    state = floats[: 4 * m].reshape((m, 4))
-    speeds, radii = floats[4 * m : 5 * m], floats[5 * m : 6 * m]
-    c = 9 * m + 5
-    dt, robot_radius = floats[c + DT], floats[c + ROBOT_RADIUS]
+    return header, body, floats[: 4 * m].reshape((m, 4)), floats[4 * m : 5 * m], floats[5 * m : 6 * m], 9 * m + 5
+
+
+@numba.njit(cache=True)
+def world_step(ints, floats, x0, y0, dx, dy, goal_fraction, static_contact, min_gap):
+    """One step of ``World.step`` from the static stop on (``goal_fraction``, ``static_contact`` and
+    ``min_gap`` as the walls left them); returns ``(x, y, moving, min_gap, first_contact)``."""
+    header, body, state, speeds, radii, c = _views(ints, floats)
     if ints[MODE] == STEER_ORCA:
-        _steer_orca(ints, floats, m, c, state, body, speeds, radii, dt)
+        _steer_orca(ints, floats, ints[COUNT], c, state, body, speeds, radii, floats[c + DT])
         _write_bodies(ints, header)
+    return _substeps(ints, floats[c + DT], floats[c + ROBOT_RADIUS], header, body, state, speeds, radii, x0, y0, dx, dy, goal_fraction, static_contact, min_gap)
+
+
+@numba.njit(cache=True)
+def world_step_routed(ints, floats, routes_fields, obstacle_fields, targets, missing, x0, y0, dx, dy, goal_fraction, static_contact, min_gap):
+    """:func:`world_step` for one ORCA group among walls (``ORCA.steer``'s routed call: the humans head
+    for their route targets, RVO2's obstacles ``obstacle_fields``); returns its tuple and the count of
+    humans in ``missing`` whose route is not computed yet: when not 0, nothing moved (the caller runs
+    their Dijkstra and calls again)."""
+    header, body, state, speeds, radii, c = _views(ints, floats)
+    m = ints[COUNT]
+    steered = ints[INT_HEADER : INT_HEADER + ints[STEERED]]
+    goals, preferred = floats[6 * m : 8 * m].reshape((m, 2)), floats[8 * m : 9 * m]
+    n_missing = route_targets(Routes(*routes_fields), steered, state, goals, targets, missing)
+    if n_missing:
+        return x0, y0, True, min_gap, NO_CONTACT, n_missing
+    robot = floats[9 * m : 9 * m + 5] if ints[VISIBLE] else floats[:0]
+    params = ORCAParams(floats[c + NEIGHBOR_DIST], ints[MAX_NEIGHBORS], floats[c + TIME_HORIZON], floats[c + TIME_HORIZON_OBST])
+    _orca_step(steered, state, body, speeds, radii, targets, preferred, robot, floats[c + DT], params, floats[c + PAD], ORCAObstacles(*obstacle_fields))
+    _write_bodies(ints, header)
+    x, y, moving, min_gap, first_contact = _substeps(ints, floats[c + DT], floats[c + ROBOT_RADIUS], header, body, state, speeds, radii, x0, y0, dx, dy,
+                                                     goal_fraction, static_contact, min_gap)  # fmt: skip
+    return x, y, moving, min_gap, first_contact, 0
+
+
+@numba.njit(cache=True)
+def _substeps(ints, dt, robot_radius, header, body, state, speeds, radii, x0, y0, dx, dy, goal_fraction, static_contact, min_gap):
+    """Every substep of a step and the robot's stop (``World.step``'s loop, operation for operation)."""
+    n = ints[SUBSTEPS]
     first_contact = NO_CONTACT
     ax, ay = x0, y0
     moving = True

@@ -35,6 +35,7 @@ _NO_ROBOT = np.empty(0)  # what humans see of an invisible robot
 # the C functions the compiled step calls (``step_kernel``)
 _STEP, _EACH = function_address("cpSpaceStep"), function_address("cpSpaceEachBody")
 _READ, _WRITE = function_address("pmSpaceBodyGetIteratorFuncBatched"), function_address("pmSpaceBodySetIteratorFuncBatched")
+_world_step = step_kernel.world_step_entry()
 
 
 class World(SpaceKeeper):
@@ -141,6 +142,8 @@ class World(SpaceKeeper):
                   self.substeps, mode, m, int(scenario.robot_visible), behaviour.max_neighbors if behaviour else 0, len(idx)]  # fmt: skip
         order = np.zeros(m + 1 if mode == step_kernel.STEER_ORCA else 0, np.int64)  # ORCA's neighbour order (scratch)
         self._floats, self._ints, self._mode = floats, np.concatenate([np.array(header, np.int64), idx, order]), mode
+        self._sees_robot = mode in (step_kernel.STEER_ORCA, step_kernel.STEER_ROUTED) and scenario.robot_visible
+        self._dt = scenario.dt
 
     def _steer(self) -> None:
         """Goal-directed obstacles choose this step's velocities (all from the same snapshot); the
@@ -182,7 +185,7 @@ class World(SpaceKeeper):
         mode = self._mode
         if mode == step_kernel.STEER_OUTSIDE:
             self._steer()
-        elif mode != step_kernel.STEER_NONE and self.scenario.robot_visible:  # the compiled step steers; the humans see the robot here
+        elif self._sees_robot:  # the compiled step steers; the humans see the robot here
             (x, y), (vx, vy) = self.robot_xy, self.robot_velocity_xy
             robot = self._robot_row
             robot[0], robot[1], robot[2], robot[3] = x, y, vx, vy
@@ -202,12 +205,12 @@ class World(SpaceKeeper):
                 statics.fill_routes(n_missing)
                 ax, ay, moving, min_gap, first_contact, n_missing = step_kernel.world_step_routed(*args)
         else:
-            ax, ay, moving, min_gap, first_contact = step_kernel.world_step(self._ints, self._floats, x0, y0, dx, dy, goal_fraction, static_contact, min_gap)
+            ax, ay, moving, min_gap, first_contact = _world_step(self._ints, self._floats, x0, y0, dx, dy, goal_fraction, static_contact, min_gap)
         self.robot_xy = (ax, ay)
-        dt = self.scenario.dt
+        dt = self._dt
         self.robot_velocity_xy = (dx / dt, dy / dt) if moving else (0.0, 0.0)
         self.time += dt
-        return float(min_gap), float(first_contact)
+        return min_gap, first_contact  # (Python floats from the compiled call)
 
     def begin_step(self) -> None:
         """The start of a step driven from outside :meth:`step` (a robot flying arcs): goal-directed

@@ -6,6 +6,10 @@ CrowdNav's circle crossing and for the corridor with 20 humans, from one process
 turns at going first.
 
     python scripts/bench_crowds.py [--steps 100] [--repeats 9] [--sizes 2 5 10 15 20]
+    python scripts/bench_crowds.py --split [--sizes 2 5]
+
+``--split``: what our ``World.step`` is made of at those sizes (no navground needed): the whole step,
+the compiled step called directly, the Python/compiled boundary alone, Chipmunk's step alone.
 
 navground is in the ``crowds-bench`` extra (``pip install -e .[crowds-bench]``); without it the
 script says so and stops.
@@ -20,7 +24,16 @@ import sys
 import gymnasium as gym
 
 import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
-from pathplan_env.world.navground_peer import CORRIDOR_HUMANS, CROWD_SIZES, agreement, crowd_scene, navground_stepper, paired_ratio, world_stepper
+from pathplan_env.world.navground_peer import (
+    CORRIDOR_HUMANS,
+    CROWD_SIZES,
+    agreement,
+    crowd_scene,
+    navground_stepper,
+    paired_ratio,
+    step_split,
+    world_stepper,
+)
 
 
 def env_stepper(scenario):
@@ -38,7 +51,14 @@ def main(argv=None) -> None:
     parser.add_argument("--repeats", type=int, default=9)
     parser.add_argument("--sizes", type=int, nargs="+", default=list(CROWD_SIZES))
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--split", action="store_true", help="only what World.step is made of (µs), per size")
     args = parser.parse_args(argv)
+    if args.split:
+        print("| humans | `World.step` µs | compiled step | call boundary | `cpSpaceStep` |\n|---:|---:|---:|---:|---:|")
+        for n in args.sizes:
+            parts = step_split(crowd_scene("circle", n, args.seed))
+            print(f"| {n} | " + " | ".join(f"{us:.2f}" for us in parts.values()) + " |", flush=True)
+        return
     if importlib.util.find_spec("navground") is None:
         print("bench_crowds: navground is not installed (pip install -e .[crowds-bench]); nothing to compare, skipped")
         return

@@ -145,3 +145,46 @@ def navground_stepper(scenario: Scenario) -> Callable:
     world = navground_world(scenario)
     dt = scenario.dt
     return lambda: world.update(dt)
+
+
+def step_split(scenario: Scenario, steps: int = 100, worlds: int = 200) -> dict:
+    """What one ``World.step`` of ``scenario`` is made of (µs a step, process CPU time over ``steps``
+    steps of each of ``worlds`` fresh worlds, their building left out): the whole step; the compiled
+    step called directly (its Python wrapper left out); a call of a compiled function that does
+    nothing with the same nine arguments (the boundary's cost); ``cpSpaceStep`` of the same space
+    through cffi (Chipmunk's step, a cffi call included)."""
+    from pathplan_env.world.chipmunk import space_step
+    from pathplan_env.world.simulation import World, _world_step
+
+    boundary = _nothing_entry()
+
+    def parts(world):
+        args = (world._ints, world._floats, *world.robot_xy, 0.0, 0.0, 2.0, False, scenario.arena_diagonal)
+        space, dt = world.space._space, scenario.dt
+        return {
+            "World.step": lambda: world.step(0.0, 0.0),
+            "compiled step": lambda: _world_step(*args),
+            "call boundary": lambda: boundary(*args),
+            "cpSpaceStep": lambda: space_step(space, dt),
+        }
+
+    totals = dict.fromkeys(parts(World(scenario)), 0.0)
+    for _ in range(worlds):
+        for name in totals:
+            world = World(scenario)  # (kept here: the compiled step reads its space through raw addresses)
+            totals[name] += cpu_seconds(parts(world)[name], steps)
+    return {name: 1e6 * total / (worlds * steps) for name, total in totals.items()}
+
+
+def _nothing_entry():
+    """A compiled function of ``world_step``'s signature that returns at once (its entry point)."""
+    import numba
+    from numba import types
+
+    @numba.njit
+    def nothing(ints, floats, x0, y0, dx, dy, goal_fraction, static_contact, min_gap):
+        return x0, y0, True, min_gap, goal_fraction
+
+    signature = (types.int64[::1], types.float64[::1], *[types.float64] * 5, types.boolean, types.float64)
+    nothing.compile(signature)
+    return nothing.overloads[signature].entry_point

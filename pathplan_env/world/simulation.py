@@ -36,6 +36,7 @@ _NO_ROBOT = np.empty(0)  # what humans see of an invisible robot
 _STEP, _EACH = function_address("cpSpaceStep"), function_address("cpSpaceEachBody")
 _READ, _WRITE = function_address("pmSpaceBodyGetIteratorFuncBatched"), function_address("pmSpaceBodySetIteratorFuncBatched")
 _world_step = step_kernel.world_step_entry()
+_STEER_OUTSIDE, _STEER_ROUTED = step_kernel.STEER_OUTSIDE, step_kernel.STEER_ROUTED  # (read every step: no module lookups)
 
 
 class World(SpaceKeeper):
@@ -43,7 +44,10 @@ class World(SpaceKeeper):
     or the previous episode's lent whole: ``pathplan_env.world.space``).
 
     Obstacle state moves between pymunk and numpy in one batch call per substep
-    (``pymunk.batch``), not one Python attribute access per body.
+    (``pymunk.batch``), not one Python attribute access per body, and :meth:`step` is one compiled
+    call (``pathplan_env.world.step_kernel``): the crowd's steering, Chipmunk's substeps and the
+    robot's swept test, on the world's arrays packed into two (``obstacle_state``, ``radii`` and
+    the speeds are views of one float64 array).
     """
 
     def __init__(self, scenario: Scenario, recycle: World | None = None):
@@ -183,7 +187,7 @@ class World(SpaceKeeper):
             > 1, if none before the goal).
         """
         mode = self._mode
-        if mode == step_kernel.STEER_OUTSIDE:
+        if mode == _STEER_OUTSIDE:
             self._steer()
         elif self._sees_robot:  # the compiled step steers; the humans see the robot here
             (x, y), (vx, vy) = self.robot_xy, self.robot_velocity_xy
@@ -196,7 +200,7 @@ class World(SpaceKeeper):
             # the substeps stop at the walls' first contact as at the goal (an obstacle touched earlier still comes first)
             goal_fraction, static_contact, gap = static_stop(x0, y0, dx, dy, goal_fraction, self.scenario.robot_radius, self.static_segments)
             min_gap = min(min_gap, gap)
-        if mode == step_kernel.STEER_ROUTED:
+        if mode == _STEER_ROUTED:
             statics = self._human_statics
             args = (self._ints, self._floats, statics.routes_fields, statics.obstacle_fields, statics.scratch_targets, statics.missing,
                     x0, y0, dx, dy, goal_fraction, static_contact, min_gap)  # fmt: skip

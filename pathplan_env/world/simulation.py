@@ -39,6 +39,12 @@ _world_step = step_kernel.world_step_entry()
 _STEER_OUTSIDE, _STEER_ROUTED = step_kernel.STEER_OUTSIDE, step_kernel.STEER_ROUTED  # (read every step: no module lookups)
 
 
+def _contiguous(statics) -> bool:
+    """Whether every array the routed compiled step reads of ``statics`` is C-contiguous."""
+    arrays = (*statics.routes_fields, *statics.obstacle_fields, statics.scratch_targets, statics.missing)
+    return all(a.flags.c_contiguous for a in arrays if isinstance(a, np.ndarray))
+
+
 class World(SpaceKeeper):
     """One episode's simulation, built from a :class:`Scenario` at every reset (its pymunk space new,
     or the previous episode's lent whole: ``pathplan_env.world.space``).
@@ -126,6 +132,8 @@ class World(SpaceKeeper):
             if len(self._drivers) == 1 and isinstance(self._drivers[0][0], ORCA):
                 mode = step_kernel.STEER_ORCA if self._human_statics is None else step_kernel.STEER_ROUTED
                 behaviour, idx = self._drivers[0][0], self._drivers[0][1]
+                if mode == step_kernel.STEER_ROUTED and not _contiguous(self._human_statics):
+                    mode = step_kernel.STEER_OUTSIDE  # (the compiled step reads their arrays as C-contiguous)
         floats = np.zeros(step_kernel.float_length(m, mode == step_kernel.STEER_ORCA))
         floats[: 4 * m] = self.obstacle_state.ravel()
         floats[4 * m : 5 * m], floats[5 * m : 6 * m] = self._speeds, self.radii

@@ -17,8 +17,8 @@ import numba
 import numpy as np
 from numba import types
 
-from pathplan_env.crowds.behaviours import _agents_into, _orca_step, _orca_step_in
-from pathplan_env.crowds.orca import ORCAParams, ORCAWork
+from pathplan_env.crowds.behaviours import _agents, _agents_into, _orca_step_in
+from pathplan_env.crowds.orca import ORCAParams, ORCAWork, orca_work
 from pathplan_env.crowds.orca_obstacles import ORCAObstacles
 from pathplan_env.crowds.routing import Routes, route_targets
 from pathplan_env.geometry.contacts import NO_CONTACT
@@ -63,42 +63,71 @@ def _write_bodies(ints, header):
     header[0] = filled
 
 
+@numba.njit(cache=True, inline="always")
+def _floats(base, start, count):
+    """``count`` float64 from element ``start`` of the array at address ``base``, as a view that
+    carries no reference count: the ORCA kernel's dozen arrays each paid reference counts on every
+    call."""
+    return numba.carray(as_pointer(base + 8 * start), count, np.float64)
+
+
+@numba.njit(cache=True, inline="always")
+def _unref(array):
+    """:func:`_floats` of a whole C-contiguous array (any dtype and shape): a view without counts."""
+    return numba.carray(as_pointer(np.int64(array.ctypes.data)), array.shape, array.dtype)
+
+
+@numba.njit(cache=True, inline="always")
+def _rows(base, start, rows, cols):
+    """:func:`_floats` as a (rows, cols) view."""
+    return numba.carray(as_pointer(base + 8 * start), (rows, cols), np.float64)
+
+
+@numba.njit(cache=True, inline="always")
+def _ints(base, start, count):
+    """:func:`_floats` for int64."""
+    return numba.carray(as_pointer(base + 8 * start), count, np.int64)
+
+
 @numba.njit(cache=True)
 def _steer_orca(ints, floats, m, c, state, body, speeds, radii, dt):
     """``behaviours._orca_step`` (no walls) with its arrays in the packed ones: the same arithmetic,
-    no allocation."""
-    goals, preferred = floats[6 * m : 8 * m].reshape((m, 2)), floats[8 * m : 9 * m]
+    no allocation, no reference counting."""
+    fb, ib = np.int64(floats.ctypes.data), np.int64(ints.ctypes.data)
+    goals, preferred = _rows(fb, 6 * m, m, 2), _floats(fb, 8 * m, m)
     visible = ints[VISIBLE] != 0
-    robot = floats[9 * m : 9 * m + 5] if visible else floats[:0]
+    robot = _floats(fb, 9 * m, 5 if visible else 0)
     params = ORCAParams(floats[c + NEIGHBOR_DIST], ints[MAX_NEIGHBORS], floats[c + TIME_HORIZON], floats[c + TIME_HORIZON_OBST])
     pad = floats[c + PAD]
-    steered = ints[INT_HEADER : INT_HEADER + ints[STEERED]]
+    n_steered = ints[STEERED]
+    steered = _ints(ib, INT_HEADER, n_steered)
     a, big = m + (1 if visible else 0), m + 1  # the agents, and the agents the scratch is sized for
     s = c + FLOAT_CONSTANTS
-    positions, velocities = floats[s : s + 2 * a].reshape((a, 2)), floats[s + 2 * big : s + 2 * big + 2 * a].reshape((a, 2))
-    padded = floats[s + 4 * big : s + 4 * big + a]
-    out = floats[s + 5 * big : s + 5 * big + 2 * steered.shape[0]].reshape((steered.shape[0], 2))
+    positions, velocities = _rows(fb, s, a, 2), _rows(fb, s + 2 * big, a, 2)
+    padded = _floats(fb, s + 4 * big, a)
+    out = _rows(fb, s + 5 * big, n_steered, 2)
     s += 5 * big + 2 * m
-    dist_sq = floats[s : s + a]
+    dist_sq = _floats(fb, s, a)
     s += big
-    lines, projected = floats[s : s + 4 * (a + 1)].reshape((a + 1, 4)), floats[s + 4 * (big + 1) : s + 4 * (big + 1) + 4 * (a + 1)].reshape((a + 1, 4))
-    result = floats[s + 8 * (big + 1) : s + 8 * (big + 1) + 2]
-    order = ints[INT_HEADER + ints[STEERED] : INT_HEADER + ints[STEERED] + a]
-    work = ORCAWork(order, dist_sq, ints[:0], floats[:0], lines, projected, result)
-    none = ORCAObstacles(floats[:0].reshape((0, 2)), floats[:0].reshape((0, 2)), ints[:0], ints[:0], np.empty(0, np.bool_))
+    lines, projected = _rows(fb, s, a + 1, 4), _rows(fb, s + 4 * (big + 1), a + 1, 4)
+    result = _floats(fb, s + 8 * (big + 1), 2)
+    order = _ints(ib, INT_HEADER + n_steered, a)
+    work = ORCAWork(order, dist_sq, _ints(ib, 0, 0), _floats(fb, 0, 0), lines, projected, result)
+    none = ORCAObstacles(_rows(fb, 0, 0, 2), _rows(fb, 0, 0, 2), _ints(ib, 0, 0), _ints(ib, 0, 0), numba.carray(as_pointer(ib), 0, np.bool_))
     _agents_into(state, radii, robot, pad, positions, velocities, padded)
     _orca_step_in(steered, state, body, speeds, goals, preferred, dt, params, none, positions, velocities, padded, out, work)
 
 
 @numba.njit(cache=True)
 def _views(ints, floats):
-    """The packed arrays' views: Chipmunk's batch array header, the obstacles' rows of it, the state,
-    speeds and radii, and where the constants start."""
+    """The packed arrays' views (:func:`_floats`): Chipmunk's batch array header, the obstacles' rows
+    of it, the state, speeds and radii, and where the constants start."""
     m = ints[COUNT]
     header = numba.carray(as_pointer(ints[FLOATS]), 4, np.int32)  # pmFloatArray: num, max, then its array's address
     body_address = numba.carray(as_pointer(ints[FLOATS]), 2, np.int64)[1]
     body = numba.carray(as_pointer(body_address), (m, 4), np.float64)  # the obstacles' rows of the batch array
-    return header, body, floats[: 4 * m].reshape((m, 4)), floats[4 * m : 5 * m], floats[5 * m : 6 * m], 9 * m + 5
+    fb = np.int64(floats.ctypes.data)
+    return header, body, _rows(fb, 0, m, 4), _floats(fb, 4 * m, m), _floats(fb, 5 * m, m), 9 * m + 5
 
 
 @numba.njit(cache=True)
@@ -120,14 +149,26 @@ def world_step_routed(ints, floats, routes_fields, obstacle_fields, targets, mis
     their Dijkstra and calls again)."""
     header, body, state, speeds, radii, c = _views(ints, floats)
     m = ints[COUNT]
-    steered = ints[INT_HEADER : INT_HEADER + ints[STEERED]]
-    goals, preferred = floats[6 * m : 8 * m].reshape((m, 2)), floats[8 * m : 9 * m]
-    n_missing = route_targets(Routes(*routes_fields), steered, state, goals, targets, missing)
+    fb, ib = np.int64(floats.ctypes.data), np.int64(ints.ctypes.data)
+    steered = _ints(ib, INT_HEADER, ints[STEERED])
+    goals, preferred = _rows(fb, 6 * m, m, 2), _floats(fb, 8 * m, m)
+    r = routes_fields
+    routes = Routes(r[0], r[1], r[2], r[3], r[4], _unref(r[5]), _unref(r[6]), _unref(r[7]), _unref(r[8]), _unref(r[9]), _unref(r[10]), _unref(r[11]))
+    targets, missing = _unref(targets), _unref(missing)
+    n_missing = route_targets(routes, steered, state, goals, targets, missing)
     if n_missing:
         return x0, y0, True, min_gap, NO_CONTACT, n_missing
-    robot = floats[9 * m : 9 * m + 5] if ints[VISIBLE] else floats[:0]
+    robot = _floats(fb, 9 * m, 5 if ints[VISIBLE] else 0)
     params = ORCAParams(floats[c + NEIGHBOR_DIST], ints[MAX_NEIGHBORS], floats[c + TIME_HORIZON], floats[c + TIME_HORIZON_OBST])
-    _orca_step(steered, state, body, speeds, radii, targets, preferred, robot, floats[c + DT], params, floats[c + PAD], ORCAObstacles(*obstacle_fields))
+    o = obstacle_fields
+    obstacles = ORCAObstacles(_unref(o[0]), _unref(o[1]), _unref(o[2]), _unref(o[3]), _unref(o[4]))
+    # behaviours._orca_step: its arrays allocated as there, then used through views without counts
+    positions, velocities, padded = _agents(state, radii, robot, floats[c + PAD])
+    out = np.empty((steered.shape[0], 2))
+    w = orca_work(positions.shape[0], obstacles.point.shape[0])
+    work = ORCAWork(_unref(w.order), _unref(w.dist_sq), _unref(w.edges), _unref(w.edge_dist_sq), _unref(w.lines), _unref(w.projected), _unref(w.result))
+    _orca_step_in(steered, state, body, speeds, targets, preferred, floats[c + DT], params, obstacles, _unref(positions), _unref(velocities), _unref(padded),
+                  _unref(out), work)  # fmt: skip
     _write_bodies(ints, header)
     x, y, moving, min_gap, first_contact = _substeps(ints, floats[c + DT], floats[c + ROBOT_RADIUS], header, body, state, speeds, radii, x0, y0, dx, dy,
                                                      goal_fraction, static_contact, min_gap)  # fmt: skip

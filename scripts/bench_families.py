@@ -8,14 +8,14 @@ time goes.
     python scripts/bench_families.py --against <checkout> [--preset corridor-crowd] [--clock cpu]
 
 ``--clock cpu`` times with this thread's CPU time (as ``bench_env.py``'s); ``--crowd-only`` prints
-the corridor-crowd rows alone (to compare two versions of the package: ``PYTHONPATH=<dir>``).
+the crowd rows alone (to compare two versions of the package: ``PYTHONPATH=<dir>``).
 ``--against <checkout>`` compares two versions in one process: the other checkout's package, imported
 from a copy under another name, and this one take turns (``--repeats`` rounds of each, then
 CartPole-v1), so that a loaded machine's drift cancels in each round's ratio.
 
-Bouncing families at ``--delta-d``; the crowd family's humans at their own speeds. Target (issue 21):
-corridor-crowd with 20 humans >= 0.1x CartPole-v1 (robot-sf's profile: 1,718 steps/s with 17
-pedestrians).
+Bouncing families at ``--delta-d``; the crowd families' humans at their own speeds. Targets:
+corridor-crowd with 20 humans >= 0.12x CartPole-v1 (robot-sf's profile: 1,718 steps/s with 17
+pedestrians), doorway-crowd and maze-crowd >= 0.05x.
 """
 
 from __future__ import annotations
@@ -44,7 +44,9 @@ FAMILY_ROWS = (
     ("intersection", None, None),
     ("cluttered-room", None, None),
     ("maze", None, None),
-    ("corridor-crowd", 20, 0.1),
+    ("corridor-crowd", 20, 0.12),
+    ("doorway-crowd", None, 0.05),
+    ("maze-crowd", None, 0.05),
 )
 
 
@@ -172,7 +174,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--delta-d", type=float, default=0.25)
     parser.add_argument("--profile", action="store_true", help="also profile --preset (corridor-crowd with 20 humans by default)")
     parser.add_argument("--clock", choices=sorted(CLOCKS), default="wall", help="time with the wall clock or this thread's CPU time")
-    parser.add_argument("--crowd-only", action="store_true", help="only corridor-crowd with 20 humans (its rate and its step and reset)")
+    parser.add_argument("--crowd-only", action="store_true", help="only the crowd rows: corridor-crowd with 20 humans, doorway-crowd, maze-crowd")
     parser.add_argument("--against", metavar="CHECKOUT", help="compare with another checkout's package in this process (interleaved rounds)")
     parser.add_argument("--preset", default="corridor-crowd", help="the family --against compares and --profile profiles (default corridor-crowd)")
     parser.add_argument("--obstacles", default="20", help="its obstacle count, or 'own' for the family's default")
@@ -194,7 +196,7 @@ def main(argv=None) -> None:
     reference = gym.make("CartPole-v1")
     cartpole = best_of(lambda: reference, args.steps, args.repeats)
     print(f"CartPole-v1: {cartpole:10.0f} steps/s (reference; every ratio below is the median of {args.repeats} paired runs)")
-    rows = [row for row in FAMILY_ROWS if row[0] == "corridor-crowd"] if args.crowd_only else FAMILY_ROWS
+    rows = [row for row in FAMILY_ROWS if row[0].endswith("-crowd")] if args.crowd_only else FAMILY_ROWS
     print("\n".join(family_table(reference, args.steps, args.repeats, args.delta_d, rows)))
     print(f"(load average (1 min) {os.getloadavg()[0]:.1f} after; {os.cpu_count()} cores)")
     print("\n" + "\n".join(cost_table(args.delta_d, rows)))

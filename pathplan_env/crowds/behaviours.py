@@ -244,20 +244,25 @@ def _write_velocities(idx, chosen, state, body_state, speeds):
 def _agents(state, radii, robot, pad):
     """Every agent's position, velocity and padded radius: the obstacles, then the visible robots
     (``robot`` is ``(x, y, vx, vy, radius)`` per robot, flattened: empty, one robot or several)."""
-    n = state.shape[0]
-    k = robot.shape[0] // 5
-    m = n + k
+    m = state.shape[0] + robot.shape[0] // 5
     positions, velocities, padded = np.empty((m, 2)), np.empty((m, 2)), np.empty(m)
+    _agents_into(state, radii, robot, pad, positions, velocities, padded)
+    return positions, velocities, padded
+
+
+@numba.njit(cache=True)
+def _agents_into(state, radii, robot, pad, positions, velocities, padded):
+    """:func:`_agents` into arrays of their sizes (the world's compiled step keeps them)."""
+    n = state.shape[0]
     for i in range(n):
         positions[i, 0], positions[i, 1] = state[i, 0], state[i, 1]
         velocities[i, 0], velocities[i, 1] = state[i, 2], state[i, 3]
         padded[i] = radii[i] + pad
-    for j in range(k):
+    for j in range(robot.shape[0] // 5):
         row = 5 * j
         positions[n + j, 0], positions[n + j, 1] = robot[row], robot[row + 1]
         velocities[n + j, 0], velocities[n + j, 1] = robot[row + 2], robot[row + 3]
         padded[n + j] = robot[row + 4] + pad
-    return positions, velocities, padded
 
 
 @numba.njit(cache=True)
@@ -269,6 +274,13 @@ def _orca_step(crowd, params, pad, obstacles):
     positions, velocities, padded = _agents(state, radii, robot, pad)
     out = np.empty((idx.shape[0], 2))
     work = orca_work(positions.shape[0], obstacles.point.shape[0])
+    _orca_step_in(idx, state, body_state, speeds, goals, preferred, dt, params, obstacles, positions, velocities, padded, out, work)
+
+
+@numba.njit(cache=True)
+def _orca_step_in(idx, state, body_state, speeds, goals, preferred, dt, params, obstacles, positions, velocities, padded, out, work):
+    """:func:`_orca_step` once its agents (:func:`_agents`) are in ``positions``, ``velocities`` and
+    ``padded``, with the scratch ``out`` and ``work`` (``orca.ORCAWork``) given."""
     for k in range(idx.shape[0]):  # every agent decides from the same snapshot, as CrowdNav's humans do
         i = idx[k]
         px, py = preferred_velocity(state[i, 0], state[i, 1], goals[i, 0], goals[i, 1], preferred[i], SLOW_DOWN_TIME)

@@ -9,6 +9,9 @@ import weakref
 
 import pymunk
 import pymunk.batch
+from llvmlite import ir
+from numba import types
+from numba.extending import intrinsic
 from pymunk._util import _dead_ref
 
 _batch = pymunk.batch  # its ffi and lib
@@ -82,3 +85,52 @@ class BatchBuffer(pymunk.batch.Buffer):
         # the functions are bound here: at interpreter exit the module's globals may be gone
         _free_floats(self._float_arr)
         _free_ints(self._int_arr)
+
+
+# -- Chipmunk called from compiled code (``world.step_kernel``): one compiled call a step, not four
+# Python calls. The functions' addresses travel as integers (``address_of``) and are called through
+# the pointer at run time, so the compiled code holds no address of this process and caches.
+def address_of(cdata) -> int:
+    """A cffi pointer's (or ``lib`` function's) address as a Python int."""
+    return int(ffi.cast("uintptr_t", cdata))
+
+
+def function_address(name: str) -> int:
+    """The address of Chipmunk's (or pymunk's batch) C function ``name``."""
+    return address_of(ffi.addressof(_batch.lib, name))
+
+
+@intrinsic
+def as_pointer(typingctx, address):
+    """An int64 address as a ``void *`` (for ``numba.carray``)."""
+
+    def codegen(context, builder, signature, args):
+        return builder.inttoptr(args[0], ir.IntType(8).as_pointer())
+
+    return types.voidptr(types.int64), codegen
+
+
+@intrinsic
+def call_step(typingctx, function, space, dt):
+    """``cpSpaceStep(space, dt)`` through the function's address (``void (*)(cpSpace *, cpFloat)``)."""
+
+    def codegen(context, builder, signature, args):
+        pointer_t = ir.IntType(8).as_pointer()
+        fnty = ir.FunctionType(ir.VoidType(), [pointer_t, ir.DoubleType()])
+        builder.call(builder.inttoptr(args[0], fnty.as_pointer()), [builder.inttoptr(args[1], pointer_t), args[2]])
+        return context.get_dummy_value()
+
+    return types.none(types.int64, types.int64, types.float64), codegen
+
+
+@intrinsic
+def call_each_body(typingctx, function, space, iterator, data):
+    """``cpSpaceEachBody(space, iterator, data)`` through the function's address."""
+
+    def codegen(context, builder, signature, args):
+        pointer_t = ir.IntType(8).as_pointer()
+        fnty = ir.FunctionType(ir.VoidType(), [pointer_t, pointer_t, pointer_t])
+        builder.call(builder.inttoptr(args[0], fnty.as_pointer()), [builder.inttoptr(a, pointer_t) for a in args[1:]])
+        return context.get_dummy_value()
+
+    return types.none(types.int64, types.int64, types.int64, types.int64), codegen

@@ -18,20 +18,31 @@ is the same exact swept test (``statics.static_stop``).
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
+from pathplan_env.crowds.behaviours import ORCA
 from pathplan_env.crowds.routing import drivers_statics
 from pathplan_env.geometry.contacts import NO_CONTACT
 from pathplan_env.geometry.walls import capsules_clearance, static_stop
 from pathplan_env.scenarios.scenario import Scenario
-from pathplan_env.world.chipmunk import READ_BODY, BatchBuffer, each_body, space_step
+from pathplan_env.world import step_kernel
+from pathplan_env.world.chipmunk import READ_BODY, BatchBuffer, address_of, each_body, function_address, space_step
 from pathplan_env.world.space import SpaceKeeper
 from pathplan_env.world.substep_count import substeps_for
-from pathplan_env.world.substep_kernels import _clearance, _finish_substep, _gap_until, restore_speeds
+from pathplan_env.world.substep_kernels import _clearance, restore_speeds
 
 _NO_ROBOT = np.empty(0)  # what humans see of an invisible robot
+# the C functions the compiled step calls (``step_kernel``)
+_STEP, _EACH = function_address("cpSpaceStep"), function_address("cpSpaceEachBody")
+_READ, _WRITE = function_address("pmSpaceBodyGetIteratorFuncBatched"), function_address("pmSpaceBodySetIteratorFuncBatched")
+_world_step = step_kernel.world_step_entry()
+_STEER_OUTSIDE, _STEER_ROUTED = step_kernel.STEER_OUTSIDE, step_kernel.STEER_ROUTED  # (read every step: no module lookups)
+
+
+def _contiguous(statics) -> bool:
+    """Whether every array the routed compiled step reads of ``statics`` is C-contiguous."""
+    arrays = (*statics.routes_fields, *statics.obstacle_fields, statics.scratch_targets, statics.missing)
+    return all(a.flags.c_contiguous for a in arrays if isinstance(a, np.ndarray))
 
 
 class World(SpaceKeeper):
@@ -39,7 +50,10 @@ class World(SpaceKeeper):
     or the previous episode's lent whole: ``pathplan_env.world.space``).
 
     Obstacle state moves between pymunk and numpy in one batch call per substep
-    (``pymunk.batch``), not one Python attribute access per body.
+    (``pymunk.batch``), not one Python attribute access per body, and :meth:`step` is one compiled
+    call (``pathplan_env.world.step_kernel``): the crowd's steering, Chipmunk's substeps and the
+    robot's swept test, on the world's arrays packed into two (``obstacle_state``, ``radii`` and
+    the speeds are views of one float64 array).
     """
 
     def __init__(self, scenario: Scenario, recycle: World | None = None):
@@ -88,6 +102,7 @@ class World(SpaceKeeper):
         self._pymunk_state[:, 2:] = data["velocities"]
         self._write_bodies()
         self.obstacle_state = self._pymunk_state.copy()  # (N, 4): x, y, vx, vy
+        self._pack()
 
     @staticmethod
     def _group_drivers(scenario: Scenario) -> list:
@@ -104,6 +119,43 @@ class World(SpaceKeeper):
         goals = np.array([ob.goal if ob.goal is not None else ob.center for ob in scenario.obstacles], np.float64).reshape(n, 2)
         preferred = np.array([ob.preferred_speed for ob in scenario.obstacles], np.float64)
         return [(behaviour, np.array(idx, np.int64), goals, preferred) for behaviour, idx in groups.items()]
+
+    def _pack(self) -> None:
+        """The arrays :func:`~pathplan_env.world.step_kernel.world_step` reads, packed (``step_kernel``):
+        the obstacles' state, speeds, radii, goals and preferred speeds, and the robot's row become
+        views of one float64 array, Chipmunk's handles and the ORCA group's indices one int64 array.
+        Run at construction and after unpickling (the views are copies then)."""
+        m, scenario = self.n_obstacles, self.scenario
+        mode, idx, behaviour = step_kernel.STEER_NONE, np.empty(0, np.int64), None
+        if self._drivers:
+            mode = step_kernel.STEER_OUTSIDE
+            if len(self._drivers) == 1 and isinstance(self._drivers[0][0], ORCA):
+                mode = step_kernel.STEER_ORCA if self._human_statics is None else step_kernel.STEER_ROUTED
+                behaviour, idx = self._drivers[0][0], self._drivers[0][1]
+                if mode == step_kernel.STEER_ROUTED and not _contiguous(self._human_statics):
+                    mode = step_kernel.STEER_OUTSIDE  # (the compiled step reads their arrays as C-contiguous)
+        floats = np.zeros(step_kernel.float_length(m, mode == step_kernel.STEER_ORCA))
+        floats[: 4 * m] = self.obstacle_state.ravel()
+        floats[4 * m : 5 * m], floats[5 * m : 6 * m] = self._speeds, self.radii
+        floats[9 * m : 9 * m + 5] = self._robot_row
+        self.obstacle_state, self._speeds, self.radii = floats[: 4 * m].reshape(m, 4), floats[4 * m : 5 * m], floats[5 * m : 6 * m]
+        self._robot_row = floats[9 * m : 9 * m + 5]
+        goals, preferred = floats[6 * m : 8 * m].reshape(m, 2), floats[8 * m : 9 * m]
+        if self._drivers:  # every group shares the goals and preferred speeds
+            goals[:], preferred[:] = self._drivers[0][2], self._drivers[0][3]
+            self._drivers = [(group, members, goals, preferred) for group, members, _, _ in self._drivers]
+        constants = floats[9 * m + 5 :]
+        constants[step_kernel.DT], constants[step_kernel.ROBOT_RADIUS] = scenario.dt, scenario.robot_radius
+        if behaviour is not None:
+            constants[step_kernel.NEIGHBOR_DIST], constants[step_kernel.TIME_HORIZON] = behaviour.neighbor_dist, behaviour.time_horizon
+            constants[step_kernel.TIME_HORIZON_OBST] = behaviour.time_horizon_obst
+            constants[step_kernel.PAD] = behaviour.radius_padding + behaviour.safety_space  # (as ORCA.steer adds them)
+        header = [address_of(self.space._space), address_of(self._request), address_of(self._buffer._float_arr), _STEP, _EACH, _READ, _WRITE,
+                  self.substeps, mode, m, int(scenario.robot_visible), behaviour.max_neighbors if behaviour else 0, len(idx)]  # fmt: skip
+        order = np.zeros(m + 1 if mode == step_kernel.STEER_ORCA else 0, np.int64)  # ORCA's neighbour order (scratch)
+        self._floats, self._ints, self._mode = floats, np.concatenate([np.array(header, np.int64), idx, order]), mode
+        self._sees_robot = mode in (step_kernel.STEER_ORCA, step_kernel.STEER_ROUTED) and scenario.robot_visible
+        self._dt = scenario.dt
 
     def _steer(self) -> None:
         """Goal-directed obstacles choose this step's velocities (all from the same snapshot); the
@@ -147,60 +199,35 @@ class World(SpaceKeeper):
             none), and the fraction of the step at which the first contact began (``NO_CONTACT``,
             > 1, if none before the goal).
         """
-        dt, n = self.scenario.dt, self.substeps
-        if self._drivers:
+        mode = self._mode
+        if mode == _STEER_OUTSIDE:
             self._steer()
+        elif self._sees_robot:  # the compiled step steers; the humans see the robot here
+            (x, y), (vx, vy) = self.robot_xy, self.robot_velocity_xy
+            robot = self._robot_row
+            robot[0], robot[1], robot[2], robot[3] = x, y, vx, vy
         x0, y0 = self.robot_xy
-        min_gap, first_contact = self._diagonal, NO_CONTACT  # no gap is wider: finite with no obstacles
+        min_gap = self._diagonal  # no gap is wider: finite with no obstacles
         static_contact = False
         if self._has_statics:
-            # the loop below stops at the walls' first contact as at the goal (an obstacle touched earlier still comes first)
+            # the substeps stop at the walls' first contact as at the goal (an obstacle touched earlier still comes first)
             goal_fraction, static_contact, gap = static_stop(x0, y0, dx, dy, goal_fraction, self.scenario.robot_radius, self.static_segments)
             min_gap = min(min_gap, gap)
-        ax, ay = x0, y0
-        moving = True
-        goal_substep = min(n, max(1, math.ceil(goal_fraction * n))) if goal_fraction <= 1.0 else 0
-        space, array, request = self.space._space, self._buffer._float_arr, self._request
-        for k in range(1, n + 1):
-            # Chipmunk's step itself: Space.step's extra work (deferred adds and removals, post-step
-            # callbacks, mass checks of new bodies) never applies here: nothing is added or removed
-            # after construction, and every dynamic body has mass r^2 > 0 and infinite moment
-            space_step(space, dt / n)
-            array.num = 0  # _read_bodies, inlined on the hot path
-            each_body(space, READ_BODY, request)
-            if moving:
-                bx, by = (x0 + dx, y0 + dy) if k == n else (x0 + (k / n) * dx, y0 + (k / n) * dy)
-                if k == goal_substep:  # the gap counts up to the goal only (before the states move on)
-                    goal_here = min(goal_fraction * n - (k - 1), 1.0)  # where in this substep
-                    gap = _gap_until(ax, ay, bx, by, goal_here, self.scenario.robot_radius, self.obstacle_state, self._pymunk_state, self.radii)
-            else:
-                bx, by = ax, ay
-            sweep_gap, t, restored = _finish_substep(
-                self.obstacle_state, self._pymunk_state, ax, ay, bx, by, self.scenario.robot_radius, self.radii, self._speeds
-            )
-            if restored:
-                self._write_bodies()
-            if not moving:
-                continue
-            if t <= 1.0 and (k - 1 + t) / n <= goal_fraction:  # contact first: the robot stops touching
-                first_contact = (k - 1 + t) / n
-                min_gap = min(min_gap, 0.0)  # every gap is positive before the first contact
-                bx, by = ax + t * (bx - ax), ay + t * (by - ay)
-                moving = False
-            elif k == goal_substep:  # at the goal, or where it touches a wall: the robot stops there
-                if static_contact:
-                    first_contact, min_gap = goal_fraction, 0.0
-                else:
-                    min_gap = min(min_gap, gap)
-                bx, by = x0 + goal_fraction * dx, y0 + goal_fraction * dy
-                moving = False
-            elif sweep_gap < min_gap:
-                min_gap = sweep_gap
-            ax, ay = bx, by
+        if mode == _STEER_ROUTED:
+            statics = self._human_statics
+            args = (self._ints, self._floats, statics.routes_fields, statics.obstacle_fields, statics.scratch_targets, statics.missing,
+                    x0, y0, dx, dy, goal_fraction, static_contact, min_gap)  # fmt: skip
+            ax, ay, moving, min_gap, first_contact, n_missing = step_kernel.world_step_routed(*args)
+            if n_missing:  # some human first lost sight of its goal: its route (scipy's Dijkstra), then the step
+                statics.fill_routes(n_missing)
+                ax, ay, moving, min_gap, first_contact, n_missing = step_kernel.world_step_routed(*args)
+        else:
+            ax, ay, moving, min_gap, first_contact = _world_step(self._ints, self._floats, x0, y0, dx, dy, goal_fraction, static_contact, min_gap)
         self.robot_xy = (ax, ay)
+        dt = self._dt
         self.robot_velocity_xy = (dx / dt, dy / dt) if moving else (0.0, 0.0)
         self.time += dt
-        return float(min_gap), float(first_contact)
+        return min_gap, first_contact  # (Python floats from the compiled call)
 
     def begin_step(self) -> None:
         """The start of a step driven from outside :meth:`step` (a robot flying arcs): goal-directed
@@ -262,7 +289,7 @@ class World(SpaceKeeper):
     # -- pickling: pymunk's Space pickles itself; the batch buffer and its view are rebuilt ----
     def __getstate__(self):
         state = self.__dict__.copy()
-        for key in ("_buffer", "_pymunk_state", "_request"):
+        for key in ("_buffer", "_pymunk_state", "_request", "_floats", "_ints"):
             del state[key]
         return state
 
@@ -270,3 +297,4 @@ class World(SpaceKeeper):
         self.__dict__.update(state)
         self._buffer = BatchBuffer()
         self._attach_state_view()
+        self._pack()

@@ -45,14 +45,18 @@ def env_stepper(scenario):
     return lambda: unwrapped.step(hold)
 
 
-def parse_args(argv=None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--steps", type=int, default=100, help="steps timed per repeat from a fresh scene (100: 10 s, the crossing)")
     parser.add_argument("--repeats", type=int, default=9)
     parser.add_argument("--sizes", type=int, nargs="+", default=list(CROWD_SIZES))
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--split", action="store_true", help="only what World.step is made of (µs), per size")
-    return parser.parse_args(argv)
+    return parser
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    return build_parser().parse_args(argv)
 
 
 def main(argv=None) -> None:

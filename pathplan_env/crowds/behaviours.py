@@ -199,6 +199,24 @@ def make_behaviour(spec, where: str = "behaviour") -> Behaviour:
 
 
 # -- compiled steps: every driven obstacle in one call, velocities chosen and written -----------
+class Steered(NamedTuple):
+    """Who steers this step and toward what: the obstacles' rows ``idx``, their ``goals`` (or route
+    targets) and preferred speeds (what :func:`_orca_step_in` reads)."""
+
+    idx: np.ndarray
+    goals: np.ndarray
+    preferred: np.ndarray
+
+
+class AgentRows(NamedTuple):
+    """Every agent's position, velocity and padded radius, the obstacles then the visible robots
+    (:func:`_agents`): what each ORCA agent avoids."""
+
+    positions: np.ndarray
+    velocities: np.ndarray
+    padded: np.ndarray
+
+
 class CrowdStep(NamedTuple):
     """What a behaviour's step reads and writes: the driven obstacles ``idx``, the world's ``state``
     (rows ``x, y, vx, vy``) and its pymunk view ``body_state``, the ``speeds`` bounces keep, every
@@ -274,13 +292,16 @@ def _orca_step(crowd, params, pad, obstacles):
     positions, velocities, padded = _agents(state, radii, robot, pad)
     out = np.empty((idx.shape[0], 2))
     work = orca_work(positions.shape[0], obstacles.point.shape[0])
-    _orca_step_in(idx, state, body_state, speeds, goals, preferred, dt, params, obstacles, positions, velocities, padded, out, work)
+    _orca_step_in(Steered(idx, goals, preferred), state, body_state, speeds, dt, params, obstacles,
+                  AgentRows(positions, velocities, padded), out, work)  # fmt: skip
 
 
 @numba.njit(cache=True)
-def _orca_step_in(idx, state, body_state, speeds, goals, preferred, dt, params, obstacles, positions, velocities, padded, out, work):
-    """:func:`_orca_step` once its agents (:func:`_agents`) are in ``positions``, ``velocities`` and
-    ``padded``, with the scratch ``out`` and ``work`` (``orca.ORCAWork``) given."""
+def _orca_step_in(steered, state, body_state, speeds, dt, params, obstacles, agents, out, work):
+    """:func:`_orca_step` once its agents (:func:`_agents`) are in ``agents`` (:class:`AgentRows`), for the
+    :class:`Steered` obstacles, with the scratch ``out`` and ``work`` (``orca.ORCAWork``) given."""
+    idx, goals, preferred = steered
+    positions, velocities, padded = agents
     for k in range(idx.shape[0]):  # every agent decides from the same snapshot, as CrowdNav's humans do
         i = idx[k]
         px, py = preferred_velocity(state[i, 0], state[i, 1], goals[i, 0], goals[i, 1], preferred[i], SLOW_DOWN_TIME)

@@ -12,18 +12,42 @@ and Chipmunk is called through its functions' addresses (``chipmunk.call_step``)
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numba
 import numpy as np
 from numba import types
 
-from pathplan_env.crowds.behaviours import _agents, _agents_into, _orca_step_in
+from pathplan_env.crowds.behaviours import AgentRows, Steered, _agents, _agents_into, _orca_step_in
 from pathplan_env.crowds.orca import ORCAParams, ORCAWork, orca_work
 from pathplan_env.crowds.orca_obstacles import ORCAObstacles
 from pathplan_env.crowds.routing import Routes, route_targets
 from pathplan_env.geometry.contacts import NO_CONTACT
 from pathplan_env.world.chipmunk import as_pointer, call_each_body, call_step
 from pathplan_env.world.substep_kernels import _finish_substep, _gap_until
+
+
+class Bodies(NamedTuple):
+    """The world's bodies as the compiled step sees them (:func:`_views`): Chipmunk's batch array
+    header, the obstacles' rows of its array, and the world's state, speeds and radii."""
+
+    header: np.ndarray
+    body: np.ndarray
+    state: np.ndarray
+    speeds: np.ndarray
+    radii: np.ndarray
+
+
+class RobotMove(NamedTuple):
+    """The robot's move this step, from where the walls left it (``World.step``'s static stop)."""
+
+    x0: float
+    y0: float
+    dx: float
+    dy: float
+    goal_fraction: float
+    static_contact: bool
+    min_gap: float
 
 #: What the kernel steers itself: nothing (bouncing obstacles), one ORCA group with no walls, a crowd
 #: steered by ``World._steer`` before the call (other behaviours, several groups), or one ORCA group
@@ -115,7 +139,7 @@ def _steer_orca(ints, floats, m, c, state, body, speeds, radii, dt):
     work = ORCAWork(order, dist_sq, _ints(ib, 0, 0), _floats(fb, 0, 0), lines, projected, result)
     none = ORCAObstacles(_rows(fb, 0, 0, 2), _rows(fb, 0, 0, 2), _ints(ib, 0, 0), _ints(ib, 0, 0), numba.carray(as_pointer(ib), 0, np.bool_))
     _agents_into(state, radii, robot, pad, positions, velocities, padded)
-    _orca_step_in(steered, state, body, speeds, goals, preferred, dt, params, none, positions, velocities, padded, out, work)
+    _orca_step_in(Steered(steered, goals, preferred), state, body, speeds, dt, params, none, AgentRows(positions, velocities, padded), out, work)
 
 
 @numba.njit(cache=True)
@@ -138,15 +162,17 @@ def world_step(ints, floats, x0, y0, dx, dy, goal_fraction, static_contact, min_
     if ints[MODE] == STEER_ORCA:
         _steer_orca(ints, floats, ints[COUNT], c, state, body, speeds, radii, floats[c + DT])
         _write_bodies(ints, header)
-    return _substeps(ints, floats[c + DT], floats[c + ROBOT_RADIUS], header, body, state, speeds, radii, x0, y0, dx, dy, goal_fraction, static_contact, min_gap)
+    return _substeps(ints, floats[c + DT], floats[c + ROBOT_RADIUS], Bodies(header, body, state, speeds, radii),
+                     RobotMove(x0, y0, dx, dy, goal_fraction, static_contact, min_gap))  # fmt: skip
 
 
 @numba.njit(cache=True)
-def world_step_routed(ints, floats, routes_fields, obstacle_fields, targets, missing, x0, y0, dx, dy, goal_fraction, static_contact, min_gap):
+def world_step_routed(ints, floats, routes_fields, obstacle_fields, targets, missing, move):
     """:func:`world_step` for one ORCA group among walls (``ORCA.steer``'s routed call: the humans head
     for their route targets, RVO2's obstacles ``obstacle_fields``); returns its tuple and the count of
     humans in ``missing`` whose route is not computed yet: when not 0, nothing moved (the caller runs
-    their Dijkstra and calls again)."""
+    their Dijkstra and calls again). ``move``: the plain tuple of a :class:`RobotMove`'s fields."""
+    move = RobotMove(move[0], move[1], move[2], move[3], move[4], move[5], move[6])
     header, body, state, speeds, radii, c = _views(ints, floats)
     m = ints[COUNT]
     fb, ib = np.int64(floats.ctypes.data), np.int64(ints.ctypes.data)
@@ -157,7 +183,7 @@ def world_step_routed(ints, floats, routes_fields, obstacle_fields, targets, mis
     targets, missing = _unref(targets), _unref(missing)
     n_missing = route_targets(routes, steered, state, goals, targets, missing)
     if n_missing:
-        return x0, y0, True, min_gap, NO_CONTACT, n_missing
+        return move.x0, move.y0, True, move.min_gap, NO_CONTACT, n_missing
     robot = _floats(fb, 9 * m, 5 if ints[VISIBLE] else 0)
     params = ORCAParams(floats[c + NEIGHBOR_DIST], ints[MAX_NEIGHBORS], floats[c + TIME_HORIZON], floats[c + TIME_HORIZON_OBST])
     o = obstacle_fields
@@ -167,17 +193,19 @@ def world_step_routed(ints, floats, routes_fields, obstacle_fields, targets, mis
     out = np.empty((steered.shape[0], 2))
     w = orca_work(positions.shape[0], obstacles.point.shape[0])
     work = ORCAWork(_unref(w.order), _unref(w.dist_sq), _unref(w.edges), _unref(w.edge_dist_sq), _unref(w.lines), _unref(w.projected), _unref(w.result))
-    _orca_step_in(steered, state, body, speeds, targets, preferred, floats[c + DT], params, obstacles, _unref(positions), _unref(velocities), _unref(padded),
-                  _unref(out), work)  # fmt: skip
+    _orca_step_in(Steered(steered, targets, preferred), state, body, speeds, floats[c + DT], params, obstacles,
+                  AgentRows(_unref(positions), _unref(velocities), _unref(padded)), _unref(out), work)  # fmt: skip
     _write_bodies(ints, header)
-    x, y, moving, min_gap, first_contact = _substeps(ints, floats[c + DT], floats[c + ROBOT_RADIUS], header, body, state, speeds, radii, x0, y0, dx, dy,
-                                                     goal_fraction, static_contact, min_gap)  # fmt: skip
+    x, y, moving, min_gap, first_contact = _substeps(ints, floats[c + DT], floats[c + ROBOT_RADIUS], Bodies(header, body, state, speeds, radii), move)
     return x, y, moving, min_gap, first_contact, 0
 
 
 @numba.njit(cache=True)
-def _substeps(ints, dt, robot_radius, header, body, state, speeds, radii, x0, y0, dx, dy, goal_fraction, static_contact, min_gap):
-    """Every substep of a step and the robot's stop (``World.step``'s loop, operation for operation)."""
+def _substeps(ints, dt, robot_radius, bodies, move):
+    """Every substep of a step and the robot's stop (``World.step``'s loop, operation for operation), for the
+    :class:`Bodies` ``bodies`` and the :class:`RobotMove` ``move``."""
+    header, body, state, speeds, radii = bodies
+    x0, y0, dx, dy, goal_fraction, static_contact, min_gap = move
     n = ints[SUBSTEPS]
     first_contact = NO_CONTACT
     ax, ay = x0, y0

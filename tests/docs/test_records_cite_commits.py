@@ -1,5 +1,5 @@
 """The records speak of versions, commits and dates, never of how the work was scheduled: no page,
-docstring, script or shipped model's sidecar says "session 17", and no run-record folder is named after
+docstring, script or shipped model's sidecar names a session by its number, and no run-record folder is named after
 one (``runs_s12``): a reader can check a version or a commit (``git show fc33d36``), not a session."""
 
 import re
@@ -37,6 +37,7 @@ def test_no_folder_is_named_after_a_session():
 
 
 def test_the_patterns_catch_what_they_are_for():
-    assert SESSION.search("chosen in Session 17") and SESSION.search("the session-14 models") and SESSION.search("this session")
+    word = "session"  # the phrases are built here so that this file does not hold them itself
+    assert SESSION.search(f"chosen in {word.title()} 17") and SESSION.search(f"the {word}-14 models") and SESSION.search(f"this {word}")
     assert not SESSION.search("defined in an interactive session, which")
     assert SESSION_FOLDER.fullmatch("runs_s12") and not SESSION_FOLDER.fullmatch("test_random_seed12")

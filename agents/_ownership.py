@@ -32,12 +32,17 @@ WAY_OUT = (
 )
 
 
+def ignored(name: str) -> bool:
+    """Caches, hidden files and editor backups: no package installs them."""
+    return name in IGNORED or name.endswith(IGNORED_SUFFIXES) or name.startswith(".") or name.endswith("~")
+
+
 def foreign_entries(folders) -> list[Path]:
     """The entries of ``folders`` (``agents.__path__``) that are not ours."""
     found = []
     for folder in map(Path, folders):
         for entry in sorted(folder.iterdir()):
-            if entry.name in IGNORED or entry.name.endswith(IGNORED_SUFFIXES):
+            if ignored(entry.name):
                 continue
             if entry.name not in OURS:
                 found.append(entry)

@@ -35,7 +35,15 @@ _NO_ROBOT = np.empty(0)  # what humans see of an invisible robot
 # the C functions the compiled step calls (``step_kernel``)
 _STEP, _EACH = function_address("cpSpaceStep"), function_address("cpSpaceEachBody")
 _READ, _WRITE = function_address("pmSpaceBodyGetIteratorFuncBatched"), function_address("pmSpaceBodySetIteratorFuncBatched")
-_world_step = step_kernel.world_step_entry()
+_world_step = None  # the compiled step's entry point: compiled (or read from numba's cache) by the first World
+
+
+def _compile_step() -> None:
+    """Compile the world's step once a process, when the first world is built rather than at import
+    (``import pathplan_env`` stays fast: ``pathplan-env --help`` does not wait for numba)."""
+    global _world_step
+    if _world_step is None:
+        _world_step = step_kernel.world_step_entry()
 _STEER_OUTSIDE, _STEER_ROUTED = step_kernel.STEER_OUTSIDE, step_kernel.STEER_ROUTED  # (read every step: no module lookups)
 
 
@@ -62,6 +70,7 @@ class World(SpaceKeeper):
         same arena, statics and moving obstacles), else its walls, statics and moving bodies where
         they fit, since creating them was most of a reset. The episode is the same bit for bit
         either way (tested)."""
+        _compile_step()
         self.scenario = scenario
         self._diagonal = scenario.arena_diagonal  # the widest gap there is, read every step
         data = scenario.arrays()
@@ -294,6 +303,7 @@ class World(SpaceKeeper):
         return state
 
     def __setstate__(self, state):
+        _compile_step()  # (a world unpickled in a fresh process steps too)
         self.__dict__.update(state)
         self._buffer = BatchBuffer()
         self._attach_state_view()

@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 
 pytest.importorskip("pettingzoo")
-from pettingzoo.test import parallel_api_test, parallel_seed_test
+from pettingzoo.test import api_test, parallel_api_test, parallel_seed_test
 
 from pathplan_env.env import DynamicObstacleEnv
-from pathplan_env.multi_robot import MultiScenario, RobotSpec, make_multi_scenario, parallel_env
+from pathplan_env.multi_robot import MultiScenario, RobotSpec, aec_env, make_multi_scenario, parallel_env
 from pathplan_env.scenarios.presets import make_scenario
 from pathplan_env.scenarios.scenario import Scenario
 
@@ -45,6 +45,28 @@ def rollout_digest(env, seed: int, steps: int = 60, rng_seed: int = 0) -> str:
 def test_pettingzoo_api_and_seed_tests_pass():
     parallel_api_test(parallel_env(scenario="multi-circle-4"), num_cycles=200)
     parallel_seed_test(lambda: parallel_env(scenario="multi-circle-4-bouncing"))
+
+
+def test_the_turn_based_form_passes_pettingzoos_aec_api_test():
+    aec = aec_env(scenario="multi-circle-4")
+    api_test(aec, num_cycles=50)
+    aec.reset(seed=0)
+    assert aec.agents == ["robot_0", "robot_1", "robot_2", "robot_3"] and aec.agent_selection == "robot_0"
+
+
+def test_pettingzoos_registry_makes_both_forms():
+    import pettingzoo
+
+    from pathplan_env.multi_robot import ENV_ID
+
+    parallel = pettingzoo.make("parallel", ENV_ID, scenario="multi-swap-2")
+    aec = pettingzoo.make("aec", ENV_ID, scenario="multi-swap-2")
+    observations, _ = parallel.reset(seed=3)
+    aec.reset(seed=3)
+    assert isinstance(parallel, pettingzoo.ParallelEnv) and isinstance(aec, pettingzoo.AECEnv)
+    assert sorted(observations) == sorted(aec.agents) == ["robot_0", "robot_1"]
+    for key, value in observations["robot_0"].items():  # the same episode, whichever form made it
+        np.testing.assert_array_equal(value, aec.observe("robot_0")[key])
 
 
 def test_a_mixed_team_with_unicycles_passes_the_api_test():

@@ -46,5 +46,14 @@ def test_the_scenes_import_without_pettingzoo():
     import subprocess
     import sys
 
-    code = "import sys, pathplan_env, pathplan_env.multi_robot; assert 'pettingzoo' not in sys.modules"
+    # a core install: PettingZoo absent (None in sys.modules makes its import fail as if not installed)
+    code = (
+        "import sys; sys.modules['pettingzoo'] = None\n"
+        "import numpy as np, pathplan_env.multi_robot as multi\n"
+        "scene = multi.make_multi_scenario('multi-circle-4', np.random.default_rng(0))\n"
+        "assert len(scene.robots) == 4\n"
+        "try:\n    multi.parallel_env(scenario='multi-circle-4')\n"
+        "except ModuleNotFoundError as error:\n    assert \"pip install 'pathplan-env[multi]'\" in str(error), error\n"
+        "else:\n    raise AssertionError('made without PettingZoo')\n"
+    )
     subprocess.run([sys.executable, "-c", code], check=True)

@@ -19,7 +19,7 @@ from stable_baselines3.common.vec_env import VecNormalize
 import agents
 import pathplan_env  # noqa: F401  (registers the env ids)
 from agents.evaluation import evaluate
-from agents.rl import sb3_model
+from agents.rl import sb3_model, sb3_zip
 from agents.rl.sb3_model import detect_algorithm, statistics_beside
 from pathplan_env.scenarios.splits import heldout_seeds
 
@@ -246,10 +246,10 @@ def test_a_zip_that_is_not_sb3s_is_a_value_error_naming_the_file(tmp_path, entri
 
 
 def test_a_zip_bomb_is_refused_from_the_zips_directory_before_decompressing(tmp_path, monkeypatch):
-    bomb = _zip(tmp_path / "bomb.zip", {"data": b" " * (sb3_model.MAX_DATA_BYTES + 1), "policy.pth": b""}, zipfile.ZIP_DEFLATED)
+    bomb = _zip(tmp_path / "bomb.zip", {"data": b" " * (sb3_zip.MAX_DATA_BYTES + 1), "policy.pth": b""}, zipfile.ZIP_DEFLATED)
     assert bomb.stat().st_size < 100_000
     monkeypatch.setattr(zipfile.ZipExtFile, "read", lambda *a, **k: pytest.fail("decompressed"))
-    with pytest.raises(ValueError, match=f"path: .*bomb.zip.*its 'data' expands to {sb3_model.MAX_DATA_BYTES + 1} bytes"):
+    with pytest.raises(ValueError, match=f"path: .*bomb.zip.*its 'data' expands to {sb3_zip.MAX_DATA_BYTES + 1} bytes"):
         agents.make("sb3", gym.make("DynamicObstacle-v0"), path=bomb)
     with pytest.raises(ValueError, match="bomb.zip.*over"):  # the algorithm given: the zip is still checked first
         agents.make("sb3", gym.make("DynamicObstacle-v0"), path=bomb, algo=PPO)

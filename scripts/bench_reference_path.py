@@ -15,8 +15,7 @@ import time
 import numpy as np
 
 from pathplan_env import Obstacle, Scenario
-from pathplan_env.arena import Arena
-from pathplan_env.geometry import reference_path, shortest_paths
+from pathplan_env.geometry import reference_path
 from pathplan_env.maps.ros_maps import load_shipped_map
 from pathplan_env.scenarios.on_maps import scenario_kwargs
 from pathplan_env.scenarios.presets import make_scenario
@@ -29,15 +28,6 @@ def _cylinders() -> Scenario:
 def _office() -> Scenario:
     kwargs = scenario_kwargs(load_shipped_map("office"), np.random.default_rng(0), n_obstacles=5, obstacle_radius=0.3, obstacle_speed=0.75)
     return Scenario(**kwargs, name="office")
-
-
-def _numpy(scenario: Scenario) -> float:
-    inflated = scenario.arrays()["radii"] + scenario.robot_radius
-    capsules = scenario.static_segments.copy()
-    capsules[:, 4] += scenario.robot_radius
-    _, length = shortest_paths.shortest_path(scenario.start, scenario.goal, scenario.arrays()["positions"], inflated,
-                                             bounds=Arena.of(scenario).robot_box, capsules=capsules)  # fmt: skip
-    return length - scenario.goal_radius
 
 
 def _timed(fn, *args):
@@ -60,7 +50,7 @@ def main(argv=None) -> None:
     print("| scene | discs | capsules | length m | numpy graph s | compiled s | cached s | lengths equal (1e-9) |")
     print("|---|---:|---:|---:|---:|---:|---:|---|")
     for scenario in (_cylinders(), _office()):
-        before, t_before = _timed(_numpy, scenario)
+        before, t_before = _timed(reference_path.numpy_path_to_goal, scenario)
         after, t_after = _timed(reference_path.shortest_path_to_goal, scenario)
         again, t_again = _timed(reference_path.shortest_path_to_goal, scenario)
         equal = (before == after or abs(before - after) <= 1e-9) and after == again

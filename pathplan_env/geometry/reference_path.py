@@ -8,7 +8,19 @@ import hashlib
 import numpy as np
 
 from pathplan_env.arena import Arena
+from pathplan_env.geometry import shortest_paths
 from pathplan_env.geometry.tangent_graph import shortest_path as compiled
+
+
+def _inflated(scenario, margin: float):
+    """The shortest path's inputs: start, goal, the obstacles' centres and radii and the statics'
+    capsules inflated by the robot radius and ``margin``, and the box where the robot's disc fits."""
+    arrays = scenario.arrays()
+    inflated = arrays["radii"] + scenario.robot_radius + margin
+    capsules = scenario.static_segments.copy()
+    capsules[:, 4] += scenario.robot_radius + margin
+    start, goal = np.asarray(scenario.start, float), np.asarray(scenario.goal, float)
+    return start, goal, arrays["positions"], inflated, capsules, Arena.of(scenario).robot_box
 
 
 def shortest_path_to_goal(scenario, margin: float = 0.0) -> float:
@@ -21,18 +33,23 @@ def shortest_path_to_goal(scenario, margin: float = 0.0) -> float:
     module's graph and length, in memory linear in its edges where the numpy one here holds edges
     x shapes) and remembered by a digest of its inputs, so that the episodes of a scene whose
     geometry does not change (a scene file, a map with the same start and goal) compute it once."""
-    arrays = scenario.arrays()
-    inflated = arrays["radii"] + scenario.robot_radius + margin
-    capsules = scenario.static_segments.copy()
-    capsules[:, 4] += scenario.robot_radius + margin
-    start, goal, bounds = np.asarray(scenario.start, float), np.asarray(scenario.goal, float), Arena.of(scenario).robot_box
-    key = _digest(start, goal, arrays["positions"], inflated, capsules, np.asarray(bounds, float))
+    start, goal, positions, inflated, capsules, bounds = _inflated(scenario, margin)
+    key = _digest(start, goal, positions, inflated, capsules, np.asarray(bounds, float))
     if key not in _REFERENCE_CACHE:
-        _, length = compiled(start, goal, arrays["positions"], inflated, bounds=bounds, capsules=capsules)
+        _, length = compiled(start, goal, positions, inflated, bounds=bounds, capsules=capsules)
         if len(_REFERENCE_CACHE) >= REFERENCE_CACHE_SIZE:
             _REFERENCE_CACHE.pop(next(iter(_REFERENCE_CACHE)))  # the oldest
         _REFERENCE_CACHE[key] = length
     return _REFERENCE_CACHE[key] - scenario.goal_radius  # the episode ends on the goal's disc
+
+
+def numpy_path_to_goal(scenario, margin: float = 0.0) -> float:
+    """:func:`shortest_path_to_goal` by the numpy tangent graph (:func:`.shortest_paths.shortest_path`),
+    what the harness used before 0.2.0: uncached and slow among many shapes, kept to check the
+    compiled one against (``tests/geometry/test_reference_path.py``, ``scripts/bench_reference_path.py``)."""
+    start, goal, positions, inflated, capsules, bounds = _inflated(scenario, margin)
+    _, length = shortest_paths.shortest_path(start, goal, positions, inflated, bounds=bounds, capsules=capsules)
+    return length - scenario.goal_radius
 
 
 #: Reference lengths remembered (a few kB): the scenes of a run's cells, a process at a time.

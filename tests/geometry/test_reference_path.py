@@ -6,25 +6,15 @@ import math
 import numpy as np
 import pytest
 
-from pathplan_env.arena import Arena
-from pathplan_env.geometry import reference_path, shortest_paths
+from pathplan_env.geometry import reference_path
 from pathplan_env.scenarios.presets import PRESETS, make_scenario
-
-
-def _numpy_reference(scenario) -> float:
-    inflated = scenario.arrays()["radii"] + scenario.robot_radius
-    capsules = scenario.static_segments.copy()
-    capsules[:, 4] += scenario.robot_radius
-    _, length = shortest_paths.shortest_path(scenario.start, scenario.goal, scenario.arrays()["positions"], inflated,
-                                             bounds=Arena.of(scenario).robot_box, capsules=capsules)  # fmt: skip
-    return length - scenario.goal_radius
 
 
 @pytest.mark.parametrize("preset", sorted(PRESETS))
 def test_the_compiled_reference_has_the_numpy_length(preset):
     for seed in (0,):
         scenario = make_scenario(preset, np.random.default_rng(seed))
-        want, got = _numpy_reference(scenario), reference_path.shortest_path_to_goal(scenario)
+        want, got = reference_path.numpy_path_to_goal(scenario), reference_path.shortest_path_to_goal(scenario)
         assert (math.isinf(want) and math.isinf(got)) or abs(got - want) <= 1e-9, (preset, seed)
 
 

@@ -6,9 +6,10 @@ shortest grid path to its goal:
 
 - a grid of :data:`GRID_CELL` cells over the arena; a cell is free when its centre keeps the humans'
   largest radius plus :data:`ROUTE_MARGIN` from every wall, polygon and arena edge;
-- one Dijkstra (``scipy.sparse.csgraph``, 8-connected, no corner cutting) from a human's goal cell
-  gives each free cell its distance to that goal and its next cell toward it; it runs the first time
-  the human loses sight of its goal (most humans of an open corridor never need one);
+- one Dijkstra (8-connected, no corner cutting; ``crowds.grid_dijkstra``, scipy's results bit for
+  bit) from a human's goal cell gives each free cell its distance to that goal and its next cell
+  toward it; it runs the first time the human loses sight of its goal (most humans of an open
+  corridor never need one);
 - per step (compiled, :func:`route_targets`), a human that sees its goal (the segment between them
   stays in free cells) heads for it, as without walls; otherwise it walks its cell's chain toward the
   goal and heads for the farthest chain cell it sees (string pulling), so paths cut across open
@@ -33,6 +34,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
+from pathplan_env.crowds.grid_dijkstra import grid_adjacency, route_rows
 from pathplan_env.crowds.orca_obstacles import ORCAObstacles, obstacle_vertices
 from pathplan_env.geometry.walls import points_clearance
 
@@ -69,7 +71,7 @@ class HumanStatics(NamedTuple):
     obstacles: ORCAObstacles  # for ORCA: RVO2's obstacle vertices
     segments: np.ndarray  # (M, 5) capsule rows, for social force
     routes: Routes
-    graph: object  # the grid's scipy CSR graph, for the rows' Dijkstra
+    adjacency: tuple  # the grid's graph (grid_dijkstra.grid_adjacency), for the rows' Dijkstra
     goal_cells: np.ndarray  # (routed,) int64
     # the compiled steps' arguments, built once per world, not per step (a tuple per call cost ~1 µs):
     obstacle_fields: tuple  # tuple(obstacles)
@@ -88,11 +90,9 @@ class HumanStatics(NamedTuple):
 
     def fill_routes(self, n_missing: int) -> None:
         """Run the Dijkstra of the first ``n_missing`` humans of ``missing`` (their first loss of sight)."""
-        from scipy.sparse.csgraph import dijkstra
-
         rows = self.routes.row_of[self.missing[:n_missing]]
-        dist, pred = dijkstra(self.graph, directed=False, indices=self.goal_cells[rows], return_predecessors=True)
-        self.routes.dist[rows], self.routes.pred[rows], self.routes.ready[rows] = dist, pred, True
+        route_rows(*self.adjacency, self.goal_cells[rows], rows, self.routes.dist, self.routes.pred)
+        self.routes.ready[rows] = True
 
 
 class _Grid(NamedTuple):
@@ -103,7 +103,7 @@ class _Grid(NamedTuple):
     cols: int
     free: np.ndarray
     nearest: np.ndarray
-    graph: object  # scipy CSR: 8-connected free cells
+    adjacency: tuple  # (indptr, indices, weights): 8-connected free cells, both directions (grid_dijkstra)
     blocked_below: np.ndarray  # (rows + 1, cols + 1) int64 (Routes.blocked_below)
 
 
@@ -115,7 +115,6 @@ def _geometry_key(scenario) -> tuple:
 def _grid(key: tuple, clearance: float, cell: float) -> _Grid:
     """The free cells of a geometry for discs of ``clearance`` and their 8-connected graph."""
     import scipy.ndimage
-    import scipy.sparse
     import shapely
 
     from pathplan_env.geometry.walls import segments_of
@@ -137,24 +136,10 @@ def _grid(key: tuple, clearance: float, cell: float) -> _Grid:
         nearest = (ni * cols + nj).ravel().astype(np.int64)
     else:
         nearest = np.arange(rows * cols, dtype=np.int64)
-    rr, cc = np.meshgrid(np.arange(rows), np.arange(cols), indexing="ij")
-    rr, cc = rr.ravel(), cc.ravel()
-    heads, tails, weights = [], [], []
-    for di, dj in ((0, 1), (1, 0), (1, 1), (1, -1)):
-        r2, c2 = rr + di, cc + dj
-        inside = (r2 < rows) & (c2 >= 0) & (c2 < cols)
-        a, b = (rr * cols + cc)[inside], (r2 * cols + c2)[inside]
-        ok = free[a] & free[b]
-        if di and dj:  # no corner cutting: both orthogonal neighbours free too
-            ok &= free[(rr * cols + c2)[inside]] & free[(r2 * cols + cc)[inside]]
-        heads.append(a[ok])
-        tails.append(b[ok])
-        weights.append(np.full(int(ok.sum()), cell * math.hypot(di, dj)))
-    head, tail, weight = np.concatenate(heads), np.concatenate(tails), np.concatenate(weights)
-    graph = scipy.sparse.csr_matrix((weight, (head, tail)), shape=(rows * cols, rows * cols))
+    adjacency = grid_adjacency(free, rows, cols, cell * math.hypot(0, 1), cell * math.hypot(1, 1))
     blocked_below = np.zeros((rows + 1, cols + 1), np.int64)
     blocked_below[1:, 1:] = (~grid).cumsum(axis=0).cumsum(axis=1)
-    return _Grid(xmin, ymin, cell, rows, cols, free, nearest, graph, blocked_below)
+    return _Grid(xmin, ymin, cell, rows, cols, free, nearest, adjacency, blocked_below)
 
 
 @lru_cache(maxsize=16)
@@ -196,16 +181,19 @@ def human_statics(scenario, goals: np.ndarray, routed: np.ndarray, clearance: fl
     routes = Routes(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.free, grid.nearest, dist, pred, row_of, np.zeros(len(routed), np.bool_),
                     grid.blocked_below)  # fmt: skip
     obstacles = orca_obstacles(scenario)
-    return HumanStatics(obstacles, scenario.static_segments, routes, grid.graph, goal_cells, tuple(obstacles), tuple(routes), goals.copy(),
+    return HumanStatics(obstacles, scenario.static_segments, routes, grid.adjacency, goal_cells, tuple(obstacles), tuple(routes), goals.copy(),
                         np.empty(len(goals), np.int64))  # fmt: skip
 
 
 @lru_cache(maxsize=4)
 def _all_pairs(key: tuple, clearance: float, cell: float) -> tuple[_Grid, np.ndarray]:
+    import scipy.sparse
     from scipy.sparse.csgraph import dijkstra
 
     grid = _grid(key, clearance, cell)
-    return grid, dijkstra(grid.graph, directed=False)
+    indptr, indices, weights = grid.adjacency
+    graph = scipy.sparse.csr_matrix((weights, indices, indptr), shape=(grid.rows * grid.cols, grid.rows * grid.cols))
+    return grid, dijkstra(graph, directed=False)  # (distances only: the same whatever order cells settle in)
 
 
 def path_lengths(scenario, starts: np.ndarray, goals: np.ndarray, clearance: float, cell: float = 0.25) -> np.ndarray:

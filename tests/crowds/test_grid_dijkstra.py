@@ -1,0 +1,52 @@
+"""The humans' route rows are scipy's Dijkstra, bit for bit: distances and the predecessors that
+ties leave (scipy from 1.16 settles equal distances by decreasing index)."""
+
+import math
+
+import numpy as np
+import pytest
+import scipy.sparse
+from scipy.sparse.csgraph import dijkstra
+
+from pathplan_env.crowds.grid_dijkstra import NO_PREDECESSOR, grid_adjacency, route_rows
+
+scipy_version = tuple(int(part) for part in scipy.__version__.split(".")[:2])
+
+
+def _grid(seed: int, rows: int = 30, cols: int = 40) -> np.ndarray:
+    """A free mask with square blocks, mirror-symmetric so that many routes tie."""
+    rng = np.random.default_rng(seed)
+    free = np.ones((rows, cols), bool)
+    for _ in range(6):
+        r, c = rng.integers(rows - 4), rng.integers(cols // 2 - 3)
+        free[r : r + 3, c : c + 3] = False
+    free[:, cols - cols // 2 :] = free[:, : cols // 2][:, ::-1]  # mirrored: equal distances both ways round
+    return free.ravel()
+
+
+@pytest.mark.skipif(scipy_version < (1, 16), reason="scipy before 1.16 settled ties in its Fibonacci heap's order")
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_route_rows_are_scipys_dijkstra(seed):
+    rows, cols, cell = 30, 40, 0.1
+    free = _grid(seed, rows, cols)
+    indptr, indices, weights = grid_adjacency(free, rows, cols, cell * math.hypot(0, 1), cell * math.hypot(1, 1))
+    graph = scipy.sparse.csr_matrix((weights, indices, indptr), shape=(rows * cols, rows * cols))
+    sources = np.flatnonzero(free)[:: 37]
+    expected_dist, expected_pred = dijkstra(graph, directed=False, indices=sources, return_predecessors=True)
+    dist, pred = np.empty((len(sources) + 1, rows * cols)), np.zeros((len(sources) + 1, rows * cols), np.int32)
+    route_rows(indptr, indices, weights, sources, np.arange(1, len(sources) + 1), dist, pred)  # rows 1..: row 0 untouched
+    np.testing.assert_array_equal(dist[1:].view(np.int64), expected_dist.view(np.int64))
+    np.testing.assert_array_equal(pred[1:], expected_pred)
+    assert (pred[0] == 0).all()
+    assert (pred[1:][np.arange(len(sources)), sources] == NO_PREDECESSOR).all()
+    assert np.isinf(dist[1:][:, ~free]).all()
+
+
+def test_grid_adjacency_cuts_no_corner():
+    free = np.array([[1, 0], [0, 1]], bool).ravel()  # two free cells touching at a corner only
+    indptr, _, _ = grid_adjacency(free, 2, 2, 0.1, 0.1 * math.sqrt(2))
+    assert indptr[-1] == 0
+    free = np.ones(4, bool)
+    indptr, indices, weights = grid_adjacency(free, 2, 2, 0.1, 0.1 * math.sqrt(2))
+    assert indptr.tolist() == [0, 3, 6, 9, 12]
+    assert indices[:3].tolist() == [1, 2, 3] and weights[2] == 0.1 * math.sqrt(2)

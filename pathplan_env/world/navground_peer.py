@@ -153,12 +153,14 @@ def step_split(scenario: Scenario, steps: int = 100, worlds: int = 200) -> dict:
     step called directly (its Python wrapper left out); a call of a compiled function that does
     nothing with the same nine arguments (the boundary's cost); ``cpSpaceStep`` of the same space
     through cffi (Chipmunk's step, a cffi call included)."""
+    from pathplan_env.world import simulation
     from pathplan_env.world.chipmunk import space_step
-    from pathplan_env.world.simulation import World, _world_step
+    from pathplan_env.world.simulation import World
 
     boundary = _nothing_entry()
 
     def parts(world):
+        _world_step = simulation._world_step  # (compiled by the first World)
         args = (world._ints, world._floats, *world.robot_xy, 0.0, 0.0, 2.0, False, scenario.arena_diagonal)
         space, dt = world.space._space, scenario.dt
         return {

@@ -15,6 +15,8 @@ reached) and keeps that rule for ties. Written here rather than called: on the f
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numba
 import numpy as np
 
@@ -22,9 +24,34 @@ import numpy as np
 NO_PREDECESSOR = -9999
 
 
+class Graph(NamedTuple):
+    """An undirected graph as :func:`grid_adjacency` builds it: CSR rows holding both directions."""
+
+    indptr: np.ndarray  # (cells + 1,) int64
+    indices: np.ndarray  # (edges,) int64
+    weights: np.ndarray  # (edges,) float64
+
+
+class Queue(NamedTuple):
+    """A search's bucket queue (:func:`buckets`): scratch, one per graph serves every search on it."""
+
+    width: float  # m: a bucket's width
+    ring: np.ndarray  # (buckets ahead, edges + 1) int64: the cells queued in each
+    fill: np.ndarray  # (buckets ahead,) int64: how many each holds
+
+
+class RouteRows(NamedTuple):
+    """Searches from several sources, one row each, as far as each has gone (:func:`extend_rows`)."""
+
+    dist: np.ndarray  # (rows, cells) m; inf where not reached
+    pred: np.ndarray  # (rows, cells) int32: the next cell toward the source
+    settled: np.ndarray  # (rows, cells) bool: the cells whose dist and pred are final
+    complete: np.ndarray  # (rows,) bool: nothing left to settle
+
+
 @numba.njit(cache=True)
 def grid_adjacency(free, rows, cols, straight, diagonal):
-    """``(indptr, indices, weights)``: the 8-connected graph of the free cells of a ``rows x cols``
+    """The :class:`Graph`: the 8-connected graph of the free cells of a ``rows x cols``
     grid (``free`` flat, row-major), both directions of every edge; a diagonal step needs both
     cells beside it free (no corner cutting); ``straight`` and ``diagonal`` are the steps' lengths."""
     n = rows * cols
@@ -49,19 +76,36 @@ def grid_adjacency(free, rows, cols, straight, diagonal):
                         indices[m] = r2 * cols + c2
                         m += 1
             indptr[v + 1] = m
-    return indptr, indices[:m].copy(), weights[:m].copy()
+    return Graph(indptr, indices[:m].copy(), weights[:m].copy())
 
 
 @numba.njit(cache=True)
-def _search(indptr, indices, weights, source, dist, pred, width, ring, fill, settled):
-    """One source: settles cells bucket by bucket (:func:`route_rows`)."""
-    dist[:] = np.inf
-    pred[:] = NO_PREDECESSOR
-    settled[:] = False
-    fill[:] = 0
+def _search(graph, queue, source, need, reach, dist, pred, settled):
+    """One row's search from ``source``, begun or resumed (its state: ``dist``, ``pred``, ``settled``),
+    bucket by bucket until the cell ``need`` and every cell up to ``reach`` metres beyond it are
+    settled (``need < 0``: every cell). Returns whether the search is complete (nothing left queued)."""
+    indptr, indices, weights = graph
+    width, ring, fill = queue
     n_ring = ring.shape[0]
-    dist[source] = 0.0
-    ring[0, 0], fill[0], pending, b = source, 1, 1, 0
+    fill[:] = 0
+    pending, b = 0, -1
+    if not settled[source]:  # a new search
+        dist[:] = np.inf
+        pred[:] = NO_PREDECESSOR
+        settled[:] = False
+        dist[source] = 0.0
+        ring[0, 0], fill[0], pending, b = source, 1, 1, 0
+    else:  # resumed: the queue is the cells reached and not settled (a bucket's order is free)
+        for v in range(dist.shape[0]):
+            if not settled[v] and dist[v] < np.inf:
+                q = int(dist[v] / width)
+                if b < 0 or q < b:
+                    b = q
+                s = q % n_ring
+                ring[s, fill[s]] = v
+                fill[s] += 1
+                pending += 1
+    stop = -1
     while pending:
         slot = b % n_ring
         for q in range(fill[slot]):
@@ -85,24 +129,48 @@ def _search(indptr, indices, weights, source, dist, pred, width, ring, fill, set
                         pred[j] = v
         pending -= fill[slot]
         fill[slot] = 0
+        if need >= 0 and stop < 0 and settled[need]:
+            stop = int((dist[need] + reach) / width)
+        if stop >= 0 and b >= stop and pending:
+            return False  # every cell of the buckets up to here is settled, the rest queued
         b += 1
+    return True
 
 
 @numba.njit(cache=True)
-def route_rows(indptr, indices, weights, sources, rows, dist, pred):
-    """For each ``k``: ``dist[rows[k]]`` (m; inf where unreachable) and ``pred[rows[k]]`` (the next
-    cell toward ``sources[k]``; :data:`NO_PREDECESSOR` at it and where unreachable) from the cell
-    ``sources[k]`` over the undirected graph ``(indptr, indices, weights)``."""
-    # buckets half the shortest edge wide: a cell's neighbours settle in later buckets, so a bucket's
-    # cells are final when it is reached and settle in any order; a ring holds the buckets ahead
+def buckets(weights, n_edges):
+    """``(width, ring, fill)``, a search's queue: buckets half the shortest edge wide (a cell's
+    neighbours settle in later buckets, so a bucket's cells are final when it is reached and settle in
+    any order) and a ring of the buckets ahead, each with room for every push (one per strict
+    decrease: at most one per edge, +1). Scratch: one per graph serves every search on it."""
     width = 0.5 * weights.min() if weights.shape[0] else 1.0
     n_ring = int(weights.max() / width) + 3 if weights.shape[0] else 1
-    n = indptr.shape[0] - 1
-    # a cell is queued once per strict decrease, at most once per edge into it (+1: the source)
-    ring, fill = np.empty((n_ring, indices.shape[0] + 1), np.int64), np.zeros(n_ring, np.int64)
-    settled = np.empty(n, np.bool_)
+    return Queue(width, np.empty((n_ring, n_edges + 1), np.int64), np.zeros(n_ring, np.int64))
+
+
+@numba.njit(cache=True)
+def route_rows(graph, sources, rows, dist, pred):
+    """For each ``k``: ``dist[rows[k]]`` (m; inf where unreachable) and ``pred[rows[k]]`` (the next
+    cell toward ``sources[k]``; :data:`NO_PREDECESSOR` at it and where unreachable) from the cell
+    ``sources[k]`` over the undirected :class:`Graph` ``graph``: every cell."""
+    queue = buckets(graph.weights, graph.indices.shape[0])
+    settled = np.empty(graph.indptr.shape[0] - 1, np.bool_)
     for k in range(sources.shape[0]):
-        _search(indptr, indices, weights, sources[k], dist[rows[k]], pred[rows[k]], width, ring, fill, settled)
+        settled[:] = False
+        _search(graph, queue, sources[k], -1, 0.0, dist[rows[k]], pred[rows[k]], settled)
 
 
-__all__ = ["NO_PREDECESSOR", "grid_adjacency", "route_rows"]
+@numba.njit(cache=True)
+def extend_rows(graph, queue, sources, rows, needs, reach, out):
+    """:func:`route_rows` as far as needed, into the :class:`RouteRows` ``out``: row ``rows[k]`` (its
+    search begun from ``sources[k]`` if ``out.settled[rows[k], sources[k]]`` is not set, else resumed)
+    settles the cell ``needs[k]`` and every cell up to ``reach`` metres farther; ``out.complete[rows[k]]``
+    is set once nothing is left to settle. A settled cell's distance and predecessor are
+    :func:`route_rows`' (they depend only on nearer cells, all settled before it). ``queue``:
+    :func:`buckets` of the graph."""
+    for k in range(sources.shape[0]):
+        r = rows[k]
+        out.complete[r] = _search(graph, queue, sources[k], needs[k], reach, out.dist[r], out.pred[r], out.settled[r])
+
+
+__all__ = ["NO_PREDECESSOR", "Graph", "Queue", "RouteRows", "buckets", "extend_rows", "grid_adjacency", "route_rows"]

@@ -8,8 +8,9 @@ shortest grid path to its goal:
   largest radius plus :data:`ROUTE_MARGIN` from every wall, polygon and arena edge;
 - one Dijkstra (8-connected, no corner cutting; ``crowds.grid_dijkstra``, scipy's results bit for
   bit) from a human's goal cell gives each free cell its distance to that goal and its next cell
-  toward it; it runs the first time the human loses sight of its goal (most humans of an open
-  corridor never need one);
+  toward it; it runs when the human first loses sight of its goal (most humans of an open corridor
+  never need one), and only as far as the cell it stands on and :data:`ROUTE_REACH` beyond, then on
+  from there when it stands farther (the cells settled are the whole search's, bit for bit);
 - per step (compiled, :func:`route_targets`), a human that sees its goal (the segment between them
   stays in free cells) heads for it, as without walls; otherwise it walks its cell's chain toward the
   goal and heads for the farthest chain cell it sees (string pulling), so paths cut across open
@@ -34,7 +35,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from pathplan_env.crowds.grid_dijkstra import grid_adjacency, route_rows
+from pathplan_env.crowds.grid_dijkstra import Graph, Queue, RouteRows, buckets, extend_rows, grid_adjacency
 from pathplan_env.crowds.orca_obstacles import ORCAObstacles, obstacle_vertices
 from pathplan_env.geometry.walls import points_clearance
 
@@ -46,6 +47,9 @@ ROUTE_MARGIN = 0.05
 LEAVE = 0.15
 #: Chain cells tried per step when the goal is out of sight (the farthest one seen is the waypoint).
 LOOKAHEAD_CELLS = 120
+#: A route's Dijkstra settles the cells up to this far (m) beyond the human's, then stops until the
+#: human stands farther: the cells it settles are the whole search's, bit for bit (``grid_dijkstra``).
+ROUTE_REACH = 1.5
 
 
 class Routes(NamedTuple):
@@ -61,8 +65,10 @@ class Routes(NamedTuple):
     dist: np.ndarray  # (routed, rows * cols) m to the goal; inf where unreachable
     pred: np.ndarray  # (routed, rows * cols) int32: the next cell toward the goal; < 0 at the goal or unreachable
     row_of: np.ndarray  # (n_obstacles,) int64: obstacle i's row in dist/pred, -1 if not routed
-    ready: np.ndarray  # (routed,) bool: whether the row's Dijkstra has run (rows are filled when first needed)
+    ready: np.ndarray  # (routed,) bool: whether the row's Dijkstra has settled every cell
     blocked_below: np.ndarray  # (rows + 1, cols + 1) int64: blocked cells below and left of each corner (a summed-area table)
+    settled: np.ndarray  # (routed, rows * cols) bool: the cells whose dist and pred are final (rows are searched as far as needed)
+    need: np.ndarray  # (routed,) int64: the cell a human stands on whose row does not reach it yet
 
 
 class HumanStatics(NamedTuple):
@@ -71,13 +77,14 @@ class HumanStatics(NamedTuple):
     obstacles: ORCAObstacles  # for ORCA: RVO2's obstacle vertices
     segments: np.ndarray  # (M, 5) capsule rows, for social force
     routes: Routes
-    adjacency: tuple  # the grid's graph (grid_dijkstra.grid_adjacency), for the rows' Dijkstra
+    adjacency: Graph  # the grid's graph (grid_dijkstra.grid_adjacency), for the rows' Dijkstra
+    queue: Queue  # its search's scratch queue (grid_dijkstra.buckets)
     goal_cells: np.ndarray  # (routed,) int64
     # the compiled steps' arguments, built once per world, not per step (a tuple per call cost ~1 µs):
     obstacle_fields: tuple  # tuple(obstacles)
     routes_fields: tuple  # tuple(routes): its arrays are filled in place, so the tuple stays current
     scratch_targets: np.ndarray  # (n_obstacles, 2): the routed step's targets, rows of ``idx`` written each step
-    missing: np.ndarray  # (n_obstacles,) int64: humans whose route row is not ready
+    missing: np.ndarray  # (n_obstacles,) int64: humans whose route row does not reach their cell yet
 
     def targets(self, idx: np.ndarray, state: np.ndarray, goals: np.ndarray) -> np.ndarray:
         """``(n, 2)`` preferred-velocity targets of the humans ``idx`` (rows of others: their goals)."""
@@ -89,10 +96,12 @@ class HumanStatics(NamedTuple):
         return targets
 
     def fill_routes(self, n_missing: int) -> None:
-        """Run the Dijkstra of the first ``n_missing`` humans of ``missing`` (their first loss of sight)."""
-        rows = self.routes.row_of[self.missing[:n_missing]]
-        route_rows(*self.adjacency, self.goal_cells[rows], rows, self.routes.dist, self.routes.pred)
-        self.routes.ready[rows] = True
+        """Take the Dijkstra of the first ``n_missing`` humans of ``missing`` (out of sight of their
+        goals) as far as the cells they stand on, and :data:`ROUTE_REACH` beyond."""
+        routes = self.routes
+        rows = routes.row_of[self.missing[:n_missing]]
+        out = RouteRows(routes.dist, routes.pred, routes.settled, routes.ready)
+        extend_rows(self.adjacency, self.queue, self.goal_cells[rows], rows, routes.need[rows], ROUTE_REACH, out)
 
 
 class _Grid(NamedTuple):
@@ -103,7 +112,8 @@ class _Grid(NamedTuple):
     cols: int
     free: np.ndarray
     nearest: np.ndarray
-    adjacency: tuple  # (indptr, indices, weights): 8-connected free cells, both directions (grid_dijkstra)
+    adjacency: Graph  # 8-connected free cells, both directions (grid_dijkstra)
+    queue: Queue  # grid_dijkstra.buckets of it: scratch for every route on this grid (a few MB, allocated once)
     blocked_below: np.ndarray  # (rows + 1, cols + 1) int64 (Routes.blocked_below)
 
 
@@ -137,9 +147,10 @@ def _grid(key: tuple, clearance: float, cell: float) -> _Grid:
     else:
         nearest = np.arange(rows * cols, dtype=np.int64)
     adjacency = grid_adjacency(free, rows, cols, cell * math.hypot(0, 1), cell * math.hypot(1, 1))
+    queue = buckets(adjacency.weights, adjacency.indices.shape[0])
     blocked_below = np.zeros((rows + 1, cols + 1), np.int64)
     blocked_below[1:, 1:] = (~grid).cumsum(axis=0).cumsum(axis=1)
-    return _Grid(xmin, ymin, cell, rows, cols, free, nearest, adjacency, blocked_below)
+    return _Grid(xmin, ymin, cell, rows, cols, free, nearest, adjacency, queue, blocked_below)
 
 
 @lru_cache(maxsize=16)
@@ -179,9 +190,9 @@ def human_statics(scenario, goals: np.ndarray, routed: np.ndarray, clearance: fl
     n_cells = grid.rows * grid.cols
     dist, pred = np.empty((len(routed), n_cells)), np.empty((len(routed), n_cells), np.int32)
     routes = Routes(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.free, grid.nearest, dist, pred, row_of, np.zeros(len(routed), np.bool_),
-                    grid.blocked_below)  # fmt: skip
+                    grid.blocked_below, np.zeros((len(routed), n_cells), np.bool_), np.zeros(len(routed), np.int64))  # fmt: skip
     obstacles = orca_obstacles(scenario)
-    return HumanStatics(obstacles, scenario.static_segments, routes, grid.adjacency, goal_cells, tuple(obstacles), tuple(routes), goals.copy(),
+    return HumanStatics(obstacles, scenario.static_segments, routes, grid.adjacency, grid.queue, goal_cells, tuple(obstacles), tuple(routes), goals.copy(),
                         np.empty(len(goals), np.int64))  # fmt: skip
 
 
@@ -191,8 +202,8 @@ def _all_pairs(key: tuple, clearance: float, cell: float) -> tuple[_Grid, np.nda
     from scipy.sparse.csgraph import dijkstra
 
     grid = _grid(key, clearance, cell)
-    indptr, indices, weights = grid.adjacency
-    graph = scipy.sparse.csr_matrix((weights, indices, indptr), shape=(grid.rows * grid.cols, grid.rows * grid.cols))
+    adjacency, n = grid.adjacency, grid.rows * grid.cols
+    graph = scipy.sparse.csr_matrix((adjacency.weights, adjacency.indices, adjacency.indptr), shape=(n, n))
     return grid, dijkstra(graph, directed=False)  # (distances only: the same whatever order cells settle in)
 
 
@@ -279,7 +290,8 @@ def _sees(routes, ax, ay, bx, by):
 def route_targets(routes, idx, state, goals, targets, missing):
     """Each human ``i`` in ``idx``: ``targets[i]`` = its goal if it sees it, else a point toward its
     farthest visible waypoint at the remaining path length (module docstring). Humans whose route
-    row is not ready are listed in ``missing`` (their count returned) and left at their goal."""
+    row does not reach their cell yet are listed in ``missing`` (their count returned; the cell in
+    ``routes.need``) and left at their goal."""
     n_missing = 0
     for k in range(idx.shape[0]):
         i = idx[k]
@@ -288,11 +300,12 @@ def route_targets(routes, idx, state, goals, targets, missing):
         row = routes.row_of[i]
         if row < 0 or _sees(routes, x, y, gx, gy):
             continue
-        if not routes.ready[row]:
+        c = routes.nearest[_cell(routes, x, y)]
+        if not (routes.ready[row] or routes.settled[row, c]):
+            routes.need[row] = c
             missing[n_missing] = i
             n_missing += 1
             continue
-        c = routes.nearest[_cell(routes, x, y)]
         if not math.isfinite(routes.dist[row, c]):
             continue  # no route: head straight for the goal (ORCA keeps it off the walls)
         best, cur = c, c

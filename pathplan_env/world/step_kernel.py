@@ -179,7 +179,8 @@ def world_step_routed(ints, floats, routes_fields, obstacle_fields, targets, mis
     steered = _ints(ib, INT_HEADER, ints[STEERED])
     goals, preferred = _rows(fb, 6 * m, m, 2), _floats(fb, 8 * m, m)
     r = routes_fields
-    routes = Routes(r[0], r[1], r[2], r[3], r[4], _unref(r[5]), _unref(r[6]), _unref(r[7]), _unref(r[8]), _unref(r[9]), _unref(r[10]), _unref(r[11]))
+    routes = Routes(r[0], r[1], r[2], r[3], r[4], _unref(r[5]), _unref(r[6]), _unref(r[7]), _unref(r[8]), _unref(r[9]), _unref(r[10]), _unref(r[11]),
+                    _unref(r[12]), _unref(r[13]))
     targets, missing = _unref(targets), _unref(missing)
     n_missing = route_targets(routes, steered, state, goals, targets, missing)
     if n_missing:

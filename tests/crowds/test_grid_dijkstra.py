@@ -8,7 +8,7 @@ import pytest
 import scipy.sparse
 from scipy.sparse.csgraph import dijkstra
 
-from pathplan_env.crowds.grid_dijkstra import NO_PREDECESSOR, grid_adjacency, route_rows
+from pathplan_env.crowds.grid_dijkstra import NO_PREDECESSOR, RouteRows, buckets, extend_rows, grid_adjacency, route_rows
 
 scipy_version = tuple(int(part) for part in scipy.__version__.split(".")[:2])
 
@@ -29,12 +29,13 @@ def _grid(seed: int, rows: int = 30, cols: int = 40) -> np.ndarray:
 def test_route_rows_are_scipys_dijkstra(seed):
     rows, cols, cell = 30, 40, 0.1
     free = _grid(seed, rows, cols)
-    indptr, indices, weights = grid_adjacency(free, rows, cols, cell * math.hypot(0, 1), cell * math.hypot(1, 1))
+    adjacency = grid_adjacency(free, rows, cols, cell * math.hypot(0, 1), cell * math.hypot(1, 1))
+    indptr, indices, weights = adjacency
     graph = scipy.sparse.csr_matrix((weights, indices, indptr), shape=(rows * cols, rows * cols))
     sources = np.flatnonzero(free)[:: 37]
     expected_dist, expected_pred = dijkstra(graph, directed=False, indices=sources, return_predecessors=True)
     dist, pred = np.empty((len(sources) + 1, rows * cols)), np.zeros((len(sources) + 1, rows * cols), np.int32)
-    route_rows(indptr, indices, weights, sources, np.arange(1, len(sources) + 1), dist, pred)  # rows 1..: row 0 untouched
+    route_rows(adjacency, sources, np.arange(1, len(sources) + 1), dist, pred)  # rows 1..: row 0 untouched
     np.testing.assert_array_equal(dist[1:].view(np.int64), expected_dist.view(np.int64))
     np.testing.assert_array_equal(pred[1:], expected_pred)
     assert (pred[0] == 0).all()
@@ -50,3 +51,28 @@ def test_grid_adjacency_cuts_no_corner():
     indptr, indices, weights = grid_adjacency(free, 2, 2, 0.1, 0.1 * math.sqrt(2))
     assert indptr.tolist() == [0, 3, 6, 9, 12]
     assert indices[:3].tolist() == [1, 2, 3] and weights[2] == 0.1 * math.sqrt(2)
+
+
+def test_extended_rows_settle_what_full_rows_hold():
+    """A search stopped where a human needs it and resumed as it walks on gives the full search's
+    distances and predecessors on every cell it settled, and all of them once complete."""
+    rows, cols, cell = 30, 40, 0.1
+    free = _grid(1, rows, cols)
+    adjacency = grid_adjacency(free, rows, cols, cell * math.hypot(0, 1), cell * math.hypot(1, 1))
+    cells = np.flatnonzero(free)
+    source = cells[len(cells) // 2]
+    full_dist, full_pred = np.empty((1, rows * cols)), np.empty((1, rows * cols), np.int32)
+    route_rows(adjacency, np.array([source]), np.array([0]), full_dist, full_pred)
+    dist, pred = np.empty((1, rows * cols)), np.empty((1, rows * cols), np.int32)
+    settled, complete = np.zeros((1, rows * cols), bool), np.zeros(1, bool)
+    order = np.argsort(full_dist[0][cells])
+    queue = buckets(adjacency.weights, len(adjacency.indices))
+    for need in cells[order[[10, 200, 150, 600, -1]]]:  # nearer and farther cells, resumed each time
+        extend_rows(adjacency, queue, np.array([source]), np.array([0]), np.array([need]), 0.3, RouteRows(dist, pred, settled, complete))
+        assert settled[0, need]
+        assert complete[0] == (need == cells[order[-1]])  # (stopped short of the far cells until the farthest is needed)
+        done = settled[0]
+        np.testing.assert_array_equal(dist[0][done].view(np.int64), full_dist[0][done].view(np.int64))
+        np.testing.assert_array_equal(pred[0][done], full_pred[0][done])
+    assert complete[0] and settled[0][free].all()
+    np.testing.assert_array_equal(dist[0][free], full_dist[0][free])

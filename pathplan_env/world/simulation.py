@@ -165,10 +165,6 @@ class World(SpaceKeeper):
         self._floats, self._ints, self._mode = floats, np.concatenate([np.array(header, np.int64), idx, order]), mode
         self._sees_robot = mode in (step_kernel.STEER_ORCA, step_kernel.STEER_ROUTED) and scenario.robot_visible
         self._dt = scenario.dt
-        if mode in (step_kernel.STEER_NONE, step_kernel.STEER_ORCA) and not self._has_statics and not self._sees_robot:
-            # nothing for Python to do around the compiled call: the instance's step is that call alone
-            # (step's branches and lookups were a quarter of a step of two humans)
-            self.step = self._step_open
 
     def _steer(self) -> None:
         """Goal-directed obstacles choose this step's velocities (all from the same snapshot); the
@@ -242,17 +238,6 @@ class World(SpaceKeeper):
         self.time += dt
         return min_gap, first_contact  # (Python floats from the compiled call)
 
-    def _step_open(self, dx: float, dy: float, goal_fraction: float = NO_CONTACT) -> tuple[float, float]:
-        """:meth:`step` of a world with no walls whose crowd, if any, the compiled call steers unseeing:
-        the same call with the same arguments (:meth:`_pack` binds it as the world's ``step``)."""
-        x0, y0 = self.robot_xy
-        ax, ay, moving, min_gap, first_contact = _world_step(self._ints, self._floats, x0, y0, dx, dy, goal_fraction, False, self._diagonal)
-        self.robot_xy = (ax, ay)
-        dt = self._dt
-        self.robot_velocity_xy = (dx / dt, dy / dt) if moving else (0.0, 0.0)
-        self.time += dt
-        return min_gap, first_contact
-
     def begin_step(self) -> None:
         """The start of a step driven from outside :meth:`step` (a robot flying arcs): goal-directed
         obstacles choose their velocities."""
@@ -315,7 +300,6 @@ class World(SpaceKeeper):
         state = self.__dict__.copy()
         for key in ("_buffer", "_pymunk_state", "_request", "_floats", "_ints"):
             del state[key]
-        state.pop("step", None)  # (bound again by _pack)
         return state
 
     def __setstate__(self, state):

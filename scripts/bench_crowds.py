@@ -7,9 +7,14 @@ turns at going first.
 
     python scripts/bench_crowds.py [--steps 100] [--repeats 9] [--sizes 2 5 10 15 20]
     python scripts/bench_crowds.py --split [--sizes 2 5]
+    python scripts/bench_crowds.py --env-split [--sizes 5]
 
 ``--split``: what our ``World.step`` is made of at those sizes (no navground needed): the whole step,
 the compiled step called directly, the Python/compiled boundary alone, Chipmunk's step alone.
+``--env-split``: what ``DynamicObstacle-v0.step`` adds to it (µs): the action's move, the
+observation, the reward terms, the info, and the least any Gymnasium step of this env can cost: the
+world's step and the three dicts the API returns (the observation's seven arrays, the reward terms,
+the info) built from ready values.
 
 navground is in the ``crowds-bench`` extra (``pip install -e .[crowds-bench]``); without it the
 script says so and stops.
@@ -28,6 +33,7 @@ from pathplan_env.world.navground_peer import (
     CORRIDOR_HUMANS,
     CROWD_SIZES,
     agreement,
+    cpu_seconds,
     crowd_scene,
     navground_stepper,
     paired_ratio,
@@ -45,6 +51,48 @@ def env_stepper(scenario):
     return lambda: unwrapped.step(hold)
 
 
+def env_split(scenario, steps: int = 100, envs: int = 200) -> dict:
+    """What one ``DynamicObstacle-v0.step`` of ``scenario`` is made of (µs a step, process CPU time
+    over ``steps`` steps of each of ``envs`` fresh envs, the robot holding still)."""
+    import numpy as np
+
+    def parts():
+        env = gym.make("DynamicObstacle-v0", scenario=scenario)
+        env.reset(seed=0)
+        u = env.unwrapped
+        world, hold = u.world, u.waypoint_to_action(scenario.start)
+        rewards = u._rewards(False, False, 1.0, 1.0)
+        entries = [np.zeros((2,), np.float32)] * 3 + [np.zeros((u.max_obstacles, 2), np.float32)] * 2 + [np.zeros(u.max_obstacles, np.float32)] * 2
+
+        def floor():  # World.step and the API's three dicts, nothing else
+            min_gap, _ = world.step(0.0, 0.0)
+            p, v, g, ps, vs, r, m = entries
+            obs = {"robot_position": p, "robot_velocity": v, "goal": g, "obstacle_positions": ps, "obstacle_velocities": vs,
+                   "obstacle_radii": r, "obstacle_mask": m}  # fmt: skip
+            terms = {"progress": 0.0, "goal": 0.0, "collision": 0.0, "time": -0.005, "proximity": 0.0}
+            info = {"is_success": False, "collision": False, "cost": 0.0, "min_clearance": min_gap, "path_length": 0.0, "time": world.time,
+                    "distance_to_goal": 1.0, "waypoint": (0.0, 0.0), "rewards": terms}  # fmt: skip
+            return obs, -0.005, False, False, info
+
+        return {
+            "env step": lambda: u.step(hold),
+            "World.step": lambda: world.step(0.0, 0.0),
+            "action's move": lambda: u.action_type.act(hold, world.robot_xy),
+            "observation": lambda: u._observe(world),
+            "reward terms": lambda: u._rewards(False, False, 1.0, 1.0),
+            "info": lambda: u._info(False, False, 1.0, rewards),
+            "floor: World.step + the API's dicts": floor,
+        }
+
+    totals = dict.fromkeys(parts(), 0.0)
+    for part in parts().values():
+        cpu_seconds(part, steps)  # warm-up: numba's cache loads on the first call of each kernel
+    for _ in range(envs):
+        for name in totals:
+            totals[name] += cpu_seconds(parts()[name], steps)
+    return {name: 1e6 * total / (envs * steps) for name, total in totals.items()}
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--steps", type=int, default=100, help="steps timed per repeat from a fresh scene (100: 10 s, the crossing)")
@@ -52,6 +100,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--sizes", type=int, nargs="+", default=list(CROWD_SIZES))
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--split", action="store_true", help="only what World.step is made of (µs), per size")
+    parser.add_argument("--env-split", action="store_true", help="only what DynamicObstacle-v0.step is made of (µs), per size")
     return parser
 
 
@@ -65,6 +114,13 @@ def main(argv=None) -> None:
         print("| humans | `World.step` µs | compiled step | call boundary | `cpSpaceStep` |\n|---:|---:|---:|---:|---:|")
         for n in args.sizes:
             parts = step_split(crowd_scene("circle", n, args.seed))
+            print(f"| {n} | " + " | ".join(f"{us:.2f}" for us in parts.values()) + " |", flush=True)
+        return
+    if args.env_split:
+        for n in args.sizes:
+            parts = env_split(crowd_scene("circle", n, args.seed))
+            if n == args.sizes[0]:
+                print("| humans | " + " | ".join(parts) + " |\n|---:|" + "---:|" * len(parts))
             print(f"| {n} | " + " | ".join(f"{us:.2f}" for us in parts.values()) + " |", flush=True)
         return
     if importlib.util.find_spec("navground") is None:

@@ -4,7 +4,8 @@ and without ``record=True`` in alternating runs (so a busy machine slows both al
     python scripts/bench_records.py --rounds 3 --episodes 10
 
 Prints the size (KiB an episode, and what the arrays are) and each round's wall times, then the
-median ratio recorded / not recorded.
+median ratio recorded / not recorded, of wall time and of this process's CPU time (one worker: the
+episodes run in this process; a machine shared with other work moves the wall times, less the CPU's).
 """
 
 from __future__ import annotations
@@ -57,10 +58,10 @@ def episode_size(folder: Path, steps: int = 200, obstacles: int = 8, count: int 
     episodes = [wander(seed, steps, obstacles) for seed in range(count + 1)]
     with RecordWriter(folder / "size.h5") as writer:
         writer.append(episodes[0], "0")
-        before = writer.bytes
+        before = writer.path.stat().st_size
         for n, episode in enumerate(episodes[1:], 1):
             writer.append(episode, str(n))
-        size = (writer.bytes - before) / count
+        size = (writer.path.stat().st_size - before) / count
     episode = episodes[0]
     shapes = f"steps {episode.steps}, obstacles {episode.obstacles.shape}, plan points {episode.plan_points.shape}"
     return size / 1024, shapes
@@ -72,20 +73,24 @@ def main(argv=None) -> None:
 
     with tempfile.TemporaryDirectory() as folder:
         kib, shapes = episode_size(Path(folder))
-        print(f"a 200-step episode with 8 obstacles: {kib:.1f} KiB on disk ({shapes}; float64, shuffle + gzip level 1)")
+        print(f"a 200-step episode with 8 obstacles: {kib:.1f} KiB on disk ({shapes}; float64, not compressed)")
         agents, scenarios = args.agents.split(","), args.scenarios.split(",")
         evaluate(agents, scenarios, [0.5], 1, Path(folder) / "warm", limit=False, plots=False, record=True)  # compile, cache, import h5py before timing
-        times = {False: [], True: []}
+        times, cpu = {False: [], True: []}, {False: [], True: []}
         for r in range(args.rounds):
             for record in (False, True) if r % 2 == 0 else (True, False):
-                start = time.perf_counter()
+                start, start_cpu = time.perf_counter(), time.process_time()
                 evaluate(agents, scenarios, [0.5], args.episodes, Path(folder) / f"run{r}{record}", limit=False, plots=False, record=record)
                 times[record].append(time.perf_counter() - start)
+                cpu[record].append(time.process_time() - start_cpu)
         for r in range(args.rounds):
-            print(f"round {r}: not recorded {times[False][r]:.2f} s, recorded {times[True][r]:.2f} s ({times[True][r] / times[False][r]:.3f})")
+            print(f"round {r}: not recorded {times[False][r]:.2f} s, recorded {times[True][r]:.2f} s ({times[True][r] / times[False][r]:.3f}; "
+                  f"CPU {cpu[True][r] / cpu[False][r]:.3f})")  # fmt: skip
         ratio = statistics.median(t / f for t, f in zip(times[True], times[False]))
+        cpu_ratio = statistics.median(t / f for t, f in zip(cpu[True], cpu[False]))
         episodes = len(agents) * len(scenarios) * args.episodes
-        print(f"recording: {ratio:.3f} x the time of the same run unrecorded (median of {args.rounds} alternating pairs, {episodes} episodes a run)")
+        print(f"recording: {ratio:.3f} x the time of the same run unrecorded, {cpu_ratio:.3f} x its CPU time "
+              f"(medians of {args.rounds} alternating pairs, {episodes} episodes a run, {statistics.mean(times[False]) / episodes * 1e3:.0f} ms an episode unrecorded)")  # fmt: skip
 
 
 if __name__ == "__main__":

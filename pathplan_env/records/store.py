@@ -1,6 +1,6 @@
-"""Episode records on disk: one HDF5 file a run (``episodes.h5``), a handful of datasets a run that
-every episode is appended to, and an index table saying where each episode's rows are. Each
-episode is flushed as it finishes, so a run that dies keeps every episode written before.
+"""Episode records on disk: one HDF5 file a run (``episodes.h5``), a handful of datasets that every
+episode is appended to, and an index table saying where each episode's rows are. Each episode is
+flushed as it finishes, so a run that dies keeps every episode written before.
 
 HDF5 through h5py (the ``records`` extra): chunked arrays a reader slices one episode out of without
 loading the run. Layout (version 2)::
@@ -12,16 +12,17 @@ loading the run. Layout (version 2)::
     /command    (R x A,) float64: each row's action
     /plan       (P, 2) float64: every step's plan, end to end
     /beams      (R x B, 2) float64, /hidden (R x N,) uint8: a sensor's drawing, when it has one
-    /scenes     (S,) JSON text: each distinct scene (the Scenario) once (the agents of a run share them)
-    /headers    (E,) JSON text: an episode's meta (who, what, the outcome), job key, humans
-    /index      (E, 15) int64: an episode's scene, sizes and first row in each dataset (:data:`INDEX`)
+    /text       (bytes,) uint8: UTF-8 JSON: each distinct scene (the Scenario) once, as the run's agents
+                share their episodes' scenes; each episode's header (meta: who, what, the outcome; job key; humans)
+    /index      (E, 18) int64: an episode's sizes and where its rows, scene and header are (:data:`INDEX`)
 
 A dataset per field for the run, not a group per episode: making a group and its datasets cost
-about 4 ms an episode, appending to datasets a fraction of that. HDF5 does not promise a file whose
-writer was killed mid-flush, so an episode's index row carries a checksum of what it points at: the
-reader refuses a torn episode, and :func:`salvage` (``--resume``) copies the whole ones into a fresh
-file, so the torn ones run again. The format is HDF5 1.8's: 1.10's marks a file open for writing and
-then refuses to open one whose writer was killed.
+about 4 ms an episode, appending to datasets a fraction of that. Every write is an append in place
+(text too, as bytes, not HDF5's heap of strings). HDF5 promises nothing of a file whose writer was
+killed mid-flush, so an episode's index row carries a checksum of what it points at: the reader
+refuses a torn episode, and :func:`salvage` (``--resume``) copies the whole ones into a fresh file,
+so the torn ones run again. The format is HDF5 1.8's: 1.10's marks a file open for writing and then
+refuses to open one whose writer was killed.
 
 A file of another format or version, a truncated one and a run folder without records are refused
 with a ``ValueError`` naming the file.
@@ -46,18 +47,21 @@ RECORDS_NAME = "episodes.h5"
 FORMAT = "pathplan-env episode records"
 VERSION = 2
 #: The index table's columns: sizes (rows, obstacles N, command width A, plan points, beams B or -1
-#: for none, hidden 0/1, turns 0/1), the scene's number, the episode's first row in each dataset, and
-#: a checksum of its rows and header (BLAKE2b, 8 bytes): what a run killed mid-write tore is found.
-INDEX = ("rows", "obstacles", "command_width", "plan_points", "beams", "hidden", "turns", "scene",
-         "steps_at", "obstacles_at", "command_at", "plan_at", "beams_at", "hidden_at", "checksum")  # fmt: skip
-_AT = {name: INDEX.index(f"{name}_at") for name in ("steps", "obstacles", "command", "plan", "beams", "hidden")}
+#: for none, hidden 0/1, turns 0/1), the episode's first row in each dataset, where its scene's and
+#: header's bytes are in ``text``, and a checksum of its rows and header (BLAKE2b, 8 bytes), by which
+#: what a killed run tore is found.
+INDEX = ("rows", "obstacles", "command_width", "plan_points", "beams", "hidden", "turns",
+         "steps_at", "obstacles_at", "command_at", "plan_at", "beams_at", "hidden_at",
+         "scene_at", "scene_bytes", "header_at", "header_bytes", "checksum")  # fmt: skip
+_ARRAYS = ("steps", "obstacles", "command", "plan", "beams", "hidden")
+_AT = {name: INDEX.index(f"{name}_at") for name in _ARRAYS}
 _COL = {name: i for i, name in enumerate(INDEX)}
-# name: (dtype, a row's shape, rows a chunk): chunks of 2 to 9 KiB, as each flush compresses the last one again
+# name: (dtype, a row's shape, rows a chunk): chunks of 2 to 9 KiB
 _DATASETS = {"steps": ("f8", (9,), 128), "obstacles": ("f8", (4,), 256), "command": ("f8", (), 512), "plan": ("f8", (2,), 512),
-             "beams": ("f8", (2,), 512), "hidden": ("u1", (), 2048)}  # fmt: skip
-_TEXT = ("scenes", "headers")
-# gzip, which every HDF5 reader has (h5py's faster lzf is h5py's own); level 1 compresses about as well as 4 here, in less time
-_COMPRESSION = {"compression": "gzip", "compression_opts": 1, "shuffle": True}
+             "beams": ("f8", (2,), 512), "hidden": ("u1", (), 2048), "text": ("u1", (), 8192)}  # fmt: skip
+# Not compressed: a flush (each episode) would compress every dataset's last chunk again, doubling the cost of a
+# write, for files a fifth smaller (gzip level 1, shuffled)
+_COMPRESSION: dict = {}
 _V1_HINT = ("version 1 kept a group an episode (a development version of 0.2.0); version 2 appends to one dataset a field: "
             "record the run again (evaluate --record)")  # fmt: skip
 
@@ -84,7 +88,7 @@ def _check_header(handle, path: Path) -> None:
     if version != VERSION:
         hint = f" ({_V1_HINT})" if version == 1 else ""
         raise ValueError(f"{path}: episode records of format version {version}; this version of pathplan-env reads version {VERSION}{hint}")
-    missing = [name for name in (*_DATASETS, *_TEXT, "index") if name not in handle]
+    missing = [name for name in (*_DATASETS, "index") if name not in handle]
     if missing:
         raise ValueError(f"{path}: the episode record file lacks {', '.join(missing)} (truncated?)")
     if handle["index"].shape[1:] != (len(INDEX),):
@@ -123,13 +127,9 @@ def set_aside(path: Path) -> Path | None:
     return kept
 
 
-def _fingerprint(text: str) -> bytes:
-    """A scene's text by 16 bytes (a long run holds thousands of scenes; the writer remembers which it wrote)."""
-    return hashlib.blake2b(text.encode(), digest_size=16).digest()
-
-
-def _texts(dataset) -> list[str]:
-    return [t.decode() if isinstance(t, bytes) else t for t in dataset[()]] if len(dataset) else []
+def _fingerprint(text: bytes) -> bytes:
+    """A scene's JSON by 16 bytes (a long run holds thousands of scenes; the writer remembers which it wrote, and where)."""
+    return hashlib.blake2b(text, digest_size=16).digest()
 
 
 class RecordWriter:
@@ -150,41 +150,41 @@ class RecordWriter:
             if isinstance(error, ValueError):
                 raise
             raise ValueError(f"{self.path}: not a readable episode record file ({error}; truncated?)") from None
-        self.bytes = 0  # written by this writer's appends
 
     def _create(self) -> None:
-        h5py = _h5py(self.path)
         self._file.attrs["format"], self._file.attrs["version"] = FORMAT, VERSION
         for name, (dtype, shape, chunk) in _DATASETS.items():
             self._file.create_dataset(name, (0, *shape), dtype, maxshape=(None, *shape), chunks=(chunk, *shape), **_COMPRESSION)
-        for name in _TEXT:
-            self._file.create_dataset(name, (0,), h5py.string_dtype(), maxshape=(None,), chunks=(256,))
         index = self._file.create_dataset("index", (0, len(INDEX)), "i8", maxshape=(None, len(INDEX)), chunks=(256, len(INDEX)))
         index.attrs["columns"] = ",".join(INDEX)
         self._file.flush()
 
     def _resume(self) -> None:
         """Where the next episode goes: after the last indexed one (rows past it are an append cut short, and go)."""
-        from h5py import h5t
-
-        self._str = h5t.py_create(_h5py(self.path).string_dtype())
-        self._sets = {name: self._file[name] for name in (*_DATASETS, *_TEXT, "index")}
+        self._sets = {name: self._file[name] for name in (*_DATASETS, "index")}
         index = self._sets["index"][()]
         self.count = len(index)
-        self._scenes = {_fingerprint(text): n for n, text in enumerate(_texts(self._sets["scenes"]))}
-        self._ends = {name: 0 for name in _DATASETS}
+        self._ends = {name: 0 for name in _DATASETS} | {"index": self.count}
+        self._scenes: dict[bytes, tuple[int, int]] = {}
+        self._keys = []
         if self.count:
+            text = self._sets["text"][()].tobytes()
+            for row in index:
+                at, size = int(row[_COL["scene_at"]]), int(row[_COL["scene_bytes"]])
+                self._scenes[_fingerprint(text[at : at + size])] = (at, size)
+                at, size = int(row[_COL["header_at"]]), int(row[_COL["header_bytes"]])
+                self._keys.append(json.loads(text[at : at + size])["key"])
             last = index[-1]
             for name, length in _lengths(last).items():
                 self._ends[name] = int(last[_AT[name]]) + length
-        self._ends |= {"headers": self.count, "index": self.count, "scenes": len(self._sets["scenes"])}
+            self._ends["text"] = int(last[_COL["header_at"]] + last[_COL["header_bytes"]])
         for name, end in self._ends.items():
             if self._sets[name].shape[0] != end:
                 self._sets[name].resize(end, axis=0)
 
     def keys(self) -> list[str]:
-        """The job keys the file's episodes were written with."""
-        return [json.loads(h)["key"] for h in _texts(self._sets["headers"])]
+        """The job keys the file's episodes were written with (this writer's appends aside)."""
+        return list(self._keys)
 
     def _append(self, name: str, data: np.ndarray) -> int:
         """Write ``data`` at the end of dataset ``name``; the row it starts at. h5py's low-level calls:
@@ -193,28 +193,27 @@ class RecordWriter:
 
         dataset, start = self._sets[name], self._ends[name]
         end = start + len(data)
-        dataset.id.set_extent((end, *data.shape[1:]))
         if len(data):
+            dataset.id.set_extent((end, *data.shape[1:]))
             space = dataset.id.get_space()
             space.select_hyperslab((start,) + (0,) * (data.ndim - 1), data.shape)
-            dataset.id.write(h5s.create_simple(data.shape), space, data, mtype=self._str if data.dtype == object else None)
+            dataset.id.write(h5s.create_simple(data.shape), space, data)
         self._ends[name] = end
         return start
 
-    def _text(self, name: str, text: str) -> int:
-        return self._append(name, np.array([text.encode()], dtype=object))
+    def _text(self, text: bytes) -> tuple[int, int]:
+        return self._append("text", np.frombuffer(text, np.uint8)), len(text)
 
-    def _scene(self, scenario: Scenario) -> int:
-        """The scene's number in the file, written the first time it comes (a run's agents share their episodes' scenes)."""
-        text = scene_text(scenario)
-        number = self._scenes.get(_fingerprint(text))
-        if number is None:
-            number = self._scenes[_fingerprint(text)] = self._text("scenes", text)
-        return number
+    def _scene(self, scenario: Scenario) -> tuple[int, int]:
+        """Where the scene's JSON is, written the first time it comes (a run's agents share their episodes' scenes)."""
+        text = scene_text(scenario).encode()
+        found = self._scenes.get(_fingerprint(text))
+        if found is None:
+            found = self._scenes[_fingerprint(text)] = self._text(text)
+        return found
 
     def append(self, episode: Episode, key: str = "", flush: bool = True) -> int:
         """Write one episode (flushed to disk before returning, unless ``flush`` is False); its record number."""
-        before = self.path.stat().st_size
         rows, n = episode.steps + 1, len(episode.radii)
         width = episode.command.shape[1]
         steps = np.empty((rows, 9))
@@ -227,18 +226,18 @@ class RecordWriter:
                  "beams": np.empty((0, 2)) if beams is None else np.ascontiguousarray(beams, np.float64).reshape(-1, 2),
                  "hidden": np.empty(0, np.uint8) if hidden is None else np.ascontiguousarray(hidden, np.uint8).reshape(-1)}  # fmt: skip
         at = {name: self._append(name, data) for name, data in parts.items()}
-        header = json.dumps({"meta": episode.meta, "key": key, "humans": episode.humans.astype(int).tolist()})
+        header = json.dumps({"meta": episode.meta, "key": key, "humans": episode.humans.astype(int).tolist()}).encode()
+        scene = self._scene(episode.scenario)
+        head = self._text(header)
         sizes = {"rows": rows, "obstacles": n, "command_width": width, "plan_points": len(episode.plan_points),
                  "beams": -1 if beams is None else beams.shape[1], "hidden": int(hidden is not None), "turns": int(episode.turns),
-                 "scene": self._scene(episode.scenario)}  # fmt: skip
-        sizes["checksum"] = _checksum(header, parts)
-        row = np.array([[*(sizes[c] for c in INDEX[:8]), *(at[c] for c in _AT), sizes["checksum"]]], np.int64)
-        self._text("headers", header)
-        number = self._append("index", row)
+                 "scene_at": scene[0], "scene_bytes": scene[1], "header_at": head[0], "header_bytes": head[1],
+                 "checksum": _checksum(header, parts)} | {f"{name}_at": start for name, start in at.items()}  # fmt: skip
+        number = self._append("index", np.array([[sizes[c] for c in INDEX]], np.int64))  # last: it points at the rest
         if flush:
             self._file.flush()
         self.count += 1
-        self.bytes += self.path.stat().st_size - before
+        self._keys.append(key)
         return number
 
     def close(self) -> None:
@@ -252,15 +251,15 @@ class RecordWriter:
         self.close()
 
 
-def _checksum(header: str, parts: dict[str, np.ndarray]) -> int:
-    digest = hashlib.blake2b(header.encode(), digest_size=8)
-    for name in _DATASETS:
+def _checksum(header: bytes, parts: dict[str, np.ndarray]) -> int:
+    digest = hashlib.blake2b(header, digest_size=8)
+    for name in _ARRAYS:
         digest.update(parts[name].tobytes())
     return int.from_bytes(digest.digest(), "little", signed=True)
 
 
 def _lengths(row) -> dict[str, int]:
-    """How many rows of each dataset an episode's index row covers."""
+    """How many rows of each array dataset an episode's index row covers."""
     rows, n, beams = int(row[_COL["rows"]]), int(row[_COL["obstacles"]]), int(row[_COL["beams"]])
     return {"steps": rows, "obstacles": rows * n, "command": rows * int(row[_COL["command_width"]]), "plan": int(row[_COL["plan_points"]]),
             "beams": rows * max(beams, 0), "hidden": rows * n * int(row[_COL["hidden"]])}  # fmt: skip
@@ -279,7 +278,7 @@ class RecordReader:
         try:
             _check_header(self._file, path)
             self._index = self._read(lambda: self._file["index"][()])
-            self._texts: list[str] | None = None
+            self._text: bytes | None = None  # the whole text dataset, read when a header is first asked for
             self._scenes: dict[int, Scenario] = {}
         except ValueError:
             self._file.close()
@@ -302,18 +301,19 @@ class RecordReader:
             raise ValueError(f"{self.path}: no episode {number} (the file holds {len(self)}: 0 to {len(self) - 1})")
         return self._index[int(number)]
 
-    def _text(self, number: int) -> str:
-        self._row(number)
-        if self._texts is None:
-            self._texts = self._read(lambda: _texts(self._file["headers"]))
-            if len(self._texts) < len(self):
-                raise ValueError(f"{self.path}: {len(self)} episodes indexed but {len(self._texts)} headers (truncated?)")
-        return self._texts[int(number)]
+    def _bytes(self, number: int, what: str) -> bytes:
+        row = self._row(number)
+        if self._text is None:
+            self._text = self._read(lambda: self._file["text"][()].tobytes())
+        at, size = int(row[_COL[f"{what}_at"]]), int(row[_COL[f"{what}_bytes"]])
+        if at < 0 or size < 0 or at + size > len(self._text):
+            raise ValueError(f"{self.path}: episode {number}'s {what} is past the file's text (truncated, or torn by a killed run?)")
+        return self._text[at : at + size]
 
     def _header(self, number: int) -> dict:
         try:
-            return json.loads(self._text(number))
-        except json.JSONDecodeError as error:
+            return json.loads(self._bytes(number, "header"))
+        except (json.JSONDecodeError, UnicodeDecodeError) as error:
             raise ValueError(f"{self.path}: episode {number}'s header is not readable JSON ({error}; torn by a killed run?)") from None
 
     def meta(self, number: int) -> dict:
@@ -324,13 +324,13 @@ class RecordReader:
         return [self._header(number)["key"] for number in self.numbers()]
 
     def _scene(self, number: int) -> Scenario:
-        if number not in self._scenes:
-            scenes = self._file["scenes"]
-            if not 0 <= number < len(scenes):
-                raise ValueError(f"{self.path}: scene {number} is not in the file (truncated?)")
-            text = self._read(lambda: scenes[number])
-            self._scenes[number] = Scenario.from_dict(json.loads(text.decode() if isinstance(text, bytes) else text))
-        return self._scenes[number]
+        at = int(self._row(number)[_COL["scene_at"]])
+        if at not in self._scenes:
+            try:
+                self._scenes[at] = Scenario.from_dict(json.loads(self._bytes(number, "scene")))
+            except (json.JSONDecodeError, UnicodeDecodeError, TypeError, KeyError) as error:
+                raise ValueError(f"{self.path}: episode {number}'s scene is not readable ({error}; torn by a killed run?)") from None
+        return self._scenes[at]
 
     def episode(self, number: int) -> Episode:
         row, header = self._row(number), self._header(number)
@@ -341,13 +341,13 @@ class RecordReader:
             return self._read(lambda: self._file[name][at : at + lengths[name]])
 
         rows, n, width, beams = (int(row[_COL[c]]) for c in ("rows", "obstacles", "command_width", "beams"))
-        parts = {name: part(name) for name in _DATASETS}
+        parts = {name: part(name) for name in _ARRAYS}
         steps = parts["steps"]
-        if len(steps) != rows or _checksum(self._text(number), parts) != row[_COL["checksum"]]:
+        if len(steps) != rows or _checksum(self._bytes(number, "header"), parts) != row[_COL["checksum"]]:
             raise ValueError(f"{self.path}: episode {number} is torn (its rows do not match its checksum: written when the run was killed?); "
                              "evaluate --resume --record runs it again")  # fmt: skip
         return Episode(
-            meta=header["meta"], scenario=self._scene(int(row[_COL["scene"]])), turns=bool(row[_COL["turns"]]),
+            meta=header["meta"], scenario=self._scene(number), turns=bool(row[_COL["turns"]]),
             humans=np.asarray(header["humans"], bool), robot=steps[:, 0:3], waypoint=steps[:, 3:5], clearance=steps[:, 5],
             collision=steps[:, 6] > 0, success=steps[:, 7] > 0, command=parts["command"].reshape(rows, width),
             obstacles=parts["obstacles"].reshape(rows, n, 4), plan_points=parts["plan"].reshape(-1, 2),

@@ -89,8 +89,9 @@ def main(argv=None) -> None:
         ratio = statistics.median(t / f for t, f in zip(times[True], times[False]))
         cpu_ratio = statistics.median(t / f for t, f in zip(cpu[True], cpu[False]))
         episodes = len(agents) * len(scenarios) * args.episodes
+        each = statistics.mean(times[False]) / episodes * 1e3
         print(f"recording: {ratio:.3f} x the time of the same run unrecorded, {cpu_ratio:.3f} x its CPU time "
-              f"(medians of {args.rounds} alternating pairs, {episodes} episodes a run, {statistics.mean(times[False]) / episodes * 1e3:.0f} ms an episode unrecorded)")  # fmt: skip
+              f"(medians of {args.rounds} alternating pairs, {episodes} episodes a run, {each:.0f} ms an episode unrecorded)")  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -36,12 +36,16 @@ def child(path: str) -> None:
             writer.append(episodes[n % len(episodes)], str(n))
 
 
-def main(argv=None) -> int:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--kills", type=int, default=30)
+    parser.add_argument("--kills", type=int, default=30, help="how many writers to kill")
     parser.add_argument("--seed", type=int, default=0, help="for the moments of the kills")
     parser.add_argument("--child", help=argparse.SUPPRESS)
-    args = parser.parse_args(argv)
+    return parser
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
     if args.child:
         child(args.child)
         return 0

@@ -52,19 +52,19 @@ def wander(seed: int, steps: int, obstacles: int):
     return recorder.finish({"agent": "wander", "steps": steps})
 
 
-def episode_size(folder: Path, steps: int = 200, obstacles: int = 8, count: int = 5) -> tuple[float, str]:
-    """KiB on disk a ``steps``-step episode among ``obstacles`` discs costs: the file's growth per episode over
-    ``count`` of them after the first (which also pays for the file's own structure)."""
+def episode_size(folder: Path, steps: int = 200, obstacles: int = 8, count: int = 5) -> tuple[float, float, str]:
+    """KiB on disk a ``steps``-step episode among ``obstacles`` discs costs, and ms to append it (flushed): the file's
+    growth and the time per episode over ``count`` of them after the first (which also pays for the file's own structure)."""
     episodes = [wander(seed, steps, obstacles) for seed in range(count + 1)]
     with RecordWriter(folder / "size.h5") as writer:
         writer.append(episodes[0], "0")
-        before = writer.path.stat().st_size
+        before, start = writer.path.stat().st_size, time.perf_counter()
         for n, episode in enumerate(episodes[1:], 1):
             writer.append(episode, str(n))
-        size = (writer.path.stat().st_size - before) / count
+        seconds, size = (time.perf_counter() - start) / count, (writer.path.stat().st_size - before) / count
     episode = episodes[0]
     shapes = f"steps {episode.steps}, obstacles {episode.obstacles.shape}, plan points {episode.plan_points.shape}"
-    return size / 1024, shapes
+    return size / 1024, seconds * 1e3, shapes
 
 
 def main(argv=None) -> None:
@@ -72,8 +72,8 @@ def main(argv=None) -> None:
     from agents.evaluation import evaluate
 
     with tempfile.TemporaryDirectory() as folder:
-        kib, shapes = episode_size(Path(folder))
-        print(f"a 200-step episode with 8 obstacles: {kib:.1f} KiB on disk ({shapes}; float64, not compressed)")
+        kib, ms, shapes = episode_size(Path(folder))
+        print(f"a 200-step episode with 8 obstacles: {kib:.1f} KiB on disk, {ms:.1f} ms to append ({shapes}; float64, not compressed)")
         agents, scenarios = args.agents.split(","), args.scenarios.split(",")
         evaluate(agents, scenarios, [0.5], 1, Path(folder) / "warm", limit=False, plots=False, record=True)  # compile, cache, import h5py before timing
         times, cpu = {False: [], True: []}, {False: [], True: []}

@@ -17,7 +17,7 @@ loading the run. Layout (version 2)::
     /index      (E, 18) int64: an episode's sizes and where its rows, scene and header are (:data:`INDEX`)
 
 A dataset per field for the run, not a group per episode: making a group and its datasets cost
-about 4 ms an episode, appending to datasets a fraction of that. Every write is an append in place
+several times what appending to datasets does. Every write is an append in place
 (text too, as bytes, not HDF5's heap of strings). HDF5 promises nothing of a file whose writer was
 killed mid-flush, so an episode's index row carries a checksum of what it points at: the reader
 refuses a torn episode, and :func:`salvage` (``--resume``) copies the whole ones into a fresh file,
@@ -31,6 +31,7 @@ with a ``ValueError`` naming the file.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
 import json
 import os
@@ -60,7 +61,7 @@ _COL = {name: i for i, name in enumerate(INDEX)}
 _DATASETS = {"steps": ("f8", (9,), 128), "obstacles": ("f8", (4,), 256), "command": ("f8", (), 512), "plan": ("f8", (2,), 512),
              "beams": ("f8", (2,), 512), "hidden": ("u1", (), 2048), "text": ("u1", (), 8192)}  # fmt: skip
 # Not compressed: a flush (each episode) would compress every dataset's last chunk again, doubling the cost of a
-# write, for files a fifth smaller (gzip level 1, shuffled)
+# write, for files only somewhat smaller (float64 positions compress poorly)
 _COMPRESSION: dict = {}
 _V1_HINT = ("version 1 kept a group an episode (a development version of 0.2.0); version 2 appends to one dataset a field: "
             "record the run again (evaluate --record)")  # fmt: skip
@@ -104,9 +105,14 @@ def _open(path: Path, mode: str):
                          "move it aside and record anew") from None  # fmt: skip
 
 
+@functools.cache
+def _field_names(kind: type) -> tuple[str, ...]:
+    return tuple(f.name for f in dataclasses.fields(kind))
+
+
 def _plain(value):
     """A dataclass as its fields (json.dumps' ``default``): ``dataclasses.asdict``'s JSON, at a sixth of its cost."""
-    return {f.name: getattr(value, f.name) for f in dataclasses.fields(value)}
+    return {name: getattr(value, name) for name in _field_names(type(value))}
 
 
 def scene_text(scenario: Scenario) -> str:

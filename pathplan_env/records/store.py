@@ -151,11 +151,12 @@ class RecordWriter:
             else:
                 self._create()
             self._resume()
-        except (ValueError, OSError) as error:
+        except (ValueError, OSError, KeyError, UnicodeDecodeError) as error:
             self._file.close()
-            if isinstance(error, ValueError):
+            if type(error) is ValueError:
                 raise
-            raise ValueError(f"{self.path}: not a readable episode record file ({error}; truncated?)") from None
+            raise ValueError(f"{self.path}: not a readable episode record file ({error}; truncated, or torn by a killed run? "
+                             "evaluate --resume salvages it)") from None  # fmt: skip
 
     def _create(self) -> None:
         self._file.attrs["format"], self._file.attrs["version"] = FORMAT, VERSION

@@ -15,7 +15,7 @@ import numpy as np
 
 from pathplan_env.records.compact import pack, scene_of
 from pathplan_env.records.social import METRICS, social_metrics
-from pathplan_env.records.store import RECORDS_NAME, RecordReader, RecordWriter, set_aside
+from pathplan_env.records.store import RECORDS_NAME, RecordReader, RecordWriter, salvage, set_aside
 
 #: The summary rows' columns of the social metrics: ``social_<metric>``, a cell's mean over its episodes
 #: (``ttc_min``: the median, ``min_human_distance``: the smallest).
@@ -44,15 +44,20 @@ class RunRecords:
 
     def __init__(self, out, resume: bool):
         path = out / RECORDS_NAME
+        torn = 0
         if not resume:
             set_aside(path)
-        self._writer = RecordWriter(path)  # a bad file (another version, truncated) is refused here, before any episode
+        elif path.exists():
+            torn = salvage(path)[1]  # a bad file (another version, truncated) is refused here, before any episode
+        self._writer = RecordWriter(path)
         self.path = path
-        self._kept = set(self._writer.keys())
+        self._order = self._writer.keys()  # the file's keys, in its order
+        self._kept = set(self._order)
         self._digests: dict[str, Digest] = {}
         self._all: list[Digest] | None = None  # every episode's, once the run is over
         if resume:
-            print(f"resuming: {len(self._kept)} episodes in {path}", file=sys.stderr)
+            print(f"resuming: {len(self._kept)} episodes in {path}" + (f" ({torn} torn by the stopped run left out: they run again)" if torn else ""),
+                  file=sys.stderr)  # fmt: skip
 
     def has(self, key) -> bool:
         """Whether the episode of this job key is on record (resume runs again those that are not)."""
@@ -61,9 +66,11 @@ class RunRecords:
     def write(self, result, key) -> None:
         trajectory = result.__dict__.pop("trajectory", None)  # the results list keeps rows, not trajectories
         if trajectory is not None:
-            self._writer.append(trajectory, _key_text(key))
-            self._kept.add(_key_text(key))
-            self._digests[_key_text(key)] = digest(trajectory)
+            text = _key_text(key)
+            self._writer.append(trajectory, text)
+            self._order.append(text)
+            self._kept.add(text)
+            self._digests[text] = digest(trajectory)
 
     def close(self) -> None:
         """Closes the file and says what it holds and what an episode cost."""
@@ -73,12 +80,10 @@ class RunRecords:
 
     def digests(self) -> list[Digest]:
         """Every recorded episode's digest, in the file's order (a resumed run's earlier ones read from it)."""
+        if all(key in self._digests for key in self._order):
+            return [self._digests[key] for key in self._order]
         with RecordReader(self.path) as reader:
-            out = []
-            for number, key in enumerate(reader.header_keys()):
-                found = self._digests.get(key)
-                out.append(found if found is not None else digest(reader.episode(number)))
-        return out
+            return [self._digests.get(key) or digest(reader.episode(number)) for number, key in enumerate(reader.header_keys())]
 
     def add_social_metrics(self, rows: list[dict]) -> list[dict]:
         return add_social_metrics(rows, self.replays())

@@ -16,11 +16,10 @@ MISSING = 65535  # a quantised value that is not there (no waypoint yet)
 TOP = 65534
 
 
-def _quantise(values: np.ndarray, low: float, high: float) -> np.ndarray:
-    q = np.rint((np.asarray(values, np.float64) - low) / (high - low) * TOP)
-    q = np.clip(np.nan_to_num(q, nan=0.0), 0, TOP)
-    q[np.isnan(values)] = MISSING
-    return q.astype("<u2")
+def _quantise(values: np.ndarray, low, high) -> np.ndarray:
+    """``values`` on 0..TOP over [low, high] (arrays broadcast: x and y at once), NaN as MISSING."""
+    q = np.clip(np.rint((np.asarray(values, np.float64) - low) / (high - low) * TOP), 0, TOP)  # NaN stays NaN
+    return np.where(np.isnan(q), MISSING, q).astype("<u2")
 
 
 def scene_of(episode: Episode) -> dict:
@@ -41,10 +40,11 @@ def pack(episode: Episode) -> str:
     plan = episode.plan_points
     beams = episode.beams if episode.beams is not None else np.empty((rows, 0, 2))
     head = np.array([rows, n, len(plan), beams.shape[1]], "<u4")
-    xy = lambda a: np.stack([_quantise(a[..., 0], xmin, xmax), _quantise(a[..., 1], ymin, ymax)], axis=-1)
+    # every x, y pair quantised in one call (the arrays are small: numpy's per-call cost is most of the time)
+    points = [episode.robot[:, :2], episode.obstacles[..., :2].reshape(-1, 2), episode.waypoint, plan, beams.reshape(-1, 2)]
+    xy = np.split(_quantise(np.concatenate(points), np.array([xmin, ymin]), np.array([xmax, ymax])), np.cumsum([len(p) for p in points])[:-1])
     heading = np.arctan2(np.sin(episode.robot[:, 2]), np.cos(episode.robot[:, 2]))
     clearance = np.minimum(np.rint(np.maximum(episode.clearance, 0.0) * 1000), TOP).astype("<u2")
-    parts = [head, episode.plan_offsets.astype("<u4"), xy(episode.robot[:, :2]), _quantise(heading, -math.pi, math.pi),
-             xy(episode.obstacles[..., :2]), xy(episode.waypoint), clearance, xy(plan), xy(beams)]  # fmt: skip
+    parts = [head, episode.plan_offsets.astype("<u4"), xy[0], _quantise(heading, -math.pi, math.pi), xy[1], xy[2], clearance, xy[3], xy[4]]
     data = b"".join(np.ascontiguousarray(p).tobytes() for p in parts)
     return base64.b64encode(zlib.compress(data, 6)).decode("ascii")

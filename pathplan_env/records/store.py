@@ -1,18 +1,28 @@
-"""Episode records on disk: one HDF5 file a run (``episodes.h5``), one group an episode, appended as
-episodes finish and flushed after each, so a run that dies keeps every episode written before.
+"""Episode records on disk: one HDF5 file a run (``episodes.h5``), a handful of datasets that every
+episode is appended to, and an index table saying where each episode's rows are. Each episode is
+flushed as it finishes, so a run that dies keeps every episode written before.
 
-HDF5 through h5py (the ``records`` extra): each episode is a handful of chunked, compressed arrays
-(shuffle + gzip) that a reader opens one at a time without loading the run. Layout (version 1)::
+HDF5 through h5py (the ``records`` extra): chunked arrays a reader slices one episode out of without
+loading the run. Layout (version 2)::
 
-    /                   attrs format, version
-    /episodes/000017    attr header: JSON of meta (who, what, the outcome), key (the harness's
-                        job key), scene (the Scenario), turns, humans, plan_offsets, command_width;
-                        datasets steps (T+1, 8 + A: robot x, y, heading, waypoint x, y, clearance,
-                        collision, success, command), obstacles (T+1, N, 4), plan (P, 2)
-                        [, beams (T+1, B, 2), hidden (T+1, N)]
+    /           attrs format, version
+    /steps      (R, 9) float64: robot x, y, heading, waypoint x, y, clearance, collision, success,
+                how many plan points the step's plan has (row 0 of an episode: none)
+    /obstacles  (R x N, 4) float64: each row's obstacles' x, y, vx, vy
+    /command    (R x A,) float64: each row's action
+    /plan       (P, 2) float64: every step's plan, end to end
+    /beams      (R x B, 2) float64, /hidden (R x N,) uint8: a sensor's drawing, when it has one
+    /text       (bytes,) uint8: UTF-8 JSON: each distinct scene (the Scenario) once, as the run's agents
+                share their episodes' scenes; each episode's header (meta: who, what, the outcome; job key; humans)
+    /index      (E, 18) int64: an episode's sizes and where its rows, scene and header are (:data:`INDEX`)
 
-Three datasets and one attribute an episode, not one per quantity: each costs a header (about a
-kilobyte) and time to write (the harness writes while the next episode waits).
+A dataset per field for the run, not a group per episode: making a group and its datasets cost
+several times what appending to datasets does. Every write is an append in place
+(text too, as bytes, not HDF5's heap of strings). HDF5 promises nothing of a file whose writer was
+killed mid-flush, so an episode's index row carries a checksum of what it points at: the reader
+refuses a torn episode, and :func:`salvage` (``--resume``) copies the whole ones into a fresh file,
+so the torn ones run again. The format is HDF5 1.8's: 1.10's marks a file open for writing and then
+refuses to open one whose writer was killed.
 
 A file of another format or version, a truncated one and a run folder without records are refused
 with a ``ValueError`` naming the file.
@@ -21,7 +31,10 @@ with a ``ValueError`` naming the file.
 from __future__ import annotations
 
 import dataclasses
+import functools
+import hashlib
 import json
+import os
 import sys
 import time
 from pathlib import Path
@@ -33,10 +46,25 @@ from pathplan_env.scenarios.scenario import Scenario
 
 RECORDS_NAME = "episodes.h5"
 FORMAT = "pathplan-env episode records"
-VERSION = 1
-_DATASETS = ("steps", "obstacles", "plan")
-_HEADER = ("meta", "key", "scene", "turns", "humans", "plan_offsets", "command_width")
-_OPTIONAL = ("beams", "hidden")
+VERSION = 2
+#: The index table's columns: sizes (rows, obstacles N, command width A, plan points, beams B or -1
+#: for none, hidden 0/1, turns 0/1), the episode's first row in each dataset, where its scene's and
+#: header's bytes are in ``text``, and a checksum of its rows and header (BLAKE2b, 8 bytes), by which
+#: what a killed run tore is found.
+INDEX = ("rows", "obstacles", "command_width", "plan_points", "beams", "hidden", "turns",
+         "steps_at", "obstacles_at", "command_at", "plan_at", "beams_at", "hidden_at",
+         "scene_at", "scene_bytes", "header_at", "header_bytes", "checksum")  # fmt: skip
+_ARRAYS = ("steps", "obstacles", "command", "plan", "beams", "hidden")
+_AT = {name: INDEX.index(f"{name}_at") for name in _ARRAYS}
+_COL = {name: i for i, name in enumerate(INDEX)}
+# name: (dtype, a row's shape, rows a chunk): chunks of 2 to 9 KiB
+_DATASETS = {"steps": ("f8", (9,), 128), "obstacles": ("f8", (4,), 256), "command": ("f8", (), 512), "plan": ("f8", (2,), 512),
+             "beams": ("f8", (2,), 512), "hidden": ("u1", (), 2048), "text": ("u1", (), 8192)}  # fmt: skip
+# Not compressed: a flush (each episode) would compress every dataset's last chunk again, doubling the cost of a
+# write, for files only somewhat smaller (float64 positions compress poorly)
+_COMPRESSION: dict = {}
+_V1_HINT = ("version 1 kept a group an episode (a development version of 0.2.0); version 2 appends to one dataset a field: "
+            "record the run again (evaluate --record)")  # fmt: skip
 
 
 def _h5py(path: Path):
@@ -59,25 +87,37 @@ def _check_header(handle, path: Path) -> None:
         raise ValueError(f"{path}: not an episode record file (format attribute {found!r}, expected {FORMAT!r})")
     version = int(handle.attrs.get("version", -1))
     if version != VERSION:
-        raise ValueError(f"{path}: episode records of format version {version}; this version of pathplan-env reads version {VERSION}")
-    if "episodes" not in handle:
-        raise ValueError(f"{path}: the episode record file has no 'episodes' group (truncated?)")
+        hint = f" ({_V1_HINT})" if version == 1 else ""
+        raise ValueError(f"{path}: episode records of format version {version}; this version of pathplan-env reads version {VERSION}{hint}")
+    missing = [name for name in (*_DATASETS, "index") if name not in handle]
+    if missing:
+        raise ValueError(f"{path}: the episode record file lacks {', '.join(missing)} (truncated?)")
+    if handle["index"].shape[1:] != (len(INDEX),):
+        raise ValueError(f"{path}: the index has {handle['index'].shape[1:]} columns, expected {len(INDEX)}")
 
 
 def _open(path: Path, mode: str):
     h5py = _h5py(path)
     try:
-        return h5py.File(path, mode, libver="latest")  # the compact object headers: an episode's group costs less
+        return h5py.File(path, mode, libver=("v108", "v108"))  # (1.10's would refuse a killed writer's file: see the module doc)
     except OSError as error:  # h5py's word for a truncated file, a file of another kind, a lock held
         raise ValueError(f"{path}: not a readable episode record file ({error}); a run killed while writing it can leave it so: "
                          "move it aside and record anew") from None  # fmt: skip
 
 
-def _header(entry) -> dict:
-    try:
-        return json.loads(entry.attrs["header"])
-    except (KeyError, json.JSONDecodeError) as error:
-        raise ValueError(f"{entry.file.filename}: episode {entry.name} has no readable header ({error})") from None
+@functools.cache
+def _field_names(kind: type) -> tuple[str, ...]:
+    return tuple(f.name for f in dataclasses.fields(kind))
+
+
+def _plain(value):
+    """A dataclass as its fields (json.dumps' ``default``): ``dataclasses.asdict``'s JSON, at a sixth of its cost."""
+    return {name: getattr(value, name) for name in _field_names(type(value))}
+
+
+def scene_text(scenario: Scenario) -> str:
+    """The scene as JSON: ``json.dumps(dataclasses.asdict(scenario))``, the form ``Scenario.from_dict`` reads."""
+    return json.dumps(scenario, default=_plain)
 
 
 def set_aside(path: Path) -> Path | None:
@@ -93,6 +133,11 @@ def set_aside(path: Path) -> Path | None:
     return kept
 
 
+def _fingerprint(text: bytes) -> bytes:
+    """A scene's JSON by 16 bytes (a long run holds thousands of scenes; the writer remembers which it wrote, and where)."""
+    return hashlib.blake2b(text, digest_size=16).digest()
+
+
 class RecordWriter:
     """Appends episodes to ``path`` (made if absent; an existing file of this format is continued)."""
 
@@ -100,42 +145,106 @@ class RecordWriter:
         self.path = Path(path)
         existed = self.path.exists()
         self._file = _open(self.path, "a")
-        if existed:
-            try:
+        try:
+            if existed:
                 _check_header(self._file, self.path)
-            except ValueError:
-                self._file.close()
+            else:
+                self._create()
+            self._resume()
+        except (ValueError, OSError, KeyError, UnicodeDecodeError) as error:
+            self._file.close()
+            if type(error) is ValueError:
                 raise
-        else:
-            self._file.attrs["format"], self._file.attrs["version"] = FORMAT, VERSION
-            self._file.create_group("episodes")
-            self._file.flush()
-        self._group = self._file["episodes"]
-        self.count = len(self._group)
-        self.bytes = 0  # written by this writer's appends
+            raise ValueError(f"{self.path}: not a readable episode record file ({error}; truncated, or torn by a killed run? "
+                             "evaluate --resume salvages it)") from None  # fmt: skip
+
+    def _create(self) -> None:
+        self._file.attrs["format"], self._file.attrs["version"] = FORMAT, VERSION
+        for name, (dtype, shape, chunk) in _DATASETS.items():
+            self._file.create_dataset(name, (0, *shape), dtype, maxshape=(None, *shape), chunks=(chunk, *shape), **_COMPRESSION)
+        index = self._file.create_dataset("index", (0, len(INDEX)), "i8", maxshape=(None, len(INDEX)), chunks=(256, len(INDEX)))
+        index.attrs["columns"] = ",".join(INDEX)
+        self._file.flush()
+
+    def _resume(self) -> None:
+        """Where the next episode goes: after the last indexed one (rows past it are an append cut short, and go)."""
+        self._sets = {name: self._file[name] for name in (*_DATASETS, "index")}
+        index = self._sets["index"][()]
+        self.count = len(index)
+        self._ends = {name: 0 for name in _DATASETS} | {"index": self.count}
+        self._scenes: dict[bytes, tuple[int, int]] = {}
+        self._keys = []
+        if self.count:
+            text = self._sets["text"][()].tobytes()
+            for row in index:
+                at, size = int(row[_COL["scene_at"]]), int(row[_COL["scene_bytes"]])
+                self._scenes[_fingerprint(text[at : at + size])] = (at, size)
+                at, size = int(row[_COL["header_at"]]), int(row[_COL["header_bytes"]])
+                self._keys.append(json.loads(text[at : at + size])["key"])
+            last = index[-1]
+            for name, length in _lengths(last).items():
+                self._ends[name] = int(last[_AT[name]]) + length
+            self._ends["text"] = int(last[_COL["header_at"]] + last[_COL["header_bytes"]])
+        for name, end in self._ends.items():
+            if self._sets[name].shape[0] != end:
+                self._sets[name].resize(end, axis=0)
 
     def keys(self) -> list[str]:
-        """The job keys the file's episodes were written with."""
-        return [_header(self._group[name])["key"] for name in self._group]
+        """The job keys the file's episodes were written with (this writer's appends aside)."""
+        return list(self._keys)
 
-    def append(self, episode: Episode, key: str = "") -> int:
-        """Write one episode (flushed to disk before returning); its record number."""
-        number, before = self.count, self.path.stat().st_size
-        group = self._group.create_group(f"{number:06d}")
-        group.attrs["header"] = json.dumps({"meta": episode.meta, "key": key, "scene": dataclasses.asdict(episode.scenario), "turns": episode.turns,
-                                            "humans": episode.humans.tolist(), "plan_offsets": episode.plan_offsets.tolist(),
-                                            "command_width": episode.command.shape[1]})  # fmt: skip
-        steps = np.column_stack([episode.robot, episode.waypoint, episode.clearance, episode.collision, episode.success, episode.command])
-        arrays = {"steps": steps, "obstacles": episode.obstacles, "plan": episode.plan_points, "beams": episode.beams, "hidden": episode.hidden}
-        for name, data in arrays.items():
-            if data is None:
-                continue
-            data = np.ascontiguousarray(data)
-            big = data.size >= 64  # a small array costs more compressed (its chunk index) than plain
-            group.create_dataset(name, data=data, **({"compression": "gzip", "compression_opts": 4, "shuffle": True} if big else {}))
-        self._file.flush()
+    def _append(self, name: str, data: np.ndarray) -> int:
+        """Write ``data`` at the end of dataset ``name``; the row it starts at. h5py's low-level calls:
+        its slicing costs four times the write of an episode's few rows."""
+        from h5py import h5s
+
+        dataset, start = self._sets[name], self._ends[name]
+        end = start + len(data)
+        if len(data):
+            dataset.id.set_extent((end, *data.shape[1:]))
+            space = dataset.id.get_space()
+            space.select_hyperslab((start,) + (0,) * (data.ndim - 1), data.shape)
+            dataset.id.write(h5s.create_simple(data.shape), space, data)
+        self._ends[name] = end
+        return start
+
+    def _text(self, text: bytes) -> tuple[int, int]:
+        return self._append("text", np.frombuffer(text, np.uint8)), len(text)
+
+    def _scene(self, scenario: Scenario) -> tuple[int, int]:
+        """Where the scene's JSON is, written the first time it comes (a run's agents share their episodes' scenes)."""
+        text = scene_text(scenario).encode()
+        found = self._scenes.get(_fingerprint(text))
+        if found is None:
+            found = self._scenes[_fingerprint(text)] = self._text(text)
+        return found
+
+    def append(self, episode: Episode, key: str = "", flush: bool = True) -> int:
+        """Write one episode (flushed to disk before returning, unless ``flush`` is False); its record number."""
+        rows, n = episode.steps + 1, len(episode.radii)
+        width = episode.command.shape[1]
+        steps = np.empty((rows, 9))
+        steps[:, 0:3], steps[:, 3:5], steps[:, 5] = episode.robot, episode.waypoint, episode.clearance
+        steps[:, 6], steps[:, 7], steps[:, 8] = episode.collision, episode.success, np.diff(episode.plan_offsets)
+        beams, hidden = episode.beams, episode.hidden
+        parts = {"steps": steps, "obstacles": np.ascontiguousarray(episode.obstacles, np.float64).reshape(rows * n, 4),
+                 "command": np.ascontiguousarray(episode.command, np.float64).reshape(rows * width),
+                 "plan": np.ascontiguousarray(episode.plan_points, np.float64).reshape(-1, 2),
+                 "beams": np.empty((0, 2)) if beams is None else np.ascontiguousarray(beams, np.float64).reshape(-1, 2),
+                 "hidden": np.empty(0, np.uint8) if hidden is None else np.ascontiguousarray(hidden, np.uint8).reshape(-1)}  # fmt: skip
+        at = {name: self._append(name, data) for name, data in parts.items()}
+        header = json.dumps({"meta": episode.meta, "key": key, "humans": episode.humans.astype(int).tolist()}).encode()
+        scene = self._scene(episode.scenario)
+        head = self._text(header)
+        sizes = {"rows": rows, "obstacles": n, "command_width": width, "plan_points": len(episode.plan_points),
+                 "beams": -1 if beams is None else beams.shape[1], "hidden": int(hidden is not None), "turns": int(episode.turns),
+                 "scene_at": scene[0], "scene_bytes": scene[1], "header_at": head[0], "header_bytes": head[1],
+                 "checksum": _checksum(header, parts)} | {f"{name}_at": start for name, start in at.items()}  # fmt: skip
+        number = self._append("index", np.array([[sizes[c] for c in INDEX]], np.int64))  # last: it points at the rest
+        if flush:
+            self._file.flush()
         self.count += 1
-        self.bytes += self.path.stat().st_size - before
+        self._keys.append(key)
         return number
 
     def close(self) -> None:
@@ -147,6 +256,20 @@ class RecordWriter:
 
     def __exit__(self, *exc):
         self.close()
+
+
+def _checksum(header: bytes, parts: dict[str, np.ndarray]) -> int:
+    digest = hashlib.blake2b(header, digest_size=8)
+    for name in _ARRAYS:
+        digest.update(parts[name].tobytes())
+    return int.from_bytes(digest.digest(), "little", signed=True)
+
+
+def _lengths(row) -> dict[str, int]:
+    """How many rows of each array dataset an episode's index row covers."""
+    rows, n, beams = int(row[_COL["rows"]]), int(row[_COL["obstacles"]]), int(row[_COL["beams"]])
+    return {"steps": rows, "obstacles": rows * n, "command": rows * int(row[_COL["command_width"]]), "plan": int(row[_COL["plan_points"]]),
+            "beams": rows * max(beams, 0), "hidden": rows * n * int(row[_COL["hidden"]])}  # fmt: skip
 
 
 class RecordReader:
@@ -161,22 +284,44 @@ class RecordReader:
         self._file = _open(path, "r")
         try:
             _check_header(self._file, path)
+            self._index = self._read(lambda: self._file["index"][()])
+            self._text: bytes | None = None  # the whole text dataset, read when a header is first asked for
+            self._scenes: dict[int, Scenario] = {}
         except ValueError:
             self._file.close()
             raise
-        self._group = self._file["episodes"]
+
+    def _read(self, read):
+        try:
+            return read()
+        except OSError as error:  # a chunk past the end of a cut-short file
+            raise ValueError(f"{self.path}: not a readable episode record file ({error}; truncated?)") from None
 
     def numbers(self) -> list[int]:
-        return sorted(int(name) for name in self._group)
+        return list(range(len(self._index)))
 
     def __len__(self) -> int:
-        return len(self._group)
+        return len(self._index)
 
-    def _entry(self, number: int):
-        name = f"{int(number):06d}"
-        if name not in self._group:
+    def _row(self, number: int) -> np.ndarray:
+        if not 0 <= int(number) < len(self):
             raise ValueError(f"{self.path}: no episode {number} (the file holds {len(self)}: 0 to {len(self) - 1})")
-        return self._group[name]
+        return self._index[int(number)]
+
+    def _bytes(self, number: int, what: str) -> bytes:
+        row = self._row(number)
+        if self._text is None:
+            self._text = self._read(lambda: self._file["text"][()].tobytes())
+        at, size = int(row[_COL[f"{what}_at"]]), int(row[_COL[f"{what}_bytes"]])
+        if at < 0 or size < 0 or at + size > len(self._text):
+            raise ValueError(f"{self.path}: episode {number}'s {what} is past the file's text (truncated, or torn by a killed run?)")
+        return self._text[at : at + size]
+
+    def _header(self, number: int) -> dict:
+        try:
+            return json.loads(self._bytes(number, "header"))
+        except (json.JSONDecodeError, UnicodeDecodeError) as error:
+            raise ValueError(f"{self.path}: episode {number}'s header is not readable JSON ({error}; torn by a killed run?)") from None
 
     def meta(self, number: int) -> dict:
         return self._header(number)["meta"]
@@ -185,28 +330,37 @@ class RecordReader:
         """The harness's job key of each episode, by record number."""
         return [self._header(number)["key"] for number in self.numbers()]
 
-    def _header(self, number: int) -> dict:
-        header = _header(self._entry(number))
-        missing = [name for name in _HEADER if name not in header]
-        if missing:
-            raise ValueError(f"{self.path}: episode {number}'s header lacks {', '.join(missing)}")
-        return header
+    def _scene(self, number: int) -> Scenario:
+        at = int(self._row(number)[_COL["scene_at"]])
+        if at not in self._scenes:
+            try:
+                self._scenes[at] = Scenario.from_dict(json.loads(self._bytes(number, "scene")))
+            except (json.JSONDecodeError, UnicodeDecodeError, TypeError, KeyError) as error:
+                raise ValueError(f"{self.path}: episode {number}'s scene is not readable ({error}; torn by a killed run?)") from None
+        return self._scenes[at]
 
     def episode(self, number: int) -> Episode:
-        entry = self._entry(number)
-        missing = [name for name in _DATASETS if name not in entry]
-        if missing:
-            raise ValueError(f"{self.path}: episode {number} is incomplete (missing {', '.join(missing)}; written when the run stopped?)")
-        header, steps = self._header(number), entry["steps"][()]
-        optional = {name: entry[name][()] if name in entry else None for name in _OPTIONAL}
-        if optional["hidden"] is not None:
-            optional["hidden"] = optional["hidden"].astype(bool)
+        row, header = self._row(number), self._header(number)
+        lengths = _lengths(row)
+
+        def part(name):
+            at = int(row[_AT[name]])
+            return self._read(lambda: self._file[name][at : at + lengths[name]])
+
+        rows, n, width, beams = (int(row[_COL[c]]) for c in ("rows", "obstacles", "command_width", "beams"))
+        parts = {name: part(name) for name in _ARRAYS}
+        steps = parts["steps"]
+        if len(steps) != rows or _checksum(self._bytes(number, "header"), parts) != row[_COL["checksum"]]:
+            raise ValueError(f"{self.path}: episode {number} is torn (its rows do not match its checksum: written when the run was killed?); "
+                             "evaluate --resume --record runs it again")  # fmt: skip
         return Episode(
-            meta=header["meta"], scenario=Scenario.from_dict(header["scene"]), turns=bool(header["turns"]),
+            meta=header["meta"], scenario=self._scene(number), turns=bool(row[_COL["turns"]]),
             humans=np.asarray(header["humans"], bool), robot=steps[:, 0:3], waypoint=steps[:, 3:5], clearance=steps[:, 5],
-            collision=steps[:, 6] > 0, success=steps[:, 7] > 0, command=steps[:, 8 : 8 + int(header["command_width"])],
-            obstacles=entry["obstacles"][()], plan_points=entry["plan"][()].reshape(-1, 2),
-            plan_offsets=np.asarray(header["plan_offsets"], np.int64), **optional,
+            collision=steps[:, 6] > 0, success=steps[:, 7] > 0, command=parts["command"].reshape(rows, width),
+            obstacles=parts["obstacles"].reshape(rows, n, 4), plan_points=parts["plan"].reshape(-1, 2),
+            plan_offsets=np.concatenate([[0], np.cumsum(steps[:, 8])]).astype(np.int64),
+            beams=parts["beams"].reshape(rows, beams, 2) if beams >= 0 else None,
+            hidden=parts["hidden"].reshape(rows, n).astype(bool) if row[_COL["hidden"]] else None,
         )  # fmt: skip
 
     def close(self) -> None:
@@ -222,3 +376,22 @@ class RecordReader:
 def open_records(run) -> RecordReader:
     """The records of a run folder (its ``episodes.h5``) or of a record file."""
     return RecordReader(run)
+
+
+def salvage(path) -> tuple[int, int]:
+    """Copy the episodes of record file ``path`` that read back whole into a fresh file that then replaces it
+    (the episodes a killed writer tore are left out, to be run again); how many were kept and left out.
+    What ``--resume`` does first: HDF5 promises nothing of a file whose writer was killed mid-flush."""
+    path = Path(path)
+    fresh = path.with_name(f"{path.name}.salvaging")
+    fresh.unlink(missing_ok=True)
+    kept = torn = 0
+    with RecordReader(path) as reader, RecordWriter(fresh) as writer:
+        for number in reader.numbers():
+            try:
+                writer.append(reader.episode(number), reader._header(number)["key"], flush=False)
+                kept += 1
+            except ValueError:
+                torn += 1
+    os.replace(fresh, path)
+    return kept, torn

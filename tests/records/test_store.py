@@ -1,14 +1,14 @@
 """Episode records: kept by the harness, read back, resumed, and bad files named."""
 
 import csv
-import json
 
 import h5py
 import numpy as np
 import pytest
 
 from agents.evaluation import evaluate
-from pathplan_env.records.store import RECORDS_NAME, RecordWriter, open_records
+from pathplan_env.records.diff import diff_records
+from pathplan_env.records.store import INDEX, RECORDS_NAME, RecordWriter, open_records
 
 RUN = (["velocity-obstacle"], ["random", "crowdnav-circle-crossing"], [0.5], 2)
 
@@ -49,14 +49,26 @@ def test_a_resumed_run_records_the_episodes_missing_from_its_file(recorded, tmp_
 
     run = tmp_path / "run"
     shutil.copytree(recorded, run)
-    with h5py.File(run / RECORDS_NAME, "a") as f:  # as if the run had died after the log, before the record
-        lost = json.loads(f["episodes/000003"].attrs["header"])["meta"]
-        del f["episodes/000003"]
+    with open_records(run) as records:
+        lost = records.meta(3)
+    with h5py.File(run / RECORDS_NAME, "a") as f:  # as if the run had been killed: episode 3's rows written, not indexed,
+        f["index"].resize(3, axis=0)
+        _tear(f, 1)  # and episode 1 torn by a flush cut short
+    with open_records(run) as records, pytest.raises(ValueError, match="episode 1 is torn"):
+        records.episode(1)
     evaluate(*RUN, run, limit=False, plots=False, record=True, resume=True)
     with open_records(run) as records:
         metas = [records.meta(n) for n in records.numbers()]
     assert len(metas) == 4 and sum(m["episode"] == lost["episode"] and m["scenario"] == lost["scenario"] for m in metas) == 1
     assert _rows(run) == _rows(recorded)
+    assert diff_records(recorded, run) == (4, [])  # the torn episode and the unindexed one ran again, and read back whole
+
+
+def _tear(f, episode: int, step: int = 5) -> None:
+    """Change obstacle 0's x at ``step`` of ``episode`` in an open record file, in place (as a torn write would)."""
+    row = f["index"][episode]
+    first = row[INDEX.index("obstacles_at")] + step * row[INDEX.index("obstacles")]
+    f["obstacles"][first, 0] += 1.0
 
 
 def test_bad_record_files_are_named(recorded, tmp_path):
@@ -74,6 +86,10 @@ def test_bad_record_files_are_named(recorded, tmp_path):
         open_records(other)
     with pytest.raises(ValueError, match="other.h5: episode records of format version 99"):  # nor appended to
         RecordWriter(other)
+    with h5py.File(other, "a") as f:  # the layout of a group an episode
+        f.attrs["version"] = 1
+    with pytest.raises(ValueError, match="other.h5: episode records of format version 1; .* reads version 2 .*record the run again"):
+        open_records(other)
     with open_records(recorded) as records, pytest.raises(ValueError, match="no episode 9"):
         records.episode(9)
 
@@ -90,7 +106,12 @@ def test_compare_runs_compares_two_runs_records_step_by_step(recorded, tmp_path,
     shutil.copytree(recorded, other)
     assert compare_runs.main([str(recorded), str(other), "--records"]) == 0
     assert "the 4 recorded episodes' trajectories agree step for step" in capsys.readouterr().out
-    with h5py.File(other / RECORDS_NAME, "a") as f:
-        f["episodes/000001/obstacles"][5, 0, 0] += 1e-9  # one obstacle, one step, one nanometre
+    with open_records(recorded) as records:
+        episodes = [(records.episode(n), key) for n, key in enumerate(records.header_keys())]
+    episodes[1][0].obstacles[5, 0, 0] += 1e-9  # one obstacle, one step, one nanometre
+    (other / RECORDS_NAME).unlink()
+    with RecordWriter(other / RECORDS_NAME) as writer:
+        for episode, key in episodes:
+            writer.append(episode, key)
     assert compare_runs.main([str(recorded), str(other), "--records"]) == 1
     assert "the trajectories part at step 5 (records 1 and 1)" in capsys.readouterr().out

@@ -29,6 +29,7 @@ from agents.base import real_static_segments as real_static_segments
 from agents.observation import Observation, covering_rows
 from agents.planners.costtogo import CostToGo, observed_cost_to_go
 from agents.planners.prediction import predict_among, substeps_for
+from agents.planners.reciprocal import REST_SHARE, ROBOT_DEPTH, ROBOT_MARGIN, ROBOT_PREDICTIONS, moving_robots, reciprocal_contact_radii, reciprocal_trajectory
 from agents.planners.spacetime.anytime import PARTIAL_RULES, partial_plan
 from agents.planners.spacetime.astar import BUDGET, EXHAUSTED, SearchSettings, SpacetimeProblem, heading_moves, replay, search
 from agents.planners.steering import STEERING_RULES, SteeringCheck
@@ -45,7 +46,14 @@ class SpacetimeModel:
     """What every space-time planner builds from an observation: the predicted obstacles over the
     horizon, the contact radii with the margin, and the env's action mapping from the static facts."""
 
-    def __init__(self, facts: EnvFacts, horizon_steps: int, margin: float, prediction: str = "physics", cone_degrees: float = 20.0):
+    def __init__(self, facts: EnvFacts, horizon_steps: int, margin: float, prediction: str = "physics", cone_degrees: float = 20.0,
+                 robots: str = "reciprocal", robot_margin: float = ROBOT_MARGIN):  # fmt: skip
+        if robots not in ROBOT_PREDICTIONS:
+            raise ValueError(f"robots must be one of {ROBOT_PREDICTIONS}, got {robots!r}")
+        if not (0.0 <= robot_margin < 1.0):
+            raise ValueError(f"robot_margin must be in [0, 1), got {robot_margin!r}")
+        self.robots, self.robot_margin = robots, float(robot_margin)
+        self.robot_depth = ROBOT_DEPTH
         if prediction not in PREDICTIONS:
             raise ValueError(f"prediction must be one of {PREDICTIONS}, got {prediction!r}")
         if not (0.0 <= cone_degrees < 90.0):
@@ -65,11 +73,39 @@ class SpacetimeModel:
         segments, ctg = observed_cost_to_go(obs, self.facts, memory)
         return covering_rows(obs, segments), ctg  # the contact tests' walls cover the env's exact (float64) ones
 
+    def reciprocal_rows(self, obs) -> np.ndarray | None:
+        """The observation's real rows predicted as robots that take half of the avoidance
+        (:mod:`agents.planners.reciprocal`: the other robots that move), or ``None``: every row a body."""
+        if self.robots != "reciprocal":
+            return None
+        parsed = Observation.of(obs)
+        return moving_robots(parsed, len(parsed.obstacles.radii), REST_SHARE * self.facts.robot_speed)
+
+    def own_radii(self, obs, rows: int) -> np.ndarray:
+        """The bodies' own radii in the order of :meth:`predict_scene`'s ``rows`` rows (the cone repeats the obstacles)."""
+        radii = Observation.of(obs).obstacles.radii
+        robots = self.reciprocal_rows(obs)
+        if robots is None:
+            return np.resize(radii, rows)
+        return np.concatenate([np.resize(radii[~robots], rows - int(robots.sum())), radii[robots]])
+
     def predict_scene(self, obs):
-        """``(trajectory, substeps, contact_radii, robot, goal)`` for one observation."""
+        """``(trajectory, substeps, contact_radii, robot, goal)`` for one observation: the obstacles
+        (and the robots at rest), then the moving robots of :meth:`reciprocal_rows`."""
         parsed = Observation.of(obs)
         (centers, velocities, radii), segments = parsed.obstacles, parsed.walls  # the obstacles bounce off walls as off the arena's edges
         n = substeps_for(velocities, radii, self.facts.dt)
+        robots = self.reciprocal_rows(parsed)
+        if robots is not None:
+            trajectory, n, contact_radii, robot, goal = self._predict_bodies(obs, centers[~robots], velocities[~robots], radii[~robots], segments, n)
+            mid = reciprocal_trajectory(parsed.robot, parsed.velocity, centers[robots], velocities[robots], self.facts.dt, self.horizon_steps, n,
+                                       self.robot_depth)
+            halves = reciprocal_contact_radii(radii[robots], self.facts.robot_radius, self.robot_margin, self.robot_depth)
+            return np.ascontiguousarray(np.concatenate([trajectory, mid], axis=1)), n, np.concatenate([contact_radii, halves]), robot, goal
+        return self._predict_bodies(obs, centers, velocities, radii, segments, n)
+
+    def _predict_bodies(self, obs, centers, velocities, radii, segments, n):
+        """:meth:`predict_scene` of the bodies ``centers, velocities, radii`` by the env's physics (or the cone)."""
         if self.prediction == "cone":  # three futures per obstacle: its heading and turned either way
             parts = []
             for angle in (-self.cone, 0.0, self.cone):
@@ -136,6 +172,10 @@ class SpacetimeAStarAgent(Agent):
         fly the :meth:`escape` move instead of the plan that survives longest (always done when no
         move at all is free).
     :param escape_steps: the escape's lookahead (steps).
+    :param robots, robot_margin: how the other robots of a multi-robot env (robot-flagged rows) are
+        predicted (:data:`agents.planners.reciprocal.ROBOT_PREDICTIONS`: ``"reciprocal"``, each takes half
+        of the avoidance, or ``"obstacles"``) and the margin on a contact between two robots; an
+        observation without robots is predicted the same either way.
     :param steering: ``"adapt"``: once :class:`~agents.planners.steering.SteeringCheck` sees the obstacles
         steer, plan with :data:`CROWD_SETTINGS` (the cone, and the wider margin, escape and lookahead
         where they ask more than the configured ones); among bodies that bounce the check never fires
@@ -147,13 +187,15 @@ class SpacetimeAStarAgent(Agent):
                  max_work: float | None = WORK_BUDGET, time_budget_ms: float | None = None, partial: str = "progress",
                  partial_min_steps: int = 5, coarse_cell: float | None = 0.1, coarse_headings: int = 16, fine_share: float = 0.5,
                  keep_plan_steps: int = 10, prediction: str = "physics",
-                 cone_degrees: float = 20.0, escape_trapped: bool = False, escape_steps: int = 4, steering: str = "adapt"):  # fmt: skip
+                 cone_degrees: float = 20.0, escape_trapped: bool = False, escape_steps: int = 4, steering: str = "adapt",
+                 robots: str = "reciprocal", robot_margin: float = ROBOT_MARGIN):  # fmt: skip
         super().__init__(env, seed)
         if steering not in STEERING_RULES:
             raise ValueError(f"steering must be one of {STEERING_RULES}, got {steering!r}")
         self.steering = steering
-        self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees)
-        self.crowd_model = SpacetimeModel(self.facts, horizon_steps, max(margin, CROWD_SETTINGS["margin"]), CROWD_SETTINGS["prediction"], cone_degrees)
+        self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees, robots, robot_margin)
+        self.crowd_model = SpacetimeModel(self.facts, horizon_steps, max(margin, CROWD_SETTINGS["margin"]), CROWD_SETTINGS["prediction"], cone_degrees,
+                                          robots, robot_margin)  # fmt: skip
         self.steering_check = SteeringCheck(self.facts.robot_speed)
         if int(escape_steps) != escape_steps or escape_steps < 1:
             raise ValueError(f"escape_steps must be a positive integer, got {escape_steps!r}")

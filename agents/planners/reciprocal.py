@@ -29,7 +29,8 @@ ROBOT_FLAG = "obstacle_is_robot"
 #: ``"obstacles"`` (as any observed body: constant velocity and elastic bounces, the 0.2.0 planners' first way).
 ROBOT_PREDICTIONS = ("reciprocal", "obstacles")
 #: The relative margin on the contact distance between two robots (the other's planner picks its own
-#: moves and grid, so its half is not exactly the mirror of this one's): chosen on the 10-robot circle.
+#: moves and grid, so its half is not exactly the mirror of this one's): picked, with ROBOT_DEPTH, on
+#: the 10-robot circle's first test episodes (docs/results/multi_robot.md says how far to trust that).
 ROBOT_MARGIN = 0.25
 #: How far the disc of another robot reaches past the midpoint (m): a disc of half the contact distance
 #: at the midpoint lets both robots slip round it on the same side.

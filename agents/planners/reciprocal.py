@@ -13,7 +13,7 @@ velocity, the other is expected to deviate by ``-d(t)`` from flying on at its ow
 predicted body. Two robots that both plan so keep apart while each stays on its own side of the
 midpoint (as in RVO; the midpoint starts between them, so each robot's shorter way round is on its
 own side). A robot at rest (arrived and resting at its goal, or waiting) is predicted to stay where it
-is, with the full contact distance: it may not give way.
+is, with the full contact distance and the robots' margin: it may not give way, and may set off.
 
 Only robot-flagged rows are predicted so: an observation without the flag (the single-robot env) is
 predicted exactly as before.
@@ -39,15 +39,25 @@ ROBOT_DEPTH = 0.3
 REST_SHARE = 1e-3
 
 
-def moving_robots(obs, real_rows: int, rest_speed: float) -> np.ndarray | None:
-    """A mask over the observation's real (unpadded, in order) rows: the other robots that move;
-    ``None`` when the observation flags no robot."""
+def robot_rows(obs, real_rows: int) -> np.ndarray | None:
+    """A mask over the observation's real (unpadded, in order) rows: the other robots; ``None`` when
+    the observation flags no robot."""
     if ROBOT_FLAG not in obs:
         return None
     shown = np.asarray(obs["obstacle_mask"]) > 0
     flagged = np.asarray(obs[ROBOT_FLAG])[shown] > 0
     if len(flagged) != real_rows or not flagged.any():
         return None
+    return flagged
+
+
+def moving_robots(obs, real_rows: int, rest_speed: float) -> np.ndarray | None:
+    """A mask over the observation's real rows: the other robots that move (faster than
+    ``rest_speed``); ``None`` when the observation flags no robot or none moves."""
+    flagged = robot_rows(obs, real_rows)
+    if flagged is None:
+        return None
+    shown = np.asarray(obs["obstacle_mask"]) > 0
     speeds = np.hypot(*np.asarray(obs["obstacle_velocities"], np.float64)[shown].T)
     moving = flagged & (speeds > rest_speed)
     return moving if moving.any() else None
@@ -82,4 +92,4 @@ def reciprocal_contact_radii(radii: np.ndarray, robot_radius: float, margin: flo
     return 0.5 * (radii + robot_radius) * (1.0 + margin) + depth - robot_radius
 
 
-__all__ = ["REST_SHARE", "ROBOT_FLAG", "ROBOT_MARGIN", "ROBOT_PREDICTIONS", "moving_robots", "reciprocal_contact_radii", "reciprocal_trajectory"]
+__all__ = ["REST_SHARE", "ROBOT_FLAG", "ROBOT_MARGIN", "ROBOT_PREDICTIONS", "moving_robots", "reciprocal_contact_radii", "robot_rows", "reciprocal_trajectory"]

@@ -29,7 +29,16 @@ from agents.base import real_static_segments as real_static_segments
 from agents.observation import Observation, covering_rows
 from agents.planners.costtogo import CostToGo, observed_cost_to_go
 from agents.planners.prediction import predict_among, substeps_for
-from agents.planners.reciprocal import REST_SHARE, ROBOT_DEPTH, ROBOT_MARGIN, ROBOT_PREDICTIONS, moving_robots, reciprocal_contact_radii, reciprocal_trajectory
+from agents.planners.reciprocal import (
+    REST_SHARE,
+    ROBOT_DEPTH,
+    ROBOT_MARGIN,
+    ROBOT_PREDICTIONS,
+    moving_robots,
+    reciprocal_contact_radii,
+    reciprocal_trajectory,
+    robot_rows,
+)
 from agents.planners.spacetime.anytime import PARTIAL_RULES, partial_plan
 from agents.planners.spacetime.astar import BUDGET, EXHAUSTED, SearchSettings, SpacetimeProblem, heading_moves, replay, search
 from agents.planners.steering import STEERING_RULES, SteeringCheck
@@ -91,18 +100,27 @@ class SpacetimeModel:
 
     def predict_scene(self, obs):
         """``(trajectory, substeps, contact_radii, robot, goal)`` for one observation: the obstacles
-        (and the robots at rest), then the moving robots of :meth:`reciprocal_rows`."""
+        (and the robots at rest, with the robots' margin), then the moving robots of :meth:`reciprocal_rows`."""
         parsed = Observation.of(obs)
         (centers, velocities, radii), segments = parsed.obstacles, parsed.walls  # the obstacles bounce off walls as off the arena's edges
         n = substeps_for(velocities, radii, self.facts.dt)
+        flagged = robot_rows(parsed, len(radii)) if self.robots == "reciprocal" else None
+        if flagged is None:
+            return self._predict_bodies(obs, centers, velocities, radii, segments, n)
         robots = self.reciprocal_rows(parsed)
-        if robots is not None:
-            trajectory, n, contact_radii, robot, goal = self._predict_bodies(obs, centers[~robots], velocities[~robots], radii[~robots], segments, n)
-            mid = reciprocal_trajectory(parsed.robot, parsed.velocity, centers[robots], velocities[robots], self.facts.dt, self.horizon_steps, n,
-                                       self.robot_depth)
-            halves = reciprocal_contact_radii(radii[robots], self.facts.robot_radius, self.robot_margin, self.robot_depth)
-            return np.ascontiguousarray(np.concatenate([trajectory, mid], axis=1)), n, np.concatenate([contact_radii, halves]), robot, goal
-        return self._predict_bodies(obs, centers, velocities, radii, segments, n)
+        robots = np.zeros(len(radii), bool) if robots is None else robots
+        bodies = ~robots
+        trajectory, n, contact_radii, robot, goal = self._predict_bodies(obs, centers[bodies], velocities[bodies], radii[bodies], segments, n)
+        rr = self.facts.robot_radius
+        resting = np.resize(flagged[bodies], len(contact_radii))  # (the cone repeats the rows)
+        full = (np.resize(radii[bodies], len(contact_radii)) + rr) * (1.0 + self.robot_margin) - rr
+        contact_radii = np.where(resting, np.maximum(contact_radii, full), contact_radii)
+        if not robots.any():
+            return trajectory, n, contact_radii, robot, goal
+        mid = reciprocal_trajectory(parsed.robot, parsed.velocity, centers[robots], velocities[robots], self.facts.dt, self.horizon_steps, n,
+                                    self.robot_depth)  # fmt: skip
+        halves = reciprocal_contact_radii(radii[robots], rr, self.robot_margin, self.robot_depth)
+        return np.ascontiguousarray(np.concatenate([trajectory, mid], axis=1)), n, np.concatenate([contact_radii, halves]), robot, goal
 
     def _predict_bodies(self, obs, centers, velocities, radii, segments, n):
         """:meth:`predict_scene` of the bodies ``centers, velocities, radii`` by the env's physics (or the cone)."""

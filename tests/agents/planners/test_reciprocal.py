@@ -56,7 +56,8 @@ def test_moving_robots_become_discs_past_the_midpoint_resting_robots_and_obstacl
     assert trajectory.shape[1] == 3  # the obstacle and the resting robot, then the moving robot
     np.testing.assert_allclose(trajectory[0, 1, :2], [0.0, -2.0])  # the resting robot stays where it is
     np.testing.assert_allclose(trajectory[-1, 1, :2], [0.0, -2.0])
-    assert radii[1] == pytest.approx((0.2 + 0.2) * 1.005 - 0.2)  # with the full contact distance
+    assert radii[1] == pytest.approx((0.2 + 0.2) * (1 + model.robot_margin) - 0.2)  # the full contact distance, the robots' margin
+    assert radii[0] == pytest.approx((0.3 + 0.2) * 1.005 - 0.2)  # the obstacle: the obstacles' margin
     assert radii[2] < radii[1] + model.robot_depth  # half the contact distance, and the depth
     mid0 = 0.5 * (np.array([-2.0, 0.0]) + np.array([0.0, 2.0]))
     away = mid0 - trajectory[0, 2, :2]

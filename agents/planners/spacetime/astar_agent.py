@@ -90,6 +90,16 @@ class SpacetimeModel:
         parsed = Observation.of(obs)
         return moving_robots(parsed, len(parsed.obstacles.radii), REST_SHARE * self.facts.robot_speed)
 
+    def robot_mask(self, obs, rows: int) -> np.ndarray | None:
+        """Which of :meth:`predict_scene`'s ``rows`` rows stand for other robots (at rest or moving), or ``None``."""
+        flagged = robot_rows(Observation.of(obs), len(Observation.of(obs).obstacles.radii)) if self.robots == "reciprocal" else None
+        if flagged is None:
+            return None
+        robots = self.reciprocal_rows(obs)
+        moving = np.zeros(len(flagged), bool) if robots is None else robots
+        bodies = rows - int(moving.sum())
+        return np.concatenate([np.resize(flagged[~moving], bodies), np.ones(int(moving.sum()), bool)])
+
     def own_radii(self, obs, rows: int) -> np.ndarray:
         """The bodies' own radii in the order of :meth:`predict_scene`'s ``rows`` rows (the cone repeats the obstacles)."""
         radii = Observation.of(obs).obstacles.radii
@@ -288,20 +298,25 @@ class SpacetimeAStarAgent(Agent):
         if len(targets) == 0 or (not keep and outcome == EXHAUSTED and escape_trapped):
             # every move is predicted to touch (within the margin), or every plan ends in contact
             # before the horizon: get as far clear as it can
-            targets = self.escape(trajectory, n, radii, robot, goal, segments, escape_steps)[None]
+            robots = model.robot_mask(obs, len(radii))
+            targets = self.escape(trajectory, n, radii, robot, goal, segments, escape_steps, robots)[None]
         self.last_plan = np.vstack([robot, targets])
         memory["plan"] = targets[1:]
         return targets[0]
 
     def escape(self, trajectory, substeps, radii, robot, goal, segments: np.ndarray | None = None,
-               lookahead: int | None = None) -> np.ndarray:  # fmt: skip
+               lookahead: int | None = None, robots: np.ndarray | None = None) -> np.ndarray:  # fmt: skip
         """The waypoint of the move (or rest) that keeps the largest predicted clearance over the
         next ``lookahead`` (default ``escape_steps``) steps flown straight on, nearer the goal on ties: standing still
         when every plan touches lets an obstacle that does not give way walk into the robot.
 
         The walls and polygons (``segments``, capsule rows) count as obstacles that stay: a move's
         clearance is also its path's (straight pieces between substeps, no tunnelling) smallest gap
-        to them, so the escape never flies into a wall to get away from a disc."""
+        to them, so the escape never flies into a wall to get away from a disc.
+
+        ``robots`` (a mask over the rows: the other robots' discs) makes the obstacles and walls come
+        first, as ORCA's constraints do when they leave no velocity: the moves that keep clear of them
+        over the lookahead, then the largest clearance of all."""
         f = self.facts
         lo = np.array(self.model.arena.robot_box[:2])
         hi = np.array(self.model.arena.robot_box[2:])
@@ -311,10 +326,16 @@ class SpacetimeAStarAgent(Agent):
         path = np.clip(robot + t[None, :, None] * steps[:, None, :], lo, hi)  # (C, K, 2)
         centers = trajectory[1 : k + 1, :, :2]  # (K, N, 2)
         gaps = np.hypot(*(path[:, :, None, :] - centers[None]).transpose(3, 0, 1, 2)) - radii - f.robot_radius
-        clearance = gaps.min(axis=(1, 2)) if gaps.size else np.zeros(len(steps))
+        split = robots is not None and robots.any() and gaps.size
+        bodies = gaps[:, :, ~robots] if split else gaps
+        clearance = bodies.min(axis=(1, 2)) if bodies.size else np.full(len(steps), np.inf if split else 0.0)
         if segments is not None and len(segments) and k > 0:
             clearance = np.minimum(clearance, self._wall_gaps(robot, path, segments))
         to_goal = np.hypot(*(robot + steps - goal).T)
+        if split:  # clear of the obstacles and walls first, then of everything
+            overall = np.minimum(clearance, gaps[:, :, robots].min(axis=(1, 2)))
+            best = np.lexsort((to_goal, -np.round(overall, 6), -np.round(np.minimum(clearance, 0.0), 6)))[0]
+            return np.clip(robot + steps[best], lo, hi)
         best = np.lexsort((to_goal, -np.round(clearance, 6)))[0]
         return np.clip(robot + steps[best], lo, hi)
 

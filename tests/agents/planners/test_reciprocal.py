@@ -101,3 +101,19 @@ def test_two_robots_swapping_head_on_both_arrive():
         obs, _, terminated, truncated, infos = env.step(actions)
         arrived |= {a: infos[a]["is_success"] for a in infos if terminated[a] or truncated[a]}
     assert arrived == {"robot_0": True, "robot_1": True}
+
+
+def test_a_penned_in_robot_escapes_the_obstacle_first():
+    """Every move touches another robot's disc (the robot is inside its margin) and an obstacle comes
+    head-on: the escape keeps clear of the obstacle, as ORCA's hard constraints, then of the robot."""
+    env = parallel_env(scenario="multi-circle-4")
+    planner = agents.make("astar-spacetime", env.robot_env("robot_0"), seed=0)
+    t = np.arange(5) * env.robot_scenario("robot_0").dt
+    trajectory = np.zeros((5, 2, 4))
+    trajectory[:, 0, 0], trajectory[:, 0, 2] = 1.2 - 2.5 * t, -2.5  # the obstacle, head-on along x
+    trajectory[:, 1, 0] = -0.3  # another robot's disc, behind: every move stays within its reach
+    radii, robot, goal = np.array([0.3, 0.3]), np.zeros(2), np.array([5.0, 0.0])
+    waypoint = planner.escape(trajectory, 1, radii, robot, goal, None, 4, np.array([False, True]))
+    step = waypoint - robot
+    path = robot + np.arange(1, 5)[:, None] * step
+    assert np.all(np.hypot(*(path - trajectory[1:, 0, :2]).T) - 0.3 - 0.2 >= 0.0)  # clear of the obstacle

@@ -12,7 +12,9 @@ steer slow down, speed up and stop at their goals. Each step the check compares 
 observed speed with its speed one observation earlier (rows the observation showed both times: a
 partial observation hides some); a change above ``tolerance`` × the robot's speed is a *surprise*, and
 from ``surprises`` of them on (in one episode) the obstacles steer, for the rest of the episode. The
-check only reads: until it fires, a planner acts exactly as without it.
+check only reads: until it fires, a planner acts exactly as without it. The other robots of a
+multi-robot env (rows flagged ``obstacle_is_robot``) are left out: they steer by nature, and the
+planners predict them as robots (:mod:`agents.planners.reciprocal`).
 """
 
 from __future__ import annotations
@@ -20,6 +22,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
+from agents.planners.reciprocal import ROBOT_FLAG
 
 #: A surprise: an obstacle's speed changed by more than this share of the robot's speed in one step
 #: (bouncing bodies keep theirs to ~1e-7 of it; docs/results/steering/probe.py).
@@ -53,6 +57,8 @@ class SteeringCheck:
         if state["surprises"] >= self.surprises:  # once it steers, it steers
             return True
         shown = np.asarray(obs["obstacle_mask"]) > 0
+        if ROBOT_FLAG in obs:  # the other robots of a multi-robot env steer by nature: the planners predict them as robots
+            shown &= np.asarray(obs[ROBOT_FLAG]) <= 0
         speeds = np.hypot(*np.asarray(obs["obstacle_velocities"], np.float64).T)
         if state["speeds"] is not None and len(state["speeds"]) == len(speeds):
             both = shown & state["shown"]

@@ -106,10 +106,11 @@ def multi_crossing(rng: np.random.Generator, n: int) -> MultiScenario:
     return MultiScenario(_world(ARENA, starts[0], goals[0], name=name), _robots(starts, goals), name=name)
 
 
-def multi_crowd(rng: np.random.Generator, n: int) -> MultiScenario:
-    """Robots on a 3 m circle among CrowdNav's circle-crossing humans, who see them."""
+def multi_crowd(rng: np.random.Generator, n: int, humans: int | None = None) -> MultiScenario:
+    """Robots on a 3 m circle among CrowdNav's circle-crossing humans (its 5, or ``humans``), who see them."""
+    crowd = humans
     for _ in range(_TRIES):
-        humans = crowdnav_scenario("circle-crossing", rng, visible=True)
+        humans = crowdnav_scenario("circle-crossing", rng, crowd, visible=True)
         starts, goals = circle(rng, n, 3.0)
         positions = humans.arrays()["positions"]
         reach = humans.robot_radius + humans.arrays()["radii"][0]

@@ -29,6 +29,16 @@ from agents.base import real_static_segments as real_static_segments
 from agents.observation import Observation, covering_rows
 from agents.planners.costtogo import CostToGo, observed_cost_to_go
 from agents.planners.prediction import predict_among, substeps_for
+from agents.planners.reciprocal import (
+    REST_SHARE,
+    ROBOT_DEPTH,
+    ROBOT_MARGIN,
+    ROBOT_PREDICTIONS,
+    moving_robots,
+    reciprocal_contact_radii,
+    reciprocal_trajectory,
+    robot_rows,
+)
 from agents.planners.spacetime.anytime import PARTIAL_RULES, partial_plan
 from agents.planners.spacetime.astar import BUDGET, EXHAUSTED, SearchSettings, SpacetimeProblem, heading_moves, replay, search
 from agents.planners.steering import STEERING_RULES, SteeringCheck
@@ -45,7 +55,14 @@ class SpacetimeModel:
     """What every space-time planner builds from an observation: the predicted obstacles over the
     horizon, the contact radii with the margin, and the env's action mapping from the static facts."""
 
-    def __init__(self, facts: EnvFacts, horizon_steps: int, margin: float, prediction: str = "physics", cone_degrees: float = 20.0):
+    def __init__(self, facts: EnvFacts, horizon_steps: int, margin: float, prediction: str = "physics", cone_degrees: float = 20.0,
+                 robots: str = "reciprocal", robot_margin: float = ROBOT_MARGIN):  # fmt: skip
+        if robots not in ROBOT_PREDICTIONS:
+            raise ValueError(f"robots must be one of {ROBOT_PREDICTIONS}, got {robots!r}")
+        if not (0.0 <= robot_margin < 1.0):
+            raise ValueError(f"robot_margin must be in [0, 1), got {robot_margin!r}")
+        self.robots, self.robot_margin = robots, float(robot_margin)
+        self.robot_depth = ROBOT_DEPTH
         if prediction not in PREDICTIONS:
             raise ValueError(f"prediction must be one of {PREDICTIONS}, got {prediction!r}")
         if not (0.0 <= cone_degrees < 90.0):
@@ -65,11 +82,58 @@ class SpacetimeModel:
         segments, ctg = observed_cost_to_go(obs, self.facts, memory)
         return covering_rows(obs, segments), ctg  # the contact tests' walls cover the env's exact (float64) ones
 
+    def reciprocal_rows(self, obs) -> np.ndarray | None:
+        """The observation's real rows predicted as robots that take half of the avoidance
+        (:mod:`agents.planners.reciprocal`: the other robots that move), or ``None``: every row a body."""
+        if self.robots != "reciprocal":
+            return None
+        parsed = Observation.of(obs)
+        return moving_robots(parsed, len(parsed.obstacles.radii), REST_SHARE * self.facts.robot_speed)
+
+    def robot_mask(self, obs, rows: int) -> np.ndarray | None:
+        """Which of :meth:`predict_scene`'s ``rows`` rows stand for other robots (at rest or moving), or ``None``."""
+        flagged = robot_rows(Observation.of(obs), len(Observation.of(obs).obstacles.radii)) if self.robots == "reciprocal" else None
+        if flagged is None:
+            return None
+        robots = self.reciprocal_rows(obs)
+        moving = np.zeros(len(flagged), bool) if robots is None else robots
+        bodies = rows - int(moving.sum())
+        return np.concatenate([np.resize(flagged[~moving], bodies), np.ones(int(moving.sum()), bool)])
+
+    def own_radii(self, obs, rows: int) -> np.ndarray:
+        """The bodies' own radii in the order of :meth:`predict_scene`'s ``rows`` rows (the cone repeats the obstacles)."""
+        radii = Observation.of(obs).obstacles.radii
+        robots = self.reciprocal_rows(obs)
+        if robots is None:
+            return np.resize(radii, rows)
+        return np.concatenate([np.resize(radii[~robots], rows - int(robots.sum())), radii[robots]])
+
     def predict_scene(self, obs):
-        """``(trajectory, substeps, contact_radii, robot, goal)`` for one observation."""
+        """``(trajectory, substeps, contact_radii, robot, goal)`` for one observation: the obstacles
+        (and the robots at rest, with the robots' margin), then the moving robots of :meth:`reciprocal_rows`."""
         parsed = Observation.of(obs)
         (centers, velocities, radii), segments = parsed.obstacles, parsed.walls  # the obstacles bounce off walls as off the arena's edges
         n = substeps_for(velocities, radii, self.facts.dt)
+        flagged = robot_rows(parsed, len(radii)) if self.robots == "reciprocal" else None
+        if flagged is None:
+            return self._predict_bodies(obs, centers, velocities, radii, segments, n)
+        robots = self.reciprocal_rows(parsed)
+        robots = np.zeros(len(radii), bool) if robots is None else robots
+        bodies = ~robots
+        trajectory, n, contact_radii, robot, goal = self._predict_bodies(obs, centers[bodies], velocities[bodies], radii[bodies], segments, n)
+        rr = self.facts.robot_radius
+        resting = np.resize(flagged[bodies], len(contact_radii))  # (the cone repeats the rows)
+        full = (np.resize(radii[bodies], len(contact_radii)) + rr) * (1.0 + self.robot_margin) - rr
+        contact_radii = np.where(resting, np.maximum(contact_radii, full), contact_radii)
+        if not robots.any():
+            return trajectory, n, contact_radii, robot, goal
+        mid = reciprocal_trajectory(parsed.robot, parsed.velocity, centers[robots], velocities[robots], self.facts.dt, self.horizon_steps, n,
+                                    self.robot_depth)  # fmt: skip
+        halves = reciprocal_contact_radii(radii[robots], rr, self.robot_margin, self.robot_depth)
+        return np.ascontiguousarray(np.concatenate([trajectory, mid], axis=1)), n, np.concatenate([contact_radii, halves]), robot, goal
+
+    def _predict_bodies(self, obs, centers, velocities, radii, segments, n):
+        """:meth:`predict_scene` of the bodies ``centers, velocities, radii`` by the env's physics (or the cone)."""
         if self.prediction == "cone":  # three futures per obstacle: its heading and turned either way
             parts = []
             for angle in (-self.cone, 0.0, self.cone):
@@ -136,6 +200,10 @@ class SpacetimeAStarAgent(Agent):
         fly the :meth:`escape` move instead of the plan that survives longest (always done when no
         move at all is free).
     :param escape_steps: the escape's lookahead (steps).
+    :param robots, robot_margin: how the other robots of a multi-robot env (robot-flagged rows) are
+        predicted (:data:`agents.planners.reciprocal.ROBOT_PREDICTIONS`: ``"reciprocal"``, each takes half
+        of the avoidance, or ``"obstacles"``) and the margin on a contact between two robots; an
+        observation without robots is predicted the same either way.
     :param steering: ``"adapt"``: once :class:`~agents.planners.steering.SteeringCheck` sees the obstacles
         steer, plan with :data:`CROWD_SETTINGS` (the cone, and the wider margin, escape and lookahead
         where they ask more than the configured ones); among bodies that bounce the check never fires
@@ -147,13 +215,15 @@ class SpacetimeAStarAgent(Agent):
                  max_work: float | None = WORK_BUDGET, time_budget_ms: float | None = None, partial: str = "progress",
                  partial_min_steps: int = 5, coarse_cell: float | None = 0.1, coarse_headings: int = 16, fine_share: float = 0.5,
                  keep_plan_steps: int = 10, prediction: str = "physics",
-                 cone_degrees: float = 20.0, escape_trapped: bool = False, escape_steps: int = 4, steering: str = "adapt"):  # fmt: skip
+                 cone_degrees: float = 20.0, escape_trapped: bool = False, escape_steps: int = 4, steering: str = "adapt",
+                 robots: str = "reciprocal", robot_margin: float = ROBOT_MARGIN):  # fmt: skip
         super().__init__(env, seed)
         if steering not in STEERING_RULES:
             raise ValueError(f"steering must be one of {STEERING_RULES}, got {steering!r}")
         self.steering = steering
-        self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees)
-        self.crowd_model = SpacetimeModel(self.facts, horizon_steps, max(margin, CROWD_SETTINGS["margin"]), CROWD_SETTINGS["prediction"], cone_degrees)
+        self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees, robots, robot_margin)
+        self.crowd_model = SpacetimeModel(self.facts, horizon_steps, max(margin, CROWD_SETTINGS["margin"]), CROWD_SETTINGS["prediction"], cone_degrees,
+                                          robots, robot_margin)  # fmt: skip
         self.steering_check = SteeringCheck(self.facts.robot_speed)
         if int(escape_steps) != escape_steps or escape_steps < 1:
             raise ValueError(f"escape_steps must be a positive integer, got {escape_steps!r}")
@@ -228,20 +298,25 @@ class SpacetimeAStarAgent(Agent):
         if len(targets) == 0 or (not keep and outcome == EXHAUSTED and escape_trapped):
             # every move is predicted to touch (within the margin), or every plan ends in contact
             # before the horizon: get as far clear as it can
-            targets = self.escape(trajectory, n, radii, robot, goal, segments, escape_steps)[None]
+            robots = model.robot_mask(obs, len(radii))
+            targets = self.escape(trajectory, n, radii, robot, goal, segments, escape_steps, robots)[None]
         self.last_plan = np.vstack([robot, targets])
         memory["plan"] = targets[1:]
         return targets[0]
 
     def escape(self, trajectory, substeps, radii, robot, goal, segments: np.ndarray | None = None,
-               lookahead: int | None = None) -> np.ndarray:  # fmt: skip
+               lookahead: int | None = None, robots: np.ndarray | None = None) -> np.ndarray:  # fmt: skip
         """The waypoint of the move (or rest) that keeps the largest predicted clearance over the
         next ``lookahead`` (default ``escape_steps``) steps flown straight on, nearer the goal on ties: standing still
         when every plan touches lets an obstacle that does not give way walk into the robot.
 
         The walls and polygons (``segments``, capsule rows) count as obstacles that stay: a move's
         clearance is also its path's (straight pieces between substeps, no tunnelling) smallest gap
-        to them, so the escape never flies into a wall to get away from a disc."""
+        to them, so the escape never flies into a wall to get away from a disc.
+
+        ``robots`` (a mask over the rows: the other robots' discs) makes the obstacles and walls come
+        first, as ORCA's constraints do when they leave no velocity: the moves that keep clear of them
+        over the lookahead, then the largest clearance of all."""
         f = self.facts
         lo = np.array(self.model.arena.robot_box[:2])
         hi = np.array(self.model.arena.robot_box[2:])
@@ -251,10 +326,16 @@ class SpacetimeAStarAgent(Agent):
         path = np.clip(robot + t[None, :, None] * steps[:, None, :], lo, hi)  # (C, K, 2)
         centers = trajectory[1 : k + 1, :, :2]  # (K, N, 2)
         gaps = np.hypot(*(path[:, :, None, :] - centers[None]).transpose(3, 0, 1, 2)) - radii - f.robot_radius
-        clearance = gaps.min(axis=(1, 2)) if gaps.size else np.zeros(len(steps))
+        split = robots is not None and robots.any() and gaps.size
+        bodies = gaps[:, :, ~robots] if split else gaps
+        clearance = bodies.min(axis=(1, 2)) if bodies.size else np.full(len(steps), np.inf if split else 0.0)
         if segments is not None and len(segments) and k > 0:
             clearance = np.minimum(clearance, self._wall_gaps(robot, path, segments))
         to_goal = np.hypot(*(robot + steps - goal).T)
+        if split:  # clear of the obstacles and walls first, then of everything
+            overall = np.minimum(clearance, gaps[:, :, robots].min(axis=(1, 2)))
+            best = np.lexsort((to_goal, -np.round(overall, 6), -np.round(np.minimum(clearance, 0.0), 6)))[0]
+            return np.clip(robot + steps[best], lo, hi)
         best = np.lexsort((to_goal, -np.round(clearance, 6)))[0]
         return np.clip(robot + steps[best], lo, hi)
 

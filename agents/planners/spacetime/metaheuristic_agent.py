@@ -15,10 +15,10 @@ from types import MappingProxyType
 import numpy as np
 
 from agents.base import real_obstacles as real_obstacles  # 0.1.0 public path
-from agents.observation import Observation
 from agents.planners.costtogo import around_obstacles, route, route_bends, waypoints_on
 from agents.planners.metaheuristic import MetaheuristicAgent
 from agents.planners.objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, TimedScene, walk_along
+from agents.planners.reciprocal import ROBOT_MARGIN
 from agents.planners.spacetime.astar_agent import SpacetimeModel
 from agents.planners.spacetime.seeds import SearchSeed, search_seeds
 from agents.planners.steering import STEERING_RULES, SteeringCheck
@@ -61,6 +61,8 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         where the prediction leaves them (:func:`agents.planners.costtogo.around_obstacles`, recomputed every
         replan: ~7 ms on the maze). On in ``pso-crowd`` / ``abc-crowd``: with the static field alone a plan
         that waits behind a human standing in a maze doorway cost as little as one that walks round it.
+    :param robots, robot_margin: :class:`SpacetimeModel`'s prediction of the other robots of a
+        multi-robot env (:mod:`agents.planners.reciprocal`).
     :param steering: ``"adapt"``: once :class:`~agents.planners.steering.SteeringCheck` sees the obstacles
         steer (an obstacle's speed changes, which the bounce physics never does), plan with
         :data:`CROWD_SETTINGS` where they ask more than the configured margin, ``rest_obstacles`` and
@@ -87,7 +89,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
                  n_dodges: int = 8, dodge_steps: float = 2.0, prediction: str = "physics", violation: str = "first-contact",
                  search_expansions: int = 0, dense_budget: float = 0.0, cone_degrees: float = 20.0,
                  rest_obstacles: bool = True, progress_weight: float = 0.0, obstacle_field: bool = False, steering: str = "adapt",
-                 **kwargs):  # fmt: skip
+                 robots: str = "reciprocal", robot_margin: float = ROBOT_MARGIN, **kwargs):  # fmt: skip
         if steering not in STEERING_RULES:
             raise ValueError(f"steering must be one of {STEERING_RULES}, got {steering!r}")
         self.steering = steering
@@ -116,9 +118,9 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         kwargs.setdefault("stall", 5)
         self.n_dodges, self.dodge_steps = int(n_dodges), float(dodge_steps)
         super().__init__(env, seed, optimizer=optimizer, variant="paper", predictive=True, **kwargs)
-        self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees)
+        self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees, robots, robot_margin)
         # among obstacles that steer: the crowd settings' margin, or the configured one if wider
-        self.crowd_model = SpacetimeModel(self.facts, horizon_steps, max(margin, CROWD_SETTINGS["margin"]), prediction, cone_degrees)
+        self.crowd_model = SpacetimeModel(self.facts, horizon_steps, max(margin, CROWD_SETTINGS["margin"]), prediction, cone_degrees, robots, robot_margin)
         self.steering_check = SteeringCheck(self.facts.robot_speed)
         speeds = self.n_waypoints + 1
         self._timed_lo = np.concatenate([self.search_lo, np.zeros(speeds)])
@@ -137,7 +139,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         segments, ctg = model.statics(obs, {} if memory is None else memory)
         trajectory, n, radii, robot, goal = model.predict_scene(obs)
         if obstacle_field and ctg.field.size:  # the rest goes round the obstacles where the prediction leaves them
-            own = np.resize(Observation.of(obs).obstacles.radii, len(radii))  # their own radii (the cone repeats them)
+            own = model.own_radii(obs, len(radii))  # their own radii (the cone repeats them)
             ctg = around_obstacles(ctg, goal, self.facts.goal_radius, self.model.arena.box, segments, self.facts.robot_radius,
                                    trajectory[self.model.horizon_steps * n, :, :2], own)  # fmt: skip
         # each obstacle's path length in each step: pairs farther apart than both can travel are skipped

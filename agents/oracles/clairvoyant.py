@@ -19,7 +19,7 @@ the true future (:meth:`ClairvoyantOracle.receding_plan`). Each step of that is 
 move, free of contact, so it never collides while the scheme finds a free move (until the episode
 ends); the verdict is "plan" if it reaches the goal (its moves prove a collision-free arrival), else
 "undetermined": nothing proved success or impossibility. Where it is cornered (no move free, the
-search exhausted up to its grid) the reachable-set test runs again on a five times finer grid, and
+search exhausted up to its grid) the reachable-set test runs again on a grid twice as fine, and
 "lost" if that proves it; else the episode stays "undetermined" and ends in contact.
 
 Where goal-directed obstacles see the robot (``Scenario.robot_visible``), their future depends on
@@ -58,7 +58,7 @@ class ClairvoyantOracle(Agent):
         grid reaches farther in slow, cluttered scenes, where fine cells multiply the nodes).
     :param max_expansions: node budget of each search; after the last the episode is
         "undetermined" unless the reachable-set test proves it lost or ``receding`` reaches the goal.
-    :param lost_cell: grid (m) of that reachable-set test (a fifth of it where ``receding`` is cornered).
+    :param lost_cell: grid (m) of that reachable-set test (half of it where ``receding`` is cornered).
     :param receding: where every search failed and the episode is not provably lost, how it is ended:
         ``(horizon steps, steps committed, merge grid in m, node budget, retry factor)`` of
         :meth:`receding_plan`; ``None``: fly the last search's deepest node, then head for the goal
@@ -161,7 +161,7 @@ class ClairvoyantOracle(Agent):
                 if outcome == FOUND:
                     verdict, found_by = "plan", "receding"
                 elif outcome == EXHAUSTED:  # cornered where no move is free: a finer reachable set may prove it
-                    lost, lost_at = provably_lost(problem, self.lost_cell / 5)
+                    lost, lost_at = provably_lost(problem, self.lost_cell / 2)
                     verdict = "lost" if lost else verdict
         if reactive:
             verdict = "reactive"

@@ -20,7 +20,8 @@ move, free of contact, so it never collides while the scheme finds a free move (
 ends); the verdict is "plan" if it reaches the goal (its moves prove a collision-free arrival), else
 "undetermined": nothing proved success or impossibility. Where it is cornered (no move free, the
 search exhausted up to its grid) the reachable-set test runs again on a grid twice as fine, and
-"lost" if that proves it; else the episode stays "undetermined" and ends in contact.
+"lost" if that proves it; else the episode stays "undetermined" and ends in contact, flying
+whichever stays free longer: the scheme's moves or the last search's deepest node.
 
 Where goal-directed obstacles see the robot (``Scenario.robot_visible``), their future depends on
 what the robot does and no fixed trajectory bounds it: the oracle then plans against the future
@@ -156,8 +157,10 @@ class ClairvoyantOracle(Agent):
             lost, lost_at = provably_lost(problem, self.lost_cell)
             verdict = "lost" if lost else "undetermined"
             if verdict == "undetermined" and self.receding is not None:  # end it as the best planner would, touching nothing
-                outcome, targets, spent = self.receding_plan(problem, remaining)
+                outcome, flown, spent = self.receding_plan(problem, remaining)
                 expansions += spent
+                if outcome == FOUND or len(flown) >= len(targets):  # else the last search's deepest node stays free longer
+                    targets = flown
                 if outcome == FOUND:
                     verdict, found_by = "plan", "receding"
                 elif outcome == EXHAUSTED:  # cornered where no move is free: a finer reachable set may prove it

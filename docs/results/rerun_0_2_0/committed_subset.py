@@ -58,6 +58,8 @@ def main(argv=None) -> int:
     agents = set(args.agents.split(","))
     scenarios = None if args.scenarios is None else set(args.scenarios.split(","))
     deltas = None if args.delta_d is None else {float(d) for d in args.delta_d.split(",")}
+    with open(args.source / "summary.json") as f:  # a preset's own count is in its records' keys
+        counts = json.load(f)["config"].get("scenario_n_obstacles", {})
     with open(args.source / "episodes.csv") as f:
         rows = [r for r in csv.DictReader(f) if r["agent"] in agents and int(r["episode"]) < args.episodes
                 and (scenarios is None or r["scenario"] in scenarios) and (deltas is None or float(r["delta_d"]) in deltas)]  # fmt: skip
@@ -65,7 +67,7 @@ def main(argv=None) -> int:
     with open(args.target / "episodes.jsonl", "x") as sink:  # never over a run's own records
         for row in rows:
             res = record(row)
-            key = record_key(res.agent, res.scenario, res.delta_d, res.episode, res.seed, None, {}, {}, "test")
+            key = record_key(res.agent, res.scenario, res.delta_d, res.episode, res.seed, counts.get(res.scenario), {}, {}, "test")
             sink.write(json.dumps({"job": list(key), "result": asdict(res)}) + "\n")
     print(f"{len(rows)} records written to {args.target / 'episodes.jsonl'}")
     return 0

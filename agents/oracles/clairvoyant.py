@@ -13,6 +13,16 @@ static cost-to-go around them and the obstacles that never move) and flies the p
 replays exactly because every move was made with the env's own kinematics and contact test. The
 evaluation harness runs it on every cell's episodes to report the ``limit``.
 
+Where every search spends its budget and the episode is not provably lost, it does not guess: it
+ends the episode as the best planner it knows would, ``astar-spacetime``'s receding scheme flown on
+the true future (:meth:`ClairvoyantOracle.receding_plan`). Each step of that is a search's exact
+move, free of contact, so it never collides while the scheme finds a free move (until the episode
+ends); the verdict is "plan" if it reaches the goal (its moves prove a collision-free arrival), else
+"undetermined": nothing proved success or impossibility. Where it is cornered (no move free, the
+search exhausted up to its grid) the reachable-set test runs again on a grid twice as fine, and
+"lost" if that proves it; else the episode stays "undetermined" and ends in contact, flying
+whichever stays free longer: the scheme's moves or the last search's deepest node.
+
 Where goal-directed obstacles see the robot (``Scenario.robot_visible``), their future depends on
 what the robot does and no fixed trajectory bounds it: the oracle then plans against the future
 they would have without the robot, says so (verdict ``"reactive"``) and gives no limit.
@@ -28,7 +38,8 @@ from agents.base import Agent
 from agents.oracles.clairvoyant_unicycle import UnicycleClairvoyantOracle
 from agents.oracles.future import simulator_of, true_future
 from agents.planners.reachable_set import provably_lost
-from agents.planners.spacetime.astar import BUDGET, FOUND, SearchSettings, SpacetimeProblem, heading_moves, search
+from agents.planners.spacetime.astar import BUDGET, EXHAUSTED, FOUND, HORIZON, SearchSettings, SpacetimeProblem, heading_moves, search
+from pathplan_env.robots.holonomic import robot_move
 from pathplan_env.robots.unicycle import UnicycleAction
 
 #: What the oracle concludes about an episode: a plan, provably no plan, a failed search, or no
@@ -47,8 +58,12 @@ class ClairvoyantOracle(Agent):
         finds plans fast; 1.5 gets out of dead ends where the greedy one spends its budget; a coarser
         grid reaches farther in slow, cluttered scenes, where fine cells multiply the nodes).
     :param max_expansions: node budget of each search; after the last the episode is
-        "undetermined" unless the reachable-set test proves it lost.
-    :param lost_cell: grid (m) of that reachable-set test.
+        "undetermined" unless the reachable-set test proves it lost or ``receding`` reaches the goal.
+    :param lost_cell: grid (m) of that reachable-set test (half of it where ``receding`` is cornered).
+    :param receding: where every search failed and the episode is not provably lost, how it is ended:
+        ``(horizon steps, steps committed, merge grid in m, node budget, retry factor)`` of
+        :meth:`receding_plan`; ``None``: fly the last search's deepest node, then head for the goal
+        (0.1.0's way, which may collide).
     """
 
     def __new__(cls, *args, **kwargs):
@@ -60,7 +75,8 @@ class ClairvoyantOracle(Agent):
         return super().__new__(cls)
 
     def __init__(self, env, seed: int | None = None, *, n_headings: int = 32, speed_fractions=(1.0, 0.5),
-                 searches=((3.0, 0.03), (1.5, 0.03), (3.0, 0.06)), max_expansions: int = 100_000, lost_cell: float = 0.005):  # fmt: skip
+                 searches=((3.0, 0.03), (1.5, 0.03), (3.0, 0.06)), max_expansions: int = 100_000, lost_cell: float = 0.005,
+                 receding=(20, 10, 0.03, 2000, 10)):  # fmt: skip
         super().__init__(env, seed)
         self._env, self.max_steps = simulator_of(env)
         if int(n_headings) != n_headings or n_headings < 4:
@@ -72,8 +88,51 @@ class ClairvoyantOracle(Agent):
             raise ValueError(f"lost_cell must be > 0, got {lost_cell!r}")
         self.moves = heading_moves(int(n_headings), speed_fractions)
         self.max_expansions, self.lost_cell = int(max_expansions), float(lost_cell)
+        self.receding = None if receding is None else _receding_settings(receding)
         self.verdict: str | None = None  # of the episode planned last
         self.last_search: dict = {}
+
+    def receding_plan(self, problem: SpacetimeProblem, remaining: int) -> tuple[int, np.ndarray, int]:
+        """``astar-spacetime``'s scheme on the true future, from ``problem.start`` to the goal or the
+        episode's end: search ``horizon`` steps ahead (the oracle's first (weight, grid), a search that
+        spends its budget retried with ``retry`` times it), fly ``commit`` steps of a plan that reaches
+        the horizon, or of the deepest node of one that spent its budget while ``commit`` more of its
+        steps stay free beyond them, else one step (still free), and search again from there. Every
+        step is a search's exact move, so the waypoints replay exactly and touch nothing; they stop
+        short of the episode's end only where no move is free. Bounded: the retries stop once it has
+        spent what the whole-episode searches may (``max_expansions`` each), so at most that plus one
+        ``budget`` a step.
+
+        :return: ``(outcome, targets, expansions)``: ``FOUND`` if the waypoints reach the goal,
+            ``EXHAUSTED`` if they stop where no move is free, else ``HORIZON``."""
+        horizon_steps, commit, cell, budget, retry = self.receding
+        trajectory, n = problem.trajectory, problem.substeps
+        weight, allowance = self.searches[0][0], len(self.searches) * self.max_expansions
+        parts, position, step, expansions, outcome = [], problem.start, 0, 0, HORIZON
+        while step < remaining:
+            horizon = min(horizon_steps, remaining - step)
+            window = problem._replace(trajectory=trajectory[step * n : (step + horizon) * n + 1], start=position)
+            for nodes in (budget, budget * retry) if expansions < allowance else (budget,):
+                result = search(window, SearchSettings(self.moves, horizon, cell, nodes, weight))
+                expansions += result.expansions
+                if result.outcome != BUDGET:
+                    break
+            targets = result.targets
+            if result.outcome in (FOUND, HORIZON):
+                take = len(targets) if result.outcome == FOUND else min(commit, len(targets))
+            else:  # BUDGET: a deep node's path is safe to commit to; EXHAUSTED: every path ends in contact, go step by step
+                take = min(commit, len(targets) - commit) if result.outcome == BUDGET else 0
+                take = max(take, min(1, len(targets)))
+            if take == 0:
+                outcome = EXHAUSTED  # every move touches
+                break
+            parts.append(targets[:take])
+            position = _flown_to(self._env.arena, position, targets[:take], problem.reach)
+            step += take
+            if result.outcome == FOUND:
+                outcome = FOUND
+                break
+        return outcome, np.concatenate(parts or [np.zeros((0, 2))]), expansions
 
     def solve(self) -> dict:
         """Search from the env's current state; returns the memory entries the episode flies."""
@@ -91,15 +150,26 @@ class ClairvoyantOracle(Agent):
             expansions += result.expansions
             if outcome != BUDGET:
                 break
+        found_by = "search" if outcome == FOUND else None
         if outcome == FOUND:
             verdict, lost_at = "plan", None
         else:
             lost, lost_at = provably_lost(problem, self.lost_cell)
             verdict = "lost" if lost else "undetermined"
+            if verdict == "undetermined" and self.receding is not None:  # end it as the best planner would, touching nothing
+                outcome, flown, spent = self.receding_plan(problem, remaining)
+                expansions += spent
+                if outcome == FOUND or len(flown) >= len(targets):  # else the last search's deepest node stays free longer
+                    targets = flown
+                if outcome == FOUND:
+                    verdict, found_by = "plan", "receding"
+                elif outcome == EXHAUSTED:  # cornered where no move is free: a finer reachable set may prove it
+                    lost, lost_at = provably_lost(problem, self.lost_cell / 2)
+                    verdict = "lost" if lost else verdict
         if reactive:
             verdict = "reactive"
         self.verdict = verdict
-        self.last_search = {"verdict": verdict, "steps": len(targets), "expansions": int(expansions),
+        self.last_search = {"verdict": verdict, "found_by": found_by, "steps": len(targets), "expansions": int(expansions),
                             "lost_at_step": lost_at, "seconds": time.perf_counter() - begin}  # fmt: skip
         return {"targets": targets, "next": 0}
 
@@ -118,3 +188,30 @@ class ClairvoyantOracle(Agent):
         if i < len(targets):
             return targets[i]
         return np.asarray(obs["goal"], np.float64)  # past a failed search's deepest node: head for the goal
+
+
+def _receding_settings(receding) -> tuple[int, int, float, int, int]:
+    """``receding`` checked: (horizon, commit, grid, budget, retry).
+
+    :raises ValueError: naming ``receding`` and the entry that is wrong."""
+    if len(receding) != 5:
+        raise ValueError(f"receding must be (horizon, commit, grid, budget, retry factor) or None, got {receding!r}")
+    horizon, commit, cell, budget, retry = receding
+    for name, value in (("horizon", horizon), ("steps committed", commit), ("budget", budget), ("retry factor", retry)):
+        if isinstance(value, bool) or int(value) != value or value < 1:
+            raise ValueError(f"receding: its {name} must be a positive integer, got {value!r}")
+    if commit > horizon:
+        raise ValueError(f"receding: its steps committed must be at most its horizon {horizon}, got {commit!r}")
+    if not cell > 0:
+        raise ValueError(f"receding: its grid must be > 0, got {cell!r}")
+    return int(horizon), int(commit), float(cell), int(budget), int(retry)
+
+
+def _flown_to(arena, start: np.ndarray, targets: np.ndarray, reach: float) -> np.ndarray:
+    """Where the robot is after flying ``targets`` from ``start``, to the bit as the env and the
+    search move it (the float32 action, then ``robot_move``): the next window starts there."""
+    x, y = float(start[0]), float(start[1])
+    for action in arena.waypoint_to_action(targets):
+        _, _, _, dx, dy = robot_move(action, arena.box, x, y, reach)
+        x, y = x + dx, y + dy
+    return np.array([x, y])

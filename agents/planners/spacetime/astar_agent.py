@@ -27,7 +27,8 @@ from agents.base import Agent
 from agents.base import real_obstacles as real_obstacles  # 0.1.0 public path
 from agents.base import real_static_segments as real_static_segments
 from agents.observation import Observation, covering_rows
-from agents.planners.costtogo import CostToGo, observed_cost_to_go
+from agents.planners.costtogo import CostToGo
+from agents.planners.passable import guided_by_passable, guiding_cost_to_go
 from agents.planners.prediction import predict_among, substeps_for
 from agents.planners.spacetime.anytime import PARTIAL_RULES, partial_plan
 from agents.planners.spacetime.astar import BUDGET, EXHAUSTED, SearchSettings, SpacetimeProblem, heading_moves, replay, search
@@ -61,8 +62,9 @@ class SpacetimeModel:
         self.bounds = np.array(facts.bounds, np.float64)
 
     def statics(self, obs, memory: dict) -> tuple[np.ndarray, CostToGo]:
-        """The scene's walls and the static cost-to-go (:func:`agents.planners.costtogo.observed_cost_to_go`)."""
-        segments, ctg = observed_cost_to_go(obs, self.facts, memory)
+        """The scene's walls and the static cost-to-go: the lower bound, or the passable field once the
+        lower bound misleads (:func:`agents.planners.passable.guiding_cost_to_go`)."""
+        segments, ctg = guiding_cost_to_go(obs, self.facts, memory, self.margin)
         return covering_rows(obs, segments), ctg  # the contact tests' walls cover the env's exact (float64) ones
 
     def predict_scene(self, obs):
@@ -210,11 +212,12 @@ class SpacetimeAStarAgent(Agent):
         if not keep:
             begin, budget = time.perf_counter(), self.work_budget()
             share = budget if self.coarse_moves is None else budget * self.fine_share
-            result = search(problem, SearchSettings(self.moves, self.horizon_steps, self.cell, self.max_expansions, self.h_weight, share))
+            tie_break = guided_by_passable(memory)  # among dense static geometry: no staircases (SearchSettings.tie_break)
+            result = search(problem, SearchSettings(self.moves, self.horizon_steps, self.cell, self.max_expansions, self.h_weight, share, tie_break))
             outcome, targets, trees, work = result.outcome, result.targets, [result.tree], result.work
             if outcome == BUDGET and self.coarse_moves is not None and budget > work:
                 coarse = search(problem, SearchSettings(self.coarse_moves, self.horizon_steps, self.coarse_cell, self.max_expansions,
-                                                        self.h_weight, budget - work))  # fmt: skip
+                                                        self.h_weight, budget - work, tie_break))  # fmt: skip
                 work += coarse.work
                 if coarse.outcome not in (BUDGET, EXHAUSTED):  # a plan to the goal or the horizon (its merging proves no trap)
                     outcome, targets = coarse.outcome, coarse.targets

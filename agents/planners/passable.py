@@ -98,17 +98,25 @@ def guiding_cost_to_go(obs: dict, facts, memory: dict, margin: float = 0.0) -> t
     """The scene's walls and the cost-to-go a space-time planner is guided by: the lower bound
     (:func:`~agents.planners.costtogo.observed_cost_to_go`), bit for bit as before, unless it
     misleads; then the :func:`passable_cost_to_go` field, while the static scene stays (both kept in
-    ``memory``). It misleads when, on the scene's first replan, it does so on more than
-    :data:`MISLEAD_CELLS` of the cells the robot can reach (:func:`misled_share`: dense static
-    geometry, such as the clutter family's), or, at any replan, where the robot stands. ``margin`` is
+    ``memory``). Static geometry is what rests from the episode's first observation on: the passable
+    field is weighed from the second replan (a crowd's humans stand still at the start, then walk)
+    and never once a body has started or stopped. The lower bound misleads when, on that replan, it
+    does so on more than :data:`MISLEAD_CELLS` of the cells the robot can reach (:func:`misled_share`:
+    dense static geometry, such as the clutter family's), or, at a later replan, where the robot stands. ``margin`` is
     the planner's relative margin on the contact distance, which resting discs get as moving ones do
     (the walls none)."""
     from agents.observation import Observation
 
     segments, lower = observed_cost_to_go(obs, facts, memory)
-    if lower.field.size == 0:
+    if lower.field.size == 0 or memory.get("passable_off"):
         return segments, lower
     key = memory["cost_to_go_key"]
+    if key != memory.setdefault("passable_first_key", key):  # a body started or stopped: no static geometry
+        memory["passable_off"] = True
+        return segments, lower
+    memory["passable_replans"] = memory.get("passable_replans", 0) + 1
+    if memory["passable_replans"] < 2:  # resting on one observation may be a standing start (humans)
+        return segments, lower
     goal = np.asarray(obs["goal"], np.float64)
     if memory.get("passable_key") != key:
         parsed = Observation.of(obs)
@@ -117,7 +125,8 @@ def guiding_cost_to_go(obs: dict, facts, memory: dict, margin: float = 0.0) -> t
         reach = (radii[still] + facts.robot_radius) * (1.0 + margin)
         passable = passable_cost_to_go(goal, facts.goal_radius, facts.arena.box, segments, facts.robot_radius, centers[still], reach)
         memory["passable_key"], memory["passable"] = key, passable
-        memory["passable_engaged"] = passable is not None and misled_share(lower, passable, goal, facts.goal_radius) > MISLEAD_CELLS
+        memory["passable_engaged"] = memory["passable_switched"] = (
+            passable is not None and misled_share(lower, passable, goal, facts.goal_radius) > MISLEAD_CELLS)
     passable = memory["passable"]
     if passable is None:
         return segments, lower
@@ -125,10 +134,16 @@ def guiding_cost_to_go(obs: dict, facts, memory: dict, margin: float = 0.0) -> t
         (x, y), (gx, gy) = obs["robot_position"], goal
         way = distance_to_goal(passable, float(x), float(y), float(gx), float(gy), facts.goal_radius)
         bound = distance_to_goal(lower, float(x), float(y), float(gx), float(gy), facts.goal_radius)
-        memory["passable_engaged"] = bool(math.isfinite(way) and way > (1.0 + MISLEAD_SHARE) * bound + MISLEAD_SLACK)
+        memory["passable_engaged"] = memory["passable_switched"] = bool(math.isfinite(way) and way > (1.0 + MISLEAD_SHARE) * bound + MISLEAD_SLACK)
     return segments, passable if memory["passable_engaged"] else lower
 
 
 def guided_by_passable(memory: dict) -> bool:
     """Whether :func:`guiding_cost_to_go` hands this episode's planner the passable field."""
-    return bool(memory.get("passable_engaged", False))
+    return bool(memory.get("passable_engaged", False)) and not memory.get("passable_off", False)
+
+
+def guide_switched(memory: dict) -> bool:
+    """Whether the last :func:`guiding_cost_to_go` call switched to the passable field (asked once:
+    a plan made on the lower bound is not to be flown on after it)."""
+    return bool(memory.pop("passable_switched", False))

@@ -28,7 +28,7 @@ from agents.base import real_obstacles as real_obstacles  # 0.1.0 public path
 from agents.base import real_static_segments as real_static_segments
 from agents.observation import Observation, covering_rows
 from agents.planners.costtogo import CostToGo
-from agents.planners.passable import guided_by_passable, guiding_cost_to_go
+from agents.planners.passable import guide_switched, guided_by_passable, guiding_cost_to_go
 from agents.planners.prediction import predict_among, substeps_for
 from agents.planners.spacetime.anytime import PARTIAL_RULES, partial_plan
 from agents.planners.spacetime.astar import BUDGET, EXHAUSTED, SearchSettings, SpacetimeProblem, heading_moves, replay, search
@@ -204,7 +204,7 @@ class SpacetimeAStarAgent(Agent):
         problem = SpacetimeProblem(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.model.arena.box,
                                    self.step_length, segments, ctg)  # fmt: skip
         targets = memory.get("plan")
-        if targets is not None and len(targets) > 0:  # keep the previous plan while it still holds
+        if targets is not None and len(targets) > 0 and not guide_switched(memory):  # keep the previous plan while it still holds
             free, reached = replay(problem, targets)
             keep = reached or (free == len(targets) and len(targets) >= self.keep_plan_steps)
         else:

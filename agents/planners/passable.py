@@ -130,17 +130,19 @@ def guiding_cost_to_go(obs: dict, facts, memory: dict, margin: float = 0.0) -> t
     passable = memory["passable"]
     if passable is None:
         return segments, lower
+    (x, y), (gx, gy) = obs["robot_position"], goal
+    way = distance_to_goal(passable, float(x), float(y), float(gx), float(gy), facts.goal_radius)
     if not memory["passable_engaged"]:
-        (x, y), (gx, gy) = obs["robot_position"], goal
-        way = distance_to_goal(passable, float(x), float(y), float(gx), float(gy), facts.goal_radius)
         bound = distance_to_goal(lower, float(x), float(y), float(gx), float(gy), facts.goal_radius)
         memory["passable_engaged"] = memory["passable_switched"] = bool(math.isfinite(way) and way > (1.0 + MISLEAD_SHARE) * bound + MISLEAD_SLACK)
-    return segments, passable if memory["passable_engaged"] else lower
+    # where the grid closes the robot's own gap (narrower than its cells resolve) the lower bound leads on
+    memory["passable_in_use"] = memory["passable_engaged"] and math.isfinite(way)
+    return segments, passable if memory["passable_in_use"] else lower
 
 
 def guided_by_passable(memory: dict) -> bool:
-    """Whether :func:`guiding_cost_to_go` hands this episode's planner the passable field."""
-    return bool(memory.get("passable_engaged", False)) and not memory.get("passable_off", False)
+    """Whether :func:`guiding_cost_to_go`'s last call handed this episode's planner the passable field."""
+    return bool(memory.get("passable_in_use", False)) and not memory.get("passable_off", False)
 
 
 def guide_switched(memory: dict) -> bool:

@@ -149,3 +149,31 @@ def guide_switched(memory: dict) -> bool:
     """Whether the last :func:`guiding_cost_to_go` call switched to the passable field (asked once:
     a plan made on the lower bound is not to be flown on after it)."""
     return bool(memory.pop("passable_switched", False))
+
+
+def passable_around(static: CostToGo, obs: dict, facts, margin: float, centers: np.ndarray, radii: np.ndarray) -> CostToGo:
+    """The passable field ``static`` (this episode's, :func:`guiding_cost_to_go`) with the moving discs
+    ``centers`` / ``radii`` (their own radii) standing where they are, as
+    :func:`agents.planners.costtogo.around_obstacles` does for the lower bound: the way round them
+    where there is one; a place they cut off from the goal costs more than any they leave a way from
+    (they will move on)."""
+    from agents.observation import Observation
+
+    if len(radii) == 0:
+        return static
+    parsed = Observation.of(obs)
+    still_c, velocities, still_r = parsed.obstacles
+    still = (velocities == 0.0).all(axis=1)
+    centres = np.vstack([still_c[still], np.asarray(centers, np.float64).reshape(-1, 2)])
+    reach = np.concatenate([still_r[still], np.asarray(radii, np.float64)]) + facts.robot_radius
+    segments = parsed.walls
+    blocked = passable_cost_to_go(np.asarray(obs["goal"], np.float64), facts.goal_radius, facts.arena.box, segments, facts.robot_radius,
+                                  centres, reach * (1.0 + margin), static.cell)  # fmt: skip
+    if blocked is None or blocked.field.shape != static.field.shape:
+        return static
+    finite = np.isfinite(blocked.field)
+    if not finite.any():
+        return static
+    field = np.where(finite, blocked.field, blocked.field[finite].max() + static.field)
+    return static._replace(field=np.ascontiguousarray(field))
+

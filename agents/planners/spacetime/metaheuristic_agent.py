@@ -19,7 +19,7 @@ from agents.observation import Observation
 from agents.planners.costtogo import around_obstacles, route, route_bends, waypoints_on
 from agents.planners.metaheuristic import MetaheuristicAgent
 from agents.planners.objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, TimedScene, walk_along
-from agents.planners.passable import guided_by_passable
+from agents.planners.passable import guided_by_passable, passable_around
 from agents.planners.spacetime.astar_agent import SpacetimeModel
 from agents.planners.spacetime.seeds import SearchSeed, search_seeds
 from agents.planners.steering import STEERING_RULES, SteeringCheck
@@ -137,7 +137,11 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
             model, rest_obstacles, obstacle_field = self.model, self.rest_obstacles, self.obstacle_field
         segments, ctg = model.statics(obs, {} if memory is None else memory)
         trajectory, n, radii, robot, goal = model.predict_scene(obs)
-        if obstacle_field and ctg.field.size:  # the rest goes round the obstacles where the prediction leaves them
+        if guided_by_passable(memory or {}):  # among dense static geometry the rest goes round the movers too (a disc bouncing in a gap)
+            moving = ~np.resize((Observation.of(obs).obstacles.velocities == 0.0).all(axis=1), len(radii))
+            own = np.resize(Observation.of(obs).obstacles.radii, len(radii))
+            ctg = passable_around(ctg, obs, self.facts, model.margin, trajectory[self.model.horizon_steps * n, moving, :2], own[moving])
+        elif obstacle_field and ctg.field.size:  # the rest goes round the obstacles where the prediction leaves them
             own = np.resize(Observation.of(obs).obstacles.radii, len(radii))  # their own radii (the cone repeats them)
             ctg = around_obstacles(ctg, goal, self.facts.goal_radius, self.model.arena.box, segments, self.facts.robot_radius,
                                    trajectory[self.model.horizon_steps * n, :, :2], own)  # fmt: skip

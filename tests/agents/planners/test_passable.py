@@ -65,3 +65,27 @@ def test_astar_spacetime_threads_the_clutter_it_stalled_in():
     env = gym.make("DynamicObstacle-v0", scenario="clutter")
     info = agents.rollout(agents.make("astar-spacetime", env, seed=1000000002), env, seed=1000000002)
     assert info["is_success"] and not info["collision"]
+
+
+def test_the_passable_field_round_the_movers_goes_round_a_disc_in_the_gap():
+    from agents.planners.passable import passable_around
+    from pathplan_env import Scenario
+    from pathplan_env.scenarios.scenario import Obstacle
+
+    centres, radii = _gate(2 * ROBOT + 0.05)
+    # in the arena, none overlapping the gate's pair: the gaps left by those dropped stay narrower than the robot
+    keep = (centres[:, 1] + radii <= 10.0) & ((np.hypot(*(centres[:, None] - centres[None, :2]).transpose(2, 0, 1)) >= 0.6).all(axis=1))
+    keep[:2] = True
+    centres, radii = centres[keep], radii[keep]
+    resting = tuple(Obstacle(center=tuple(c), radius=float(r)) for c, r in zip(centres.tolist(), radii))
+    scene = Scenario(bounds=(0, 0, 10, 10), start=(1.0, 5.0), goal=(9.0, 5.0), robot_radius=ROBOT,
+                     obstacles=(*resting, Obstacle(center=(2.0, 2.0), radius=0.2, velocity=(0.0, 0.5))))  # fmt: skip
+    env = gym.make("DynamicObstacle-v0", scenario=scene, delta_d=None)
+    obs, _ = env.reset(seed=0)
+    facts = EnvFacts.of(env)
+    static = passable_cost_to_go(np.asarray(obs["goal"], float), facts.goal_radius, facts.arena.box, np.zeros((0, 5)), ROBOT,
+                                 centres, radii + ROBOT)  # fmt: skip
+    through = distance_to_goal(static, 1.0, 5.0, 9.0, 5.0, facts.goal_radius)
+    assert passable_around(static, obs, facts, 0.0, np.zeros((0, 2)), np.zeros(0)) is static  # no movers: the field itself
+    around = passable_around(static, obs, facts, 0.0, np.array([[5.0, 5.0]]), np.array([0.2]))  # the mover stands in the gap
+    assert distance_to_goal(around, 1.0, 5.0, 9.0, 5.0, facts.goal_radius) > through + 1.0

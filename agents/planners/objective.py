@@ -84,6 +84,9 @@ class TimedScene(NamedTuple):
     rest_obstacles: bool = True
     # weight of the running cost: the mean cost-to-go at the end of each step within the horizon (0: none)
     progress_weight: float = 0.0
+    # (N,) or empty: obstacles the rest's pieces never pay Eq. 4 on, resting ones the cost-to-go already
+    # goes round (as walls: charging both held the planners among a few hundred cylinders)
+    rest_exempt: np.ndarray = np.zeros(0, np.bool_)
 
 
 class OptimizerResult(NamedTuple):
@@ -357,6 +360,8 @@ def timed_path_cost(x, scene):
             bx, by = pts[s, 0], pts[s, 1]
             rest += math.sqrt((bx - ax) * (bx - ax) + (by - ay) * (by - ay))
             for o in range(rest_obstacles):
+                if o < scene.rest_exempt.shape[0] and scene.rest_exempt[o]:
+                    continue
                 r = contact_radii[o] + robot_radius
                 d2 = _segment_origin_distance_sq(ax - last[o, 0], ay - last[o, 1], bx - last[o, 0], by - last[o, 1])
                 if d2 < r * r:

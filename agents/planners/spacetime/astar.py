@@ -72,6 +72,10 @@ class SearchSettings(NamedTuple):
     # search's time far better than expansions do (an expansion near 30 fast obstacles costs ~20x one
     # among 8 slow ones) while staying deterministic; inf: expansions alone bound the search
     max_work: float = math.inf
+    # among nodes of equal cost and depth, expand first the one nearer the goal by the cost-to-go (m),
+    # not the first generated: the heuristic counts whole steps, so every move that keeps the step
+    # count ties, and the first heading (east) won them, flying staircases (docs/results/clutter.md)
+    tie_break: bool = False
 
 
 class SearchTree(NamedTuple):
@@ -270,21 +274,25 @@ def search(problem, settings):
     near_s = np.empty(statics.shape[0], np.int64)
     paths = step_paths(traj, n)
 
+    def distance(x, y):  # along the static cost-to-go (m)
+        return min(distance_to_goal(ctg, x, y, goal[0], goal[1], goal_radius), 1e9 * reach)  # inf: walled off
+
     def h(x, y):  # steps still needed at top speed along the static cost-to-go (a lower bound)
-        d = min(distance_to_goal(ctg, x, y, goal[0], goal[1], goal_radius), 1e9 * reach)  # inf: walled off
+        d = distance(x, y)
         return 0.0 if d <= 0.0 else math.ceil(d / reach - 1e-9)
 
     node_x[0], node_y[0], node_k[0], node_parent[0] = start[0], start[1], 0, -1
     node_tx[0], node_ty[0], node_h[0] = start[0], start[1], h(start[0], start[1])
     count = 1
-    heap = [(h_weight * h(start[0], start[1]), 0, 0)]
+    tie_break = settings.tie_break
+    heap = [(h_weight * h(start[0], start[1]), 0, 0.0, 0)]
     deepest, deepest_k, deepest_h = 0, 0, h(start[0], start[1])
     expansions = 0
     work = 0
     found = -1
     outcome = EXHAUSTED
     while len(heap) > 0:
-        f, negk, i = heapq.heappop(heap)
+        f, negk, _, i = heapq.heappop(heap)
         k = node_k[i]
         if k == max_steps:
             found, outcome = i, HORIZON
@@ -337,7 +345,7 @@ def search(problem, settings):
                 break
             hn = h(nx, ny)
             node_h[count] = hn
-            heapq.heappush(heap, (k + 1 + h_weight * hn, -(k + 1), count))
+            heapq.heappush(heap, (k + 1 + h_weight * hn, -(k + 1), distance(nx, ny) if tie_break else 0.0, count))
             if k + 1 > deepest_k or (k + 1 == deepest_k and hn < deepest_h):
                 deepest, deepest_k, deepest_h = count, k + 1, hn
             count += 1

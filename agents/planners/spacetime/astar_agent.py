@@ -27,7 +27,8 @@ from agents.base import Agent
 from agents.base import real_obstacles as real_obstacles  # 0.1.0 public path
 from agents.base import real_static_segments as real_static_segments
 from agents.observation import Observation, covering_rows
-from agents.planners.costtogo import CostToGo, observed_cost_to_go
+from agents.planners.costtogo import CostToGo
+from agents.planners.passable import guide_switched, guided_by_passable, guiding_cost_to_go
 from agents.planners.prediction import predict_among, substeps_for
 from agents.planners.reciprocal import (
     REST_SHARE,
@@ -78,8 +79,9 @@ class SpacetimeModel:
         self.bounds = np.array(facts.bounds, np.float64)
 
     def statics(self, obs, memory: dict) -> tuple[np.ndarray, CostToGo]:
-        """The scene's walls and the static cost-to-go (:func:`agents.planners.costtogo.observed_cost_to_go`)."""
-        segments, ctg = observed_cost_to_go(obs, self.facts, memory)
+        """The scene's walls and the static cost-to-go: the lower bound, or the passable field once the
+        lower bound misleads (:func:`agents.planners.passable.guiding_cost_to_go`)."""
+        segments, ctg = guiding_cost_to_go(obs, self.facts, memory, self.margin)
         return covering_rows(obs, segments), ctg  # the contact tests' walls cover the env's exact (float64) ones
 
     def reciprocal_rows(self, obs) -> np.ndarray | None:
@@ -102,11 +104,15 @@ class SpacetimeModel:
 
     def own_radii(self, obs, rows: int) -> np.ndarray:
         """The bodies' own radii in the order of :meth:`predict_scene`'s ``rows`` rows (the cone repeats the obstacles)."""
-        radii = Observation.of(obs).obstacles.radii
+        return self.in_row_order(obs, Observation.of(obs).obstacles.radii, rows)
+
+    def in_row_order(self, obs, values: np.ndarray, rows: int) -> np.ndarray:
+        """One value per observed body, laid out as :meth:`predict_scene`'s ``rows`` rows: the obstacles
+        (repeated by the cone), then the moving robots of :meth:`reciprocal_rows`."""
         robots = self.reciprocal_rows(obs)
         if robots is None:
-            return np.resize(radii, rows)
-        return np.concatenate([np.resize(radii[~robots], rows - int(robots.sum())), radii[robots]])
+            return np.resize(values, rows)
+        return np.concatenate([np.resize(values[~robots], rows - int(robots.sum())), values[robots]])
 
     def predict_scene(self, obs):
         """``(trajectory, substeps, contact_radii, robot, goal)`` for one observation: the obstacles
@@ -272,7 +278,7 @@ class SpacetimeAStarAgent(Agent):
         problem = SpacetimeProblem(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.model.arena.box,
                                    self.step_length, segments, ctg)  # fmt: skip
         targets = memory.get("plan")
-        if targets is not None and len(targets) > 0:  # keep the previous plan while it still holds
+        if targets is not None and len(targets) > 0 and not guide_switched(memory):  # keep the previous plan while it still holds
             free, reached = replay(problem, targets)
             keep = reached or (free == len(targets) and len(targets) >= self.keep_plan_steps)
         else:
@@ -280,11 +286,12 @@ class SpacetimeAStarAgent(Agent):
         if not keep:
             begin, budget = time.perf_counter(), self.work_budget()
             share = budget if self.coarse_moves is None else budget * self.fine_share
-            result = search(problem, SearchSettings(self.moves, self.horizon_steps, self.cell, self.max_expansions, self.h_weight, share))
+            tie_break = guided_by_passable(memory)  # among dense static geometry: no staircases (SearchSettings.tie_break)
+            result = search(problem, SearchSettings(self.moves, self.horizon_steps, self.cell, self.max_expansions, self.h_weight, share, tie_break))
             outcome, targets, trees, work = result.outcome, result.targets, [result.tree], result.work
             if outcome == BUDGET and self.coarse_moves is not None and budget > work:
                 coarse = search(problem, SearchSettings(self.coarse_moves, self.horizon_steps, self.coarse_cell, self.max_expansions,
-                                                        self.h_weight, budget - work))  # fmt: skip
+                                                        self.h_weight, budget - work, tie_break))  # fmt: skip
                 work += coarse.work
                 if coarse.outcome not in (BUDGET, EXHAUSTED):  # a plan to the goal or the horizon (its merging proves no trap)
                     outcome, targets = coarse.outcome, coarse.targets

@@ -15,9 +15,11 @@ from types import MappingProxyType
 import numpy as np
 
 from agents.base import real_obstacles as real_obstacles  # 0.1.0 public path
+from agents.observation import Observation
 from agents.planners.costtogo import around_obstacles, route, route_bends, waypoints_on
 from agents.planners.metaheuristic import MetaheuristicAgent
 from agents.planners.objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, TimedScene, walk_along
+from agents.planners.passable import guided_by_passable, passable_around
 from agents.planners.reciprocal import ROBOT_MARGIN
 from agents.planners.spacetime.astar_agent import SpacetimeModel
 from agents.planners.spacetime.seeds import SearchSeed, search_seeds
@@ -138,7 +140,11 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
             model, rest_obstacles, obstacle_field = self.model, self.rest_obstacles, self.obstacle_field
         segments, ctg = model.statics(obs, {} if memory is None else memory)
         trajectory, n, radii, robot, goal = model.predict_scene(obs)
-        if obstacle_field and ctg.field.size:  # the rest goes round the obstacles where the prediction leaves them
+        resting = model.in_row_order(obs, (Observation.of(obs).obstacles.velocities == 0.0).all(axis=1), len(radii))
+        if guided_by_passable(memory or {}):  # among dense static geometry the rest goes round the movers too (a disc bouncing in a gap)
+            own = model.own_radii(obs, len(radii))
+            ctg = passable_around(ctg, obs, self.facts, model.margin, trajectory[self.model.horizon_steps * n, ~resting, :2], own[~resting])
+        elif obstacle_field and ctg.field.size:  # the rest goes round the obstacles where the prediction leaves them
             own = model.own_radii(obs, len(radii))  # their own radii (the cone repeats them)
             ctg = around_obstacles(ctg, goal, self.facts.goal_radius, self.model.arena.box, segments, self.facts.robot_radius,
                                    trajectory[self.model.horizon_steps * n, :, :2], own)  # fmt: skip
@@ -146,9 +152,11 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         moves = np.hypot(*np.diff(trajectory[:, :, :2], axis=0).transpose(2, 0, 1))
         travel = np.ascontiguousarray(moves.reshape(self.model.horizon_steps, n, -1).sum(axis=1))
         f = self.facts
+        # guided by the passable field, the resting discs are its static geometry: the rest pays them as it pays walls
+        exempt = resting if guided_by_passable(memory or {}) else np.zeros(0, np.bool_)
         return TimedScene(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.step_length,
                           self.model.horizon_steps, self.penalty_weight, travel, segments, ctg, self.violation,
-                          0.0 if self.constraint == "adaptive" else INFEASIBLE, rest_obstacles, self.progress_weight)  # fmt: skip
+                          0.0 if self.constraint == "adaptive" else INFEASIBLE, rest_obstacles, self.progress_weight, exempt)  # fmt: skip
 
     def seed_paths(self, robot: np.ndarray, goal: np.ndarray, problem: TimedScene | None = None) -> np.ndarray:
         """Warm-start candidates at top speed: the straight line, then a first waypoint

@@ -123,8 +123,14 @@ def _fitting(starts: np.ndarray, goals: np.ndarray, layout: Scenario) -> np.ndar
     import shapely
 
     ok = _fitting_kernel(starts, goals, *_rules(layout))
-    for shape in polygon_shapes(layout):
-        ok &= ~shapely.contains_xy(shape, starts[:, 0], starts[:, 1]) & ~shapely.contains_xy(shape, goals[:, 0], goals[:, 1])
+    shapes = polygon_shapes(layout)
+    if shapes and ok.any():  # only the candidates still fitting: shapely's cost is per point
+        fit = np.flatnonzero(ok)
+        s, g = starts[fit], goals[fit]
+        inside = np.zeros(len(fit), np.bool_)
+        for shape in shapes:
+            inside |= shapely.contains_xy(shape, s[:, 0], s[:, 1]) | shapely.contains_xy(shape, g[:, 0], g[:, 1])
+        ok[fit[inside]] = False
     return ok
 
 

@@ -82,6 +82,20 @@ class OccupancyMap:
         padded = np.pad(~self.occupied, 1, constant_values=False)  # the bounds count as walls
         return distance_transform_edt(padded)[1:-1, 1:-1] * self.resolution
 
+    def free_cells(self, clearance: float) -> np.ndarray:
+        """The flat indices of the cells that may hold a point with ``clearance`` (:meth:`sample_free`'s
+        candidates), read-only, kept per clearance (a map's scenes ask for the same few at every reset)."""
+        kept = self.__dict__.setdefault("_free_cells", {})
+        cells = kept.get(clearance)
+        if cells is None:
+            # a point is within 0.71 cell of its cell's centre and the polygons within (tolerance - 0.5) cell
+            # of an occupied centre: with tolerance <= 1.5 cells no valid point lies in a cell left out here
+            cells = np.flatnonzero(self._free_distance.ravel() >= clearance - 2.0 * self.resolution)
+            cells.flags.writeable = False
+            if len(kept) < 64:
+                kept[clearance] = cells
+        return cells
+
     @cached_property
     def _centre_clearance(self) -> np.ndarray:
         """Per cell (flattened), shapely's distance from its centre to the polygons (``inf`` without any)."""
@@ -127,9 +141,7 @@ class OccupancyMap:
                 raise ValueError(f"sample_free: {label} must be a finite number >= 0, got {value!r}")
         if n == 0:
             return np.zeros((0, 2))
-        # a point is within 0.71 cell of its cell's centre and the polygons within (tolerance - 0.5) cell
-        # of an occupied centre: with tolerance <= 1.5 cells no valid point lies in a cell left out here
-        cells = np.flatnonzero(self._free_distance.ravel() >= clearance - 2.0 * self.resolution)
+        cells = self.free_cells(clearance)
         avoid = [(np.asarray(p, dtype=float), float(d)) for p, d in avoid]
         chosen: list[np.ndarray] = []
         cols = self.occupied.shape[1]

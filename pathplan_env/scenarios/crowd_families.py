@@ -326,7 +326,7 @@ def maze_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:
     clearance = HUMAN_RADIUS + WALL_CLEARANCE
 
     # cells that may hold a human (as OccupancyMap.sample_free chooses them; _humans tests the exact clearance)
-    cells = np.flatnonzero(occupancy._free_distance.ravel() >= clearance - 2.0 * occupancy.resolution)
+    cells = occupancy.free_cells(clearance)
     cols = occupancy.occupied.shape[1]
 
     def draw(rng, k):

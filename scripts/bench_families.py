@@ -26,6 +26,7 @@ import hashlib
 import importlib
 import os
 import pstats
+import re
 import shutil
 import statistics
 import sys
@@ -123,9 +124,12 @@ def profile(preset: str, n: int | None, delta_d: float, steps: int, top: int = 1
 
 def import_other(checkout: str) -> str:
     """The package of another ``checkout`` imported as ``pathplan_before`` from a copy (one per version
-    of its sources, so numba's cache is kept); returns its env id (``Before-DynamicObstacle-v0``)."""
+    of its sources, so numba's cache is kept); returns its env id (``Before-DynamicObstacle-v0``).
+
+    Every ``pathplan_env`` in the copy's sources reads ``pathplan_before``: its modules import each other
+    (not this checkout's), and ``_moved``'s tables name its own modules (``names_of(__name__)``)."""
     source = os.path.join(checkout, "pathplan_env")
-    digest = hashlib.sha256()
+    digest = hashlib.sha256(b"renamed")  # (copies of before the renaming are not reused)
     for d, _, files in sorted(os.walk(source)):
         for f in sorted(files):
             if f.endswith(".py"):
@@ -133,12 +137,17 @@ def import_other(checkout: str) -> str:
                     digest.update(text.read())
     root = os.path.join(tempfile.gettempdir(), f"pathplan_before_{digest.hexdigest()[:12]}")
     if not os.path.isdir(root):
-        shutil.copytree(source, os.path.join(root, "pathplan_before"), ignore=shutil.ignore_patterns("__pycache__"))
-        init = os.path.join(root, "pathplan_before", "__init__.py")
-        with open(init) as f:
-            text = f.read().replace('id="DynamicObstacle', 'id="Before-DynamicObstacle').replace('entry_point="pathplan_env.', 'entry_point="pathplan_before.')
-        with open(init, "w") as f:
-            f.write(text)
+        package = os.path.join(root, "pathplan_before")
+        shutil.copytree(source, package, ignore=shutil.ignore_patterns("__pycache__"))
+        for d, _, files in os.walk(package):
+            for f in files:
+                if f.endswith(".py"):
+                    with open(os.path.join(d, f)) as text:
+                        code = re.sub(r"\bpathplan_env\b", "pathplan_before", text.read())
+                    if d == package and f == "__init__.py":
+                        code = code.replace('id="DynamicObstacle', 'id="Before-DynamicObstacle')
+                    with open(os.path.join(d, f), "w") as text:
+                        text.write(code)
     sys.path.insert(0, root)
     importlib.import_module("pathplan_before")
     return "Before-DynamicObstacle-v0"

@@ -59,12 +59,45 @@ def normalise_walls(walls, min_length: float) -> tuple:
     return tuple(out)
 
 
+#: ``id(polygons) -> (polygons, min_length, result)`` of the last few deeply immutable inputs (the entry
+#: holds the input, so its id is not reused): a map's scenes pass the map's own tuple at every reset.
+_CHECKED_POLYGONS: dict[int, tuple] = {}
+_CHECKED_KEPT = 8
+
+
 def normalise_polygons(polygons, min_length: float) -> tuple[tuple, list]:
     """``Scenario.polygons`` as a tuple of vertex tuples: simple (not self-intersecting) rings of at least
     three distinct vertices, convex or not. A closing vertex equal to the first is dropped.
 
+    A tuple of tuples of ``(float, float)`` tuples cannot change, so it is checked once: the same object
+    again returns the same result (checking a map's polygons was a third of a maze scene's draw).
+
     :return: ``(polygons, shapes)``: the normalised polygons and their shapely ``Polygon`` objects (kept
-        by the scenario for :func:`polygon_shapes`)."""
+        by the scenario for :func:`polygon_shapes`; prepared, shared by the scenes of one input)."""
+    hit = _CHECKED_POLYGONS.get(id(polygons))
+    if hit is not None and hit[0] is polygons and hit[1] == min_length:
+        return hit[2][0], list(hit[2][1])
+    out, shapes = _normalise_polygons(polygons, min_length)
+    if _frozen(polygons):
+        import shapely
+
+        shapely.prepare(shapes)  # (the same answers, faster containment tests)
+        if len(_CHECKED_POLYGONS) >= _CHECKED_KEPT:
+            del _CHECKED_POLYGONS[next(iter(_CHECKED_POLYGONS))]
+        _CHECKED_POLYGONS[id(polygons)] = (polygons, min_length, (out, shapes))
+        shapes = list(shapes)
+    return out, shapes
+
+
+def _frozen(polygons) -> bool:
+    """Whether ``polygons`` is a tuple of tuples of two-float tuples (nothing in it can change)."""
+    return type(polygons) is tuple and all(
+        type(polygon) is tuple and all(type(v) is tuple and len(v) == 2 and type(v[0]) is float and type(v[1]) is float for v in polygon)
+        for polygon in polygons
+    )
+
+
+def _normalise_polygons(polygons, min_length: float) -> tuple[tuple, list]:
     import shapely  # lazy: only scenes with polygons pay its import
 
     out, shapes = [], []

@@ -82,6 +82,47 @@ class OccupancyMap:
         padded = np.pad(~self.occupied, 1, constant_values=False)  # the bounds count as walls
         return distance_transform_edt(padded)[1:-1, 1:-1] * self.resolution
 
+    def free_cells(self, clearance: float) -> np.ndarray:
+        """The flat indices of the cells that may hold a point with ``clearance`` (:meth:`sample_free`'s
+        candidates), read-only, kept per clearance (a map's scenes ask for the same few at every reset)."""
+        kept = self.__dict__.setdefault("_free_cells", {})
+        cells = kept.get(clearance)
+        if cells is None:
+            # a point is within 0.71 cell of its cell's centre and the polygons within (tolerance - 0.5) cell
+            # of an occupied centre: with tolerance <= 1.5 cells no valid point lies in a cell left out here
+            cells = np.flatnonzero(self._free_distance.ravel() >= clearance - 2.0 * self.resolution)
+            cells.flags.writeable = False
+            if len(kept) < 64:
+                kept[clearance] = cells
+        return cells
+
+    @cached_property
+    def _centre_clearance(self) -> np.ndarray:
+        """Per cell (flattened), shapely's distance from its centre to the polygons (``inf`` without any)."""
+        x, y = self.cell_centres()
+        if not self.polygons:
+            return np.full(x.size, np.inf)
+        return shapely.distance(self.geometry, shapely.points(x.ravel(), y.ravel()))
+
+    def _clear(self, pts: np.ndarray, picks: np.ndarray, offsets: np.ndarray, clearance: float) -> np.ndarray:
+        """``(gaps >= clearance) & (gaps > 0)`` with ``gaps = self.clearance(pts)``, the same booleans: the
+        distance to the polygons is 1-Lipschitz, so a point within ``s`` of its cell's centre, whose distance
+        is ``c``, lies within ``[c - s, c + s]``; shapely measures only the points that bound leaves within
+        1e-9 m of ``clearance`` (shapely's distances of one cell were most of a maze reset)."""
+        xmin, ymin, xmax, ymax = self.bounds
+        to_edges = np.minimum.reduce([pts[:, 0] - xmin, xmax - pts[:, 0], pts[:, 1] - ymin, ymax - pts[:, 1]])
+        ok = (to_edges >= clearance) & (to_edges > 0)
+        if not self.polygons:
+            return ok
+        centre = self._centre_clearance[picks]
+        spread = np.hypot(offsets[:, 0] - 0.5, offsets[:, 1] - 0.5) * self.resolution + 1e-9
+        sure = centre - spread > clearance + 1e-9  # (> 0 too: clearance >= 0)
+        unsure = ok & ~sure & (centre + spread >= clearance - 1e-9)
+        if unsure.any():
+            gaps = shapely.distance(self.geometry, shapely.points(pts[unsure]))
+            sure[unsure] = (gaps >= clearance) & (gaps > 0)
+        return ok & sure
+
     def sample_free(self, rng: np.random.Generator, n: int, clearance: float, *, avoid=(), min_separation: float = 0.0, max_batches: int = 200) -> np.ndarray:
         """``n`` points, an ``(n, 2)`` array, uniform over the free space (outside every polygon, even
         with ``clearance=0``) with ``clearance`` (m) to every polygon and to the bounds, each at least ``min_separation`` from the others and at least ``d``
@@ -100,9 +141,7 @@ class OccupancyMap:
                 raise ValueError(f"sample_free: {label} must be a finite number >= 0, got {value!r}")
         if n == 0:
             return np.zeros((0, 2))
-        # a point is within 0.71 cell of its cell's centre and the polygons within (tolerance - 0.5) cell
-        # of an occupied centre: with tolerance <= 1.5 cells no valid point lies in a cell left out here
-        cells = np.flatnonzero(self._free_distance.ravel() >= clearance - 2.0 * self.resolution)
+        cells = self.free_cells(clearance)
         avoid = [(np.asarray(p, dtype=float), float(d)) for p, d in avoid]
         chosen: list[np.ndarray] = []
         cols = self.occupied.shape[1]
@@ -110,8 +149,7 @@ class OccupancyMap:
             picks = cells[rng.integers(len(cells), size=64)]
             offsets = rng.random((64, 2))
             pts = np.column_stack([picks % cols + offsets[:, 0], picks // cols + offsets[:, 1]]) * self.resolution + self.origin
-            gaps = self.clearance(pts)  # 0 inside a polygon: clearance 0 still means outside every one
-            for p in pts[(gaps >= clearance) & (gaps > 0)]:
+            for p in pts[self._clear(pts, picks, offsets, clearance)]:
                 if all(math.dist(p, q) >= min_separation for q in chosen) and all(math.dist(p, q) >= d for q, d in avoid):
                     chosen.append(p)
                     if len(chosen) == n:

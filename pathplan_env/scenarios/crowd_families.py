@@ -123,8 +123,14 @@ def _fitting(starts: np.ndarray, goals: np.ndarray, layout: Scenario) -> np.ndar
     import shapely
 
     ok = _fitting_kernel(starts, goals, *_rules(layout))
-    for shape in polygon_shapes(layout):
-        ok &= ~shapely.contains_xy(shape, starts[:, 0], starts[:, 1]) & ~shapely.contains_xy(shape, goals[:, 0], goals[:, 1])
+    shapes = polygon_shapes(layout)
+    if shapes and ok.any():  # only the candidates still fitting: shapely's cost is per point
+        fit = np.flatnonzero(ok)
+        s, g = starts[fit], goals[fit]
+        inside = np.zeros(len(fit), np.bool_)
+        for shape in shapes:
+            inside |= shapely.contains_xy(shape, s[:, 0], s[:, 1]) | shapely.contains_xy(shape, g[:, 0], g[:, 1])
+        ok[fit[inside]] = False
     return ok
 
 
@@ -320,7 +326,7 @@ def maze_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:
     clearance = HUMAN_RADIUS + WALL_CLEARANCE
 
     # cells that may hold a human (as OccupancyMap.sample_free chooses them; _humans tests the exact clearance)
-    cells = np.flatnonzero(occupancy._free_distance.ravel() >= clearance - 2.0 * occupancy.resolution)
+    cells = occupancy.free_cells(clearance)
     cols = occupancy.occupied.shape[1]
 
     def draw(rng, k):

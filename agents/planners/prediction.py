@@ -71,7 +71,8 @@ def predict_among(positions, velocities, radii, bounds, segments, dt, n_steps, s
     # the broad phase among resting obstacles (infinite mass): two of them never make a contact, so
     # a resting body's pairs are only those with the moving bodies after it (every contact is found,
     # in the same order); among hundreds of resting discs that leaves O(moving x N) pairs a substep
-    moving = np.arange(n) if resting_pairs else np.flatnonzero(inv_mass > 0.0)
+    everyone = np.arange(n)
+    moving = everyone if resting_pairs else np.flatnonzero(inv_mass > 0.0)
     cap = min(n * (n - 1) // 2, moving.shape[0] * n) + 4 * n + n * n_seg + 1  # every pair holds a moving body
     ca = np.empty(cap, np.int64)  # body a, or -1 for a wall
     cb = np.empty(cap, np.int64)
@@ -104,11 +105,9 @@ def predict_among(positions, velocities, radii, bounds, segments, dt, n_steps, s
                     ca[m], cb[m] = -1, i
                     cn[m, 0], cn[m, 1] = dx / d, dy / d
                     m += 1
-            every = inv_mass[i] > 0.0 or resting_pairs
-            for q in range(n - i - 1 if every else moving.shape[0]):
-                j = i + 1 + q if every else moving[q]
-                if j <= i:
-                    continue
+            others = everyone if inv_mass[i] > 0.0 else moving  # the bodies after i that can touch it
+            for q in range(np.searchsorted(others, i, side="right"), others.shape[0]):
+                j = others[q]
                 dx, dy = x[j, 0] - x[i, 0], x[j, 1] - x[i, 1]
                 d = math.hypot(dx, dy)
                 if d < radii[i] + radii[j] and d > 0.0 and inv_mass[i] + inv_mass[j] > 0.0:

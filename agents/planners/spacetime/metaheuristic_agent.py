@@ -19,6 +19,7 @@ from agents.observation import Observation
 from agents.planners.costtogo import around_obstacles, route, route_bends, waypoints_on
 from agents.planners.metaheuristic import MetaheuristicAgent
 from agents.planners.objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, TimedScene, walk_along
+from agents.planners.resting_discs import resting_set
 from agents.planners.spacetime.astar_agent import SpacetimeModel
 from agents.planners.spacetime.seeds import SearchSeed, search_seeds
 from agents.planners.steering import STEERING_RULES, SteeringCheck
@@ -146,7 +147,8 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         f = self.facts
         return TimedScene(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.step_length,
                           self.model.horizon_steps, self.penalty_weight, travel, segments, ctg, self.violation,
-                          0.0 if self.constraint == "adaptive" else INFEASIBLE, rest_obstacles, self.progress_weight)  # fmt: skip
+                          0.0 if self.constraint == "adaptive" else INFEASIBLE, rest_obstacles, self.progress_weight,
+                          resting_set(trajectory, radii))  # fmt: skip
 
     def seed_paths(self, robot: np.ndarray, goal: np.ndarray, problem: TimedScene | None = None) -> np.ndarray:
         """Warm-start candidates at top speed: the straight line, then a first waypoint

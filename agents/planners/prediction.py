@@ -86,6 +86,8 @@ def predict_among(positions, velocities, radii, bounds, segments, dt, n_steps, s
             x[i, 1] += v[i, 1] * h
         m = 0
         for i in range(n):
+            if inv_mass[i] == 0.0 and (moving.shape[0] == 0 or moving[-1] < i):
+                continue  # resting, and no moving body after it: no contact of its own to find
             for axis in range(2):  # walls: the arena's edges, normals pointing inward
                 for side in range(2):
                     inside = x[i, axis] - lo[axis] if side == 0 else hi[axis] - x[i, axis]

@@ -291,8 +291,9 @@ def print_dense(args: argparse.Namespace) -> None:
         print(f"| {name} | {n} | {delta_d:g} | {count} | {median:.2f} | {p95:.2f} | {wins}/{args.dense_episodes} |")
 
 
-def static_clutter_times(episodes: int) -> list[tuple[str, int, float, float]]:
-    """``oracle-static``'s plan times (ms) over whole episodes: (scene, plans, first plan's median, later replans' median)."""
+def static_clutter_times(episodes: int) -> list[tuple[str, int, float, float, float, float]]:
+    """``oracle-static``'s plan times (ms) over whole episodes: (scene, plans, first plan's median, later
+    replans' median, and the same two in this process's CPU time)."""
     from pathplan_env.scenarios.clutter import clutter_scenario
 
     rows = []
@@ -302,7 +303,7 @@ def static_clutter_times(episodes: int) -> list[tuple[str, int, float, float]]:
         env = gym.make("DynamicObstacle-v0", scenario=make(0) if make else "random", delta_d=None if make else 0.5)
         agent = agents.make("oracle-static", env, seed=0)
         agents.rollout(agent, env, seed=0)  # warm-up: compilation
-        first, later = [], []
+        first, later, first_cpu, later_cpu = [], [], [], []
         for seed in range(1, episodes + 1):
             if make:
                 env = gym.make("DynamicObstacle-v0", scenario=make(seed))
@@ -310,12 +311,15 @@ def static_clutter_times(episodes: int) -> list[tuple[str, int, float, float]]:
             agent.reset()
             obs, _ = env.reset(seed=seed)
             for step in range(400):
+                begin = time.process_time()
                 action, _ = agent.predict(obs, deterministic=True)
+                (first_cpu if step == 0 else later_cpu).append(1e3 * (time.process_time() - begin))
                 (first if step == 0 else later).append(1e3 * agent.last_plan_seconds)
                 obs, _, terminated, truncated, _ = env.step(action)
                 if terminated or truncated:
                     break
-        rows.append((label, len(first) + len(later), float(np.median(first)), float(np.median(later))))
+        rows.append((label, len(first) + len(later), float(np.median(first)), float(np.median(later)), float(np.median(first_cpu)),
+                     float(np.median(later_cpu))))  # fmt: skip
     return rows
 
 
@@ -344,10 +348,10 @@ def clutter_replans(name: str, episodes: int, n_cylinders: int = 300) -> tuple[l
 
 def print_static_clutter(episodes: int) -> None:
     print(f"\noracle-static: plan times over {episodes} episodes, ms (the first builds the graph; among resting shapes the rest fly on along it)")
-    print("| scene | plans | first plan (median) | later replans (median) |")
-    print("|---|---:|---:|---:|")
-    for label, count, first, later in static_clutter_times(episodes):
-        print(f"| {label} | {count} | {first:.1f} | {later:.2f} |", flush=True)
+    print("| scene | plans | first plan (median) | later replans (median) | first plan, CPU | later replans, CPU |")
+    print("|---|---:|---:|---:|---:|---:|")
+    for label, count, first, later, first_cpu, later_cpu in static_clutter_times(episodes):
+        print(f"| {label} | {count} | {first:.1f} | {later:.2f} | {first_cpu:.1f} | {later_cpu:.2f} |", flush=True)
     from pathplan_env.scenarios.splits import heldout_seeds
 
     print(f"\nSpace-time planners: every replan of {episodes} episodes among 300 resting cylinders (nothing moving) beside "

@@ -32,6 +32,7 @@ import numpy as np
 
 from agents.planners.costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal
 from agents.planners.reachable_set import provably_lost
+from agents.planners.resting_discs import EVERY_OBSTACLE, RestingSet, obstacles_along, obstacles_near
 from pathplan_env.arena import ArenaBox
 from pathplan_env.geometry.contacts import swept_pair
 from pathplan_env.geometry.walls import swept_capsule
@@ -58,6 +59,7 @@ class SpacetimeProblem(NamedTuple):
     reach: float  # m: the robot's step at top speed
     statics: np.ndarray = np.zeros((0, 5))  # (M, 5): walls and polygon edges (``World.static_segments`` rows)
     cost_to_go: CostToGo = STRAIGHT_LINE  # the heuristic's distance to the goal (:mod:`agents.planners.costtogo`)
+    resting: RestingSet = EVERY_OBSTACLE  # the broad phase's resting obstacles (:mod:`agents.planners.resting_discs`)
 
 
 class SearchSettings(NamedTuple):
@@ -268,6 +270,7 @@ def search(problem, settings):
     near = np.empty(radii.shape[0], np.int64)
     close = np.empty(radii.shape[0], np.int64)
     near_s = np.empty(statics.shape[0], np.int64)
+    visit = np.empty(radii.shape[0], np.int64)  # the obstacles the broad phase visits (the others cannot reach)
     paths = step_paths(traj, n)
 
     def h(x, y):  # steps still needed at top speed along the static cost-to-go (a lower bound)
@@ -301,7 +304,8 @@ def search(problem, settings):
         n_near = 0
         ends, deviation = paths.ends[k], paths.deviation[k]
         slack = 1e-9 * (1.0 + abs(x) + abs(y) + reach)
-        for o in range(radii.shape[0]):
+        for q in range(obstacles_near(problem.resting, radii.shape[0], x, y, reach + robot_radius + slack, visit)):
+            o = visit[q]
             gap = _segment_distance(x, y, x, y, ends[o, 0], ends[o, 1], ends[o, 2], ends[o, 3]) - robot_radius - radii[o]
             if gap <= reach + deviation[o] + slack:
                 near[n_near] = o
@@ -366,7 +370,7 @@ def replay(problem, targets):
     start, box, reach = problem.start, problem.box, problem.reach
     x, y = start[0], start[1]
     steps = min(targets.shape[0], (traj.shape[0] - 1) // n)
-    near = np.arange(radii.shape[0])
+    near = np.empty(radii.shape[0], np.int64)
     close = np.empty(radii.shape[0], np.int64)
     statics = problem.statics
     every_static = np.arange(statics.shape[0])
@@ -374,7 +378,9 @@ def replay(problem, targets):
     for k in range(steps):
         action = _to_action(targets[k, 0], targets[k, 1], box)
         _, _, _, dx, dy = robot_move(action, box, x, y, reach)
-        candidates = Candidates(near, radii.shape[0], every_static, statics.shape[0])
+        slack = 1e-9 * (1.0 + abs(x) + abs(y) + abs(dx) + abs(dy))  # _fly's
+        n_near = obstacles_along(problem.resting, radii.shape[0], x, y, x + dx, y + dy, problem.robot_radius + slack, near)
+        candidates = Candidates(near, n_near, every_static, statics.shape[0])
         result, _ = _fly(problem, k * n, (x, y, dx, dy), candidates, paths.ends[k], paths.deviation[k], close)
         if result < 0:
             return k, False

@@ -74,6 +74,8 @@ def predict_among(positions, velocities, radii, bounds, segments, dt, n_steps, s
     everyone = np.arange(n)
     moving = everyone if resting_pairs else np.flatnonzero(inv_mass > 0.0)
     cap = min(n * (n - 1) // 2, moving.shape[0] * n) + 4 * n + n * n_seg + 1  # every pair holds a moving body
+    last_moving = moving[-1] if moving.shape[0] else -1
+    active = np.flatnonzero((inv_mass > 0.0) | (np.arange(n) < last_moving))  # a resting body after every moving one makes no contact of its own
     ca = np.empty(cap, np.int64)  # body a, or -1 for a wall
     cb = np.empty(cap, np.int64)
     cn = np.empty((cap, 2))  # normal from a to b
@@ -85,9 +87,7 @@ def predict_among(positions, velocities, radii, bounds, segments, dt, n_steps, s
             x[i, 0] += v[i, 0] * h
             x[i, 1] += v[i, 1] * h
         m = 0
-        for i in range(n):
-            if inv_mass[i] == 0.0 and (moving.shape[0] == 0 or moving[-1] < i):
-                continue  # resting, and no moving body after it: no contact of its own to find
+        for i in active:
             for axis in range(2):  # walls: the arena's edges, normals pointing inward
                 for side in range(2):
                     inside = x[i, axis] - lo[axis] if side == 0 else hi[axis] - x[i, axis]

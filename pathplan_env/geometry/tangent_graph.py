@@ -173,92 +173,10 @@ def arcs_blocked(points, circle, shapes, bounds):
     return out
 
 
-#: How surely a screened node must be unusable (m): its position, computed without the reference's
-#: trigonometry, differs from the reference's by rounding (at most ~1e-8 m, where a tangent's angle
-#: is an arccos near 1); a node is dropped only when it lies this much deeper in a shape, or beyond the box.
-SCREEN_SLACK = 1e-6
-
-
-@numba.njit(cache=True)
-def _near_lists(shapes):
-    """Every circle's near circles (but itself) and capsules (:func:`_near`) as flat lists: circle
-    ``i``'s are ``circles[circle_start[i]:circle_start[i + 1]]`` and the same for capsules."""
-    c, r = shapes.centers, shapes.radii
-    n = r.shape[0]
-    circle_start, capsule_start = np.zeros(n + 1, np.int64), np.zeros(n + 1, np.int64)
-    circles, capsules = [], []
-    for i in range(n):
-        near_c, near_k = _near(c[i, 0], c[i, 1], r[i], shapes, i)
-        # the nearest first: they cover the most of the circle, so a blocked point meets one soonest
-        near_c = near_c[np.argsort(np.hypot(c[near_c, 0] - c[i, 0], c[near_c, 1] - c[i, 1]) - r[near_c])]
-        circles.append(near_c), capsules.append(near_k)
-        circle_start[i + 1], capsule_start[i + 1] = circle_start[i] + near_c.shape[0], capsule_start[i] + near_k.shape[0]
-    flat_c, flat_k = np.empty(circle_start[n], np.int64), np.empty(capsule_start[n], np.int64)
-    for i in range(n):
-        flat_c[circle_start[i] : circle_start[i + 1]] = circles[i]
-        flat_k[capsule_start[i] : capsule_start[i + 1]] = capsules[i]
-    return circle_start, flat_c, capsule_start, flat_k
-
-
-@numba.njit(cache=True, inline="always")
-def _surely_blocked(px, py, on, shapes, near, box):
-    """Whether ``p`` (on circle ``on``) lies :data:`SCREEN_SLACK` beyond ``box`` or deeper than that
-    inside one of the circles or capsules near ``on`` (``near``: :func:`_near_lists`): a point within
-    that much of it is unusable."""
-    if px < box[0] - SCREEN_SLACK or px > box[2] + SCREEN_SLACK or py < box[1] - SCREEN_SLACK or py > box[3] + SCREEN_SLACK:
-        return True
-    c, r, k = shapes.centers, shapes.radii, shapes.capsules
-    circle_start, circles, capsule_start, capsules = near
-    for q in range(circle_start[on], circle_start[on + 1]):
-        i = circles[q]
-        dx, dy = px - c[i, 0], py - c[i, 1]
-        if math.sqrt(dx * dx + dy * dy) < r[i] - _TOL - SCREEN_SLACK:
-            return True
-    for q in range(capsule_start[on], capsule_start[on + 1]):
-        i = capsules[q]
-        if _psd(px, py, k[i, 0], k[i, 1], k[i, 2], k[i, 3]) < k[i, 4] - _TOL - SCREEN_SLACK:
-            return True
-    return False
-
-
-@numba.njit(cache=True)
-def bitangent_candidates(shapes, box):
-    """The broad phase of the common tangents' nodes: ``(4, 2, P)``, over ``BITANGENT_KINDS`` x the
-    tangent's end on circle ``i`` / ``j`` x the pairs ``i < j`` in ``np.triu_indices`` order, false
-    where the tangent does not exist or its end is surely unusable (:func:`_surely_blocked`; a
-    circle's points can be only in the shapes near it). Positions by vector algebra, not the
-    reference's trigonometry: among hundreds of overlapping discs nine in ten nodes fall here, and
-    only the rest are computed exactly (:func:`shortest_path`)."""
-    c, r = shapes.centers, shapes.radii
-    n = r.shape[0]
-    near = _near_lists(shapes)
-    out = np.zeros((4, 2, n * (n - 1) // 2), np.bool_)
-    p = -1
-    for i in range(n):
-        for j in range(i + 1, n):
-            p += 1
-            dx, dy = c[j, 0] - c[i, 0], c[j, 1] - c[i, 1]
-            dist = math.sqrt(dx * dx + dy * dy)
-            if dist == 0.0:
-                continue
-            ux, uy = dx / dist, dy / dist
-            for kind in range(4):
-                sign_j, s = (1.0 if kind < 2 else -1.0), (1.0 if kind % 2 == 0 else -1.0)
-                diff = r[i] - r[j] if sign_j > 0 else r[i] + r[j]
-                if dist <= abs(diff) - SCREEN_SLACK:  # surely no such tangent
-                    continue
-                cos_b = min(max(diff / dist, -1.0), 1.0)
-                sin_b = math.sqrt(max(1.0 - cos_b * cos_b, 0.0))
-                nx, ny = cos_b * ux - s * sin_b * uy, cos_b * uy + s * sin_b * ux  # the normal at angle phi + s beta
-                out[kind, 0, p] = not _surely_blocked(c[i, 0] + r[i] * nx, c[i, 1] + r[i] * ny, i, shapes, near, box)
-                out[kind, 1, p] = not _surely_blocked(c[j, 0] + sign_j * r[j] * nx, c[j, 1] + sign_j * r[j] * ny, j, shapes, near, box)
-    return out
-
-
 def shortest_path(start, goal, centers, radii, bounds=None, arc_resolution: float = 0.05, capsules=None, broad_phase: bool = True):
     """``pathplan_env.geometry.shortest_paths.shortest_path``, argument for argument and result for result.
 
-    :param broad_phase: screen the common tangents' nodes (:func:`bitangent_candidates`); ``False``
+    :param broad_phase: screen the common tangents' nodes (:func:`.tangent_screen.bitangent_candidates`); ``False``
         computes every one exactly (the same result, to test that)."""
     start, goal, centers, radii, capsules = _path_inputs(start, goal, centers, radii, capsules)
     centers, radii, capsules = np.ascontiguousarray(centers), np.ascontiguousarray(radii), np.ascontiguousarray(capsules)
@@ -285,6 +203,8 @@ def shortest_path(start, goal, centers, radii, bounds=None, arc_resolution: floa
     # (order kept: Dijkstra's and the arcs' ties fall the same way)
     pairs = np.triu_indices(len(radii), k=1)
     if broad_phase:
+        from pathplan_env.geometry.tangent_screen import bitangent_candidates  # here: it imports this module's primitives
+
         candidates = bitangent_candidates(shapes, np.asarray(box, float))
     else:
         candidates = np.ones((4, 2, len(pairs[0])), bool)

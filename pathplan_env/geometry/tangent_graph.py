@@ -20,7 +20,15 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from pathplan_env.geometry.shortest_paths import BITANGENT_KINDS, _chain_points, _graph_chain, _path_inputs, _point_tangents, bitangent_ends
+from pathplan_env.geometry.shortest_paths import (
+    BITANGENT_KINDS,
+    _bitangents,
+    _chain_points,
+    _graph_chain,
+    _path_inputs,
+    _point_tangents,
+    bitangent_ends,
+)
 
 _TOL = 1e-7  # the reference's tolerance: a point this close to a boundary is outside
 _SLACK = 1e-6  # pruning margin, far above float error: a pruned shape is farther than this from the point
@@ -173,11 +181,38 @@ def arcs_blocked(points, circle, shapes, bounds):
     return out
 
 
+#: From this many circles on the common tangents' nodes are screened (:mod:`.tangent_screen`): below,
+#: the screen's eight numpy passes cost more than the nodes it would spare (a few hundred).
+SCREEN_FROM = 32
+
+
+def _screened_bitangents(shapes, box, add_nodes, edges_a, edges_b) -> None:
+    """The common tangents' nodes and edges, the reference's order and numbers (``_bitangents``), less
+    the nodes surely unusable (:func:`.tangent_screen.bitangent_candidates`): an unusable node has no
+    edge nor arc, so the graph is the reference's with its numbering squeezed, order kept (Dijkstra's
+    and the arcs' ties fall the same way)."""
+    from pathplan_env.geometry.tangent_screen import bitangent_candidates  # here: it imports this module's primitives
+
+    centers, radii = shapes.centers, shapes.radii
+    pairs = np.triu_indices(len(radii), k=1)
+    candidates = bitangent_candidates(shapes, box)
+    for kind, (sign_j, s) in enumerate(BITANGENT_KINDS):
+        kept = []
+        for end in (0, 1):
+            chosen = np.flatnonzero(candidates[kind, end])
+            ok, pi_, pj_, ai, aj = bitangent_ends(centers, radii, pairs[0][chosen], pairs[1][chosen], sign_j, s)
+            xy_end, angle_end = (pi_, ai) if end == 0 else (pj_, aj)
+            kept.append((chosen[ok], add_nodes(xy_end[ok], pairs[end][chosen[ok]], angle_end[ok])))
+        (on_i, nodes_i), (on_j, nodes_j) = kept
+        _, at_i, at_j = np.intersect1d(on_i, on_j, assume_unique=True, return_indices=True)
+        edges_a.append(nodes_i[at_i]), edges_b.append(nodes_j[at_j])
+
+
 def shortest_path(start, goal, centers, radii, bounds=None, arc_resolution: float = 0.05, capsules=None, broad_phase: bool = True):
     """``pathplan_env.geometry.shortest_paths.shortest_path``, argument for argument and result for result.
 
-    :param broad_phase: screen the common tangents' nodes (:func:`.tangent_screen.bitangent_candidates`); ``False``
-        computes every one exactly (the same result, to test that)."""
+    :param broad_phase: screen the common tangents' nodes among :data:`SCREEN_FROM` circles or more
+        (:func:`_screened_bitangents`); ``False`` computes every one exactly (the same result, to test that)."""
     start, goal, centers, radii, capsules = _path_inputs(start, goal, centers, radii, capsules)
     centers, radii, capsules = np.ascontiguousarray(centers), np.ascontiguousarray(radii), np.ascontiguousarray(capsules)
     shapes = Shapes(centers, radii, capsules)
@@ -198,26 +233,11 @@ def shortest_path(start, goal, centers, radii, bounds=None, arc_resolution: floa
             idx = add_nodes(pts[valid, k], np.flatnonzero(valid), angles[valid, k])
             edges_a.append(np.full(len(idx), endpoint)), edges_b.append(idx)
     box = (-np.inf, -np.inf, np.inf, np.inf) if bounds is None else tuple(float(v) for v in bounds)
-    # the common tangents' nodes, the reference's order and numbers, less those surely unusable: an
-    # unusable node has no edge nor arc, so the graph is the reference's with its numbering squeezed
-    # (order kept: Dijkstra's and the arcs' ties fall the same way)
-    pairs = np.triu_indices(len(radii), k=1)
-    if broad_phase:
-        from pathplan_env.geometry.tangent_screen import bitangent_candidates  # here: it imports this module's primitives
-
-        candidates = bitangent_candidates(shapes, np.asarray(box, float))
+    if broad_phase and len(radii) >= SCREEN_FROM:
+        _screened_bitangents(shapes, np.asarray(box, float), add_nodes, edges_a, edges_b)
     else:
-        candidates = np.ones((4, 2, len(pairs[0])), bool)
-    for kind, (sign_j, s) in enumerate(BITANGENT_KINDS):
-        kept = []
-        for end in (0, 1):
-            chosen = np.flatnonzero(candidates[kind, end])
-            ok, pi_, pj_, ai, aj = bitangent_ends(centers, radii, pairs[0][chosen], pairs[1][chosen], sign_j, s)
-            xy_end, angle_end = (pi_, ai) if end == 0 else (pj_, aj)
-            kept.append((chosen[ok], add_nodes(xy_end[ok], pairs[end][chosen[ok]], angle_end[ok])))
-        (on_i, nodes_i), (on_j, nodes_j) = kept
-        _, at_i, at_j = np.intersect1d(on_i, on_j, assume_unique=True, return_indices=True)
-        edges_a.append(nodes_i[at_i]), edges_b.append(nodes_j[at_j])
+        for ii, jj, pi_, pj_, ai, aj in _bitangents(centers, radii):
+            edges_a.append(add_nodes(pi_, ii, ai)), edges_b.append(add_nodes(pj_, jj, aj))
 
     xy = np.ascontiguousarray(np.concatenate(xy_parts))
     circle = np.concatenate(circle_parts).astype(int)

@@ -29,9 +29,7 @@ from pathplan_env.geometry.shortest_paths import (
     _point_tangents,
     bitangent_ends,
 )
-
-_TOL = 1e-7  # the reference's tolerance: a point this close to a boundary is outside
-_SLACK = 1e-6  # pruning margin, far above float error: a pruned shape is farther than this from the point
+from pathplan_env.geometry.tangent_screen import _SLACK, _TOL, _near, _psd, bitangent_candidates
 
 
 class Shapes(NamedTuple):
@@ -40,17 +38,6 @@ class Shapes(NamedTuple):
     centers: np.ndarray
     radii: np.ndarray
     capsules: np.ndarray
-
-
-@numba.njit(cache=True, inline="always")
-def _psd(px, py, ax, ay, bx, by):
-    """``geometry.point_segment_distance``'s arithmetic for one point and segment."""
-    abx, aby = bx - ax, by - ay
-    denom = abx * abx + aby * aby
-    t = ((px - ax) * abx + (py - ay) * aby) / (denom if denom > 0 else 1.0)
-    t = min(max(t, 0.0), 1.0)
-    dx, dy = px - (ax + t * abx), py - (ay + t * aby)
-    return math.sqrt(dx * dx + dy * dy)
 
 
 @numba.njit(cache=True, inline="always")
@@ -78,26 +65,6 @@ def _box_gap(px, py, x0, y0, x1, y1):
     gx = max(x0 - px, px - x1, 0.0)
     gy = max(y0 - py, py - y1, 0.0)
     return math.sqrt(gx * gx + gy * gy)
-
-
-@numba.njit(cache=True)
-def _near(cx, cy, cr, shapes, skip):
-    """Indices of the circles (but ``skip``) and capsules that come within ``_SLACK`` of the circle
-    ``(c, cr)``: no other shape can hold a point of it."""
-    c, r, k = shapes.centers, shapes.radii, shapes.capsules
-    near_c = np.empty(r.shape[0], np.int64)
-    n_c = 0
-    for i in range(r.shape[0]):
-        if i != skip and math.hypot(c[i, 0] - cx, c[i, 1] - cy) < cr + r[i] + _SLACK:
-            near_c[n_c] = i
-            n_c += 1
-    near_k = np.empty(k.shape[0], np.int64)
-    n_k = 0
-    for i in range(k.shape[0]):
-        if _psd(cx, cy, k[i, 0], k[i, 1], k[i, 2], k[i, 3]) < cr + k[i, 4] + _SLACK:
-            near_k[n_k] = i
-            n_k += 1
-    return near_c[:n_c], near_k[:n_k]
 
 
 @numba.njit(cache=True)
@@ -191,8 +158,6 @@ def _screened_bitangents(shapes, box, add_nodes, edges_a, edges_b) -> None:
     the nodes surely unusable (:func:`.tangent_screen.bitangent_candidates`): an unusable node has no
     edge nor arc, so the graph is the reference's with its numbering squeezed, order kept (Dijkstra's
     and the arcs' ties fall the same way)."""
-    from pathplan_env.geometry.tangent_screen import bitangent_candidates  # here: it imports this module's primitives
-
     centers, radii = shapes.centers, shapes.radii
     pairs = np.triu_indices(len(radii), k=1)
     candidates = bitangent_candidates(shapes, box)

@@ -7,6 +7,9 @@ a circle whose whole perimeter is covered (:func:`_covered`); only the rest are 
 reference's numpy (``shortest_paths.bitangent_ends``) and tested exactly
 (:func:`pathplan_env.geometry.tangent_graph.shortest_path`). An unusable node has no edge nor arc,
 so the graph is the reference's with its numbering squeezed, order kept.
+
+It also holds the per-circle broad phase the exact tests share (:func:`_near`: the shapes that can
+hold a point of a circle) and their tolerances.
 """
 
 from __future__ import annotations
@@ -16,7 +19,40 @@ import math
 import numba
 import numpy as np
 
-from pathplan_env.geometry.tangent_graph import _TOL, _near, _psd
+_TOL = 1e-7  # the reference's tolerance: a point this close to a boundary is outside
+_SLACK = 1e-6  # pruning margin, far above float error: a pruned shape is farther than this from the point
+
+
+@numba.njit(cache=True, inline="always")
+def _psd(px, py, ax, ay, bx, by):
+    """``geometry.point_segment_distance``'s arithmetic for one point and segment."""
+    abx, aby = bx - ax, by - ay
+    denom = abx * abx + aby * aby
+    t = ((px - ax) * abx + (py - ay) * aby) / (denom if denom > 0 else 1.0)
+    t = min(max(t, 0.0), 1.0)
+    dx, dy = px - (ax + t * abx), py - (ay + t * aby)
+    return math.sqrt(dx * dx + dy * dy)
+
+
+@numba.njit(cache=True)
+def _near(cx, cy, cr, shapes, skip):
+    """Indices of the circles (but ``skip``) and capsules that come within ``_SLACK`` of the circle
+    ``(c, cr)``: no other shape can hold a point of it."""
+    c, r, k = shapes.centers, shapes.radii, shapes.capsules
+    near_c = np.empty(r.shape[0], np.int64)
+    n_c = 0
+    for i in range(r.shape[0]):
+        if i != skip and math.hypot(c[i, 0] - cx, c[i, 1] - cy) < cr + r[i] + _SLACK:
+            near_c[n_c] = i
+            n_c += 1
+    near_k = np.empty(k.shape[0], np.int64)
+    n_k = 0
+    for i in range(k.shape[0]):
+        if _psd(cx, cy, k[i, 0], k[i, 1], k[i, 2], k[i, 3]) < cr + k[i, 4] + _SLACK:
+            near_k[n_k] = i
+            n_k += 1
+    return near_c[:n_c], near_k[:n_k]
+
 
 #: How surely a screened node must be unusable (m): its position, computed without the reference's
 #: trigonometry, differs from the reference's by rounding (at most ~1e-8 m, where a tangent's angle

@@ -44,8 +44,10 @@ def resting_set(trajectory: np.ndarray, contact_radii: np.ndarray) -> RestingSet
     """The :class:`RestingSet` of predicted obstacles ``trajectory`` (``(S + 1, N, >= 2)``): an obstacle
     rests when its centre is the same at every substep. :data:`EVERY_OBSTACLE` when fewer than
     :data:`MIN_RESTING` rest (or :data:`ENABLED` is off)."""
+    if not ENABLED or trajectory.shape[1] < MIN_RESTING:
+        return EVERY_OBSTACLE
     still = (trajectory[:, :, :2] == trajectory[:1, :, :2]).all(axis=(0, 2))
-    if not ENABLED or int(still.sum()) < MIN_RESTING:
+    if int(still.sum()) < MIN_RESTING:
         return EVERY_OBSTACLE
     grid = disc_grid(trajectory[0, :, :2], contact_radii, np.flatnonzero(still))
     return RestingSet(True, np.flatnonzero(~still).astype(np.int64), grid)
@@ -54,11 +56,9 @@ def resting_set(trajectory: np.ndarray, contact_radii: np.ndarray) -> RestingSet
 @numba.njit(cache=True, inline="always")
 def obstacles_near(resting, n_obstacles, x, y, distance, out):
     """Write to ``out`` the obstacles to visit for a test within ``distance`` plus their contact radius
-    of ``(x, y)``: the moving ones and the resting ones that may lie that near (every one without a
-    broad phase); their count."""
+    of ``(x, y)``: the moving ones and the resting ones that may lie that near; their count. Without a
+    broad phase: ``n_obstacles``, ``out`` left as it is (visit ``range(n_obstacles)``: :func:`visited`)."""
     if not resting.enabled:
-        for o in range(n_obstacles):
-            out[o] = o
         return n_obstacles
     m = resting.moving.shape[0]
     out[:m] = resting.moving
@@ -69,9 +69,19 @@ def obstacles_near(resting, n_obstacles, x, y, distance, out):
 def obstacles_along(resting, n_obstacles, ax, ay, bx, by, distance, out):
     """:func:`obstacles_near` for a test within ``distance`` plus their contact radius of the segment ``a``-``b``."""
     if not resting.enabled:
-        for o in range(n_obstacles):
-            out[o] = o
         return n_obstacles
     m = resting.moving.shape[0]
     out[:m] = resting.moving
     return m + near_segment(resting.grid, ax, ay, bx, by, distance, out[m:])
+
+
+@numba.njit(cache=True, inline="always")
+def visited(resting, out, q):
+    """The ``q``-th obstacle to visit: ``out[q]`` as :func:`obstacles_near` wrote it, ``q`` without a broad phase."""
+    return out[q] if resting.enabled else q
+
+
+@numba.njit(cache=True, inline="always")
+def visit_buffer(resting, n_obstacles):
+    """The ``out`` array :func:`obstacles_near` and :func:`obstacles_along` write to (empty without a broad phase)."""
+    return np.empty(n_obstacles if resting.enabled else 0, np.int64)

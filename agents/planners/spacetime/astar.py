@@ -32,7 +32,7 @@ import numpy as np
 
 from agents.planners.costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal
 from agents.planners.reachable_set import provably_lost
-from agents.planners.resting_discs import EVERY_OBSTACLE, RestingSet, obstacles_along, obstacles_near
+from agents.planners.resting_discs import EVERY_OBSTACLE, RestingSet, obstacles_along, obstacles_near, visited
 from pathplan_env.arena import ArenaBox
 from pathplan_env.geometry.contacts import swept_pair
 from pathplan_env.geometry.walls import swept_capsule
@@ -305,7 +305,7 @@ def search(problem, settings):
         ends, deviation = paths.ends[k], paths.deviation[k]
         slack = 1e-9 * (1.0 + abs(x) + abs(y) + reach)
         for q in range(obstacles_near(problem.resting, radii.shape[0], x, y, reach + robot_radius + slack, visit)):
-            o = visit[q]
+            o = visited(problem.resting, visit, q)
             gap = _segment_distance(x, y, x, y, ends[o, 0], ends[o, 1], ends[o, 2], ends[o, 3]) - robot_radius - radii[o]
             if gap <= reach + deviation[o] + slack:
                 near[n_near] = o
@@ -370,7 +370,7 @@ def replay(problem, targets):
     start, box, reach = problem.start, problem.box, problem.reach
     x, y = start[0], start[1]
     steps = min(targets.shape[0], (traj.shape[0] - 1) // n)
-    near = np.empty(radii.shape[0], np.int64)
+    near = np.arange(radii.shape[0])  # every obstacle, or the broad phase's (written per step)
     close = np.empty(radii.shape[0], np.int64)
     statics = problem.statics
     every_static = np.arange(statics.shape[0])

@@ -86,7 +86,7 @@ class TimedScene(NamedTuple):
     # weight of the running cost: the mean cost-to-go at the end of each step within the horizon (0: none)
     progress_weight: float = 0.0
     # the broad phase: which obstacles rest, in a grid (:mod:`agents.planners.resting_discs`; default: none, visit all)
-    resting: RestingSet = EVERY_OBSTACLE
+    resting: RestingSet | None = EVERY_OBSTACLE
 
 
 class OptimizerResult(NamedTuple):

@@ -16,7 +16,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from pathplan_env.geometry.disc_grid import EMPTY_GRID, DiscGrid, disc_grid, near_point, near_segment
+from pathplan_env.geometry.disc_grid import DiscGrid, disc_grid, near_point, near_segment
 
 #: Below this many resting obstacles every obstacle is visited: a grid's bookkeeping costs more than
 #: testing a few dozen distances (and among the benchmark's 8 moving obstacles there are none).
@@ -29,18 +29,18 @@ ENABLED = True
 class RestingSet(NamedTuple):
     """A problem's obstacles split for the broad phase: ``moving`` (indices, ascending) are visited
     always, the resting ones through ``grid`` (bucketed at their positions, radii their contact
-    radii). ``enabled`` false: no split, every obstacle visited."""
+    radii). A problem without one (``None``) visits every obstacle."""
 
-    enabled: bool
     moving: np.ndarray  # (M,) int64
     grid: DiscGrid
 
 
-#: No broad phase: every obstacle visited.
-EVERY_OBSTACLE = RestingSet(False, np.zeros(0, np.int64), EMPTY_GRID)
+#: No broad phase: every obstacle visited. ``None``, not a record: a problem record is typed in Python
+#: on every compiled call, and an empty set's dozen fields cost the 8-obstacle planners ~40 us a replan.
+EVERY_OBSTACLE = None
 
 
-def resting_set(trajectory: np.ndarray, contact_radii: np.ndarray) -> RestingSet:
+def resting_set(trajectory: np.ndarray, contact_radii: np.ndarray) -> RestingSet | None:
     """The :class:`RestingSet` of predicted obstacles ``trajectory`` (``(S + 1, N, >= 2)``): an obstacle
     rests when its centre is the same at every substep. :data:`EVERY_OBSTACLE` when fewer than
     :data:`MIN_RESTING` rest (or :data:`ENABLED` is off)."""
@@ -50,38 +50,42 @@ def resting_set(trajectory: np.ndarray, contact_radii: np.ndarray) -> RestingSet
     if int(still.sum()) < MIN_RESTING:
         return EVERY_OBSTACLE
     grid = disc_grid(trajectory[0, :, :2], contact_radii, np.flatnonzero(still))
-    return RestingSet(True, np.flatnonzero(~still).astype(np.int64), grid)
+    return RestingSet(np.flatnonzero(~still).astype(np.int64), grid)
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def obstacles_near(resting, n_obstacles, x, y, distance, out):
     """Write to ``out`` the obstacles to visit for a test within ``distance`` plus their contact radius
     of ``(x, y)``: the moving ones and the resting ones that may lie that near; their count. Without a
     broad phase: ``n_obstacles``, ``out`` left as it is (visit ``range(n_obstacles)``: :func:`visited`)."""
-    if not resting.enabled:
+    if resting is None:
         return n_obstacles
     m = resting.moving.shape[0]
     out[:m] = resting.moving
     return m + near_point(resting.grid, x, y, distance, out[m:])
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def obstacles_along(resting, n_obstacles, ax, ay, bx, by, distance, out):
     """:func:`obstacles_near` for a test within ``distance`` plus their contact radius of the segment ``a``-``b``."""
-    if not resting.enabled:
+    if resting is None:
         return n_obstacles
     m = resting.moving.shape[0]
     out[:m] = resting.moving
     return m + near_segment(resting.grid, ax, ay, bx, by, distance, out[m:])
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def visited(resting, out, q):
     """The ``q``-th obstacle to visit: ``out[q]`` as :func:`obstacles_near` wrote it, ``q`` without a broad phase."""
-    return out[q] if resting.enabled else q
+    if resting is None:
+        return q
+    return out[q]
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def visit_buffer(resting, n_obstacles):
     """The ``out`` array :func:`obstacles_near` and :func:`obstacles_along` write to (empty without a broad phase)."""
-    return np.empty(n_obstacles if resting.enabled else 0, np.int64)
+    if resting is None:
+        return np.empty(0, np.int64)
+    return np.empty(n_obstacles, np.int64)

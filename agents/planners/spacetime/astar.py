@@ -59,7 +59,7 @@ class SpacetimeProblem(NamedTuple):
     reach: float  # m: the robot's step at top speed
     statics: np.ndarray = np.zeros((0, 5))  # (M, 5): walls and polygon edges (``World.static_segments`` rows)
     cost_to_go: CostToGo = STRAIGHT_LINE  # the heuristic's distance to the goal (:mod:`agents.planners.costtogo`)
-    resting: RestingSet = EVERY_OBSTACLE  # the broad phase's resting obstacles (:mod:`agents.planners.resting_discs`)
+    resting: RestingSet | None = EVERY_OBSTACLE  # the broad phase's resting obstacles (:mod:`agents.planners.resting_discs`)
 
 
 class SearchSettings(NamedTuple):

@@ -62,7 +62,7 @@ def test_optimisers_on_the_timed_objective_are_the_same_with_the_grid_of_resting
     for enabled in (True, False):
         _with_broad_phase(monkeypatch, enabled)
         problems[enabled] = agent.timed_problem(obs, {})
-    assert problems[True].resting.enabled and not problems[False].resting.enabled
+    assert problems[True].resting is not None and problems[False].resting is None
     lo, hi = agent._timed_lo, agent._timed_hi
     x0 = np.random.default_rng(seed).uniform(lo, hi, (40, lo.size))
     for rest_obstacles in (True, False):

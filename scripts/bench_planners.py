@@ -18,7 +18,9 @@
 5. ``--unicycle`` (this part alone): part 3's unicycle rows (issue 23's target: replanning <= 5 ms median).
 7. ``--static-clutter`` (this part alone): ``oracle-static``'s replan times among 300 resting
    cylinders (``clutter_scenario(n_cylinders=300)``: its first plan, which builds the tangent graph,
-   and the replans after it, which fly on along it) and among 8 moving obstacles (random, Δd 0.5).
+   and the replans after it, which fly on along it) and among 8 moving obstacles (random, Δd 0.5);
+   then each space-time planner's replan median among the 300 resting cylinders beside its median
+   among 8 moving obstacles (random, Δd 0.5, test episodes), and their ratio (issue 46's target: <= 2).
 6. ``--learned`` (this part alone): the shipped learned agents' acting time (one ``predict``, numpy
    forward, no torch) in the scenes each was trained for, over whole test episodes (issue 20's
    target: <= 2 ms median), wall clock and this process's CPU time.
@@ -248,7 +250,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--scenes", type=int, default=20)
     parser.add_argument("--spacetime-episodes", type=int, default=20)
     parser.add_argument("--dense", action="store_true", help="only the dense cells (30 and 50 obstacles x Δd 1, 2, 4)")
-    parser.add_argument("--static-clutter", action="store_true", help="only oracle-static's replan times among 300 resting cylinders")
+    parser.add_argument("--static-clutter", action="store_true",
+                        help="only the replan times among 300 resting cylinders: oracle-static's, the space-time planners' beside 8 obstacles")
     parser.add_argument("--learned", action="store_true", help="only the learned agents' acting times (their own scenes)")
     parser.add_argument("--unicycle", action="store_true", help="only the unicycle's space-time rows (random scenes, circle crossing)")
     parser.add_argument("--unicycle-planners", default=",".join(UNICYCLE_SPACETIME + CROWD_PLANNERS),
@@ -288,8 +291,9 @@ def print_dense(args: argparse.Namespace) -> None:
         print(f"| {name} | {n} | {delta_d:g} | {count} | {median:.2f} | {p95:.2f} | {wins}/{args.dense_episodes} |")
 
 
-def static_clutter_times(episodes: int) -> list[tuple[str, int, float, float]]:
-    """``oracle-static``'s plan times (ms) over whole episodes: (scene, plans, first plan's median, later replans' median)."""
+def static_clutter_times(episodes: int) -> list[tuple[str, int, float, float, float, float]]:
+    """``oracle-static``'s plan times (ms) over whole episodes: (scene, plans, first plan's median, later
+    replans' median, and the same two in this process's CPU time)."""
     from pathplan_env.scenarios.clutter import clutter_scenario
 
     rows = []
@@ -299,7 +303,7 @@ def static_clutter_times(episodes: int) -> list[tuple[str, int, float, float]]:
         env = gym.make("DynamicObstacle-v0", scenario=make(0) if make else "random", delta_d=None if make else 0.5)
         agent = agents.make("oracle-static", env, seed=0)
         agents.rollout(agent, env, seed=0)  # warm-up: compilation
-        first, later = [], []
+        first, later, first_cpu, later_cpu = [], [], [], []
         for seed in range(1, episodes + 1):
             if make:
                 env = gym.make("DynamicObstacle-v0", scenario=make(seed))
@@ -307,21 +311,60 @@ def static_clutter_times(episodes: int) -> list[tuple[str, int, float, float]]:
             agent.reset()
             obs, _ = env.reset(seed=seed)
             for step in range(400):
+                begin = time.process_time()
                 action, _ = agent.predict(obs, deterministic=True)
+                (first_cpu if step == 0 else later_cpu).append(1e3 * (time.process_time() - begin))
                 (first if step == 0 else later).append(1e3 * agent.last_plan_seconds)
                 obs, _, terminated, truncated, _ = env.step(action)
                 if terminated or truncated:
                     break
-        rows.append((label, len(first) + len(later), float(np.median(first)), float(np.median(later))))
+        rows.append((label, len(first) + len(later), float(np.median(first)), float(np.median(later)), float(np.median(first_cpu)),
+                     float(np.median(later_cpu))))  # fmt: skip
     return rows
+
+
+def clutter_replans(name: str, episodes: int, n_cylinders: int = 300) -> tuple[list[float], list[float], int]:
+    """Every replan's wall-clock and CPU time (ms) of ``name`` over ``episodes`` clutter episodes of
+    ``n_cylinders`` resting cylinders and nothing moving (seeds 1, 2, ...), after a warm-up episode; and its wins."""
+    from pathplan_env.scenarios.clutter import clutter_scenario
+
+    times, cpu, wins = [], [], 0
+    for seed in range(episodes + 1):
+        env = gym.make("DynamicObstacle-v0", scenario=clutter_scenario(np.random.default_rng(seed), n_cylinders=n_cylinders))
+        agent = agents.make(name, env, seed=0)
+        obs, _ = env.reset(seed=seed)
+        while True:
+            begin = time.process_time()
+            action, _ = agent.predict(obs, deterministic=True)
+            if seed > 0:  # seed 0: the warm-up (numba's cache loads there)
+                cpu.append(1e3 * (time.process_time() - begin))
+                times.append(1e3 * agent.last_plan_seconds)
+            obs, _, terminated, truncated, info = env.step(action)
+            if terminated or truncated:
+                break
+        wins += seed > 0 and bool(info["is_success"])
+    return times, cpu, wins
 
 
 def print_static_clutter(episodes: int) -> None:
     print(f"\noracle-static: plan times over {episodes} episodes, ms (the first builds the graph; among resting shapes the rest fly on along it)")
-    print("| scene | plans | first plan (median) | later replans (median) |")
-    print("|---|---:|---:|---:|")
-    for label, count, first, later in static_clutter_times(episodes):
-        print(f"| {label} | {count} | {first:.1f} | {later:.2f} |", flush=True)
+    print("| scene | plans | first plan (median) | later replans (median) | first plan, CPU | later replans, CPU |")
+    print("|---|---:|---:|---:|---:|---:|")
+    for label, count, first, later, first_cpu, later_cpu in static_clutter_times(episodes):
+        print(f"| {label} | {count} | {first:.1f} | {later:.2f} | {first_cpu:.1f} | {later_cpu:.2f} |", flush=True)
+    from pathplan_env.scenarios.splits import heldout_seeds
+
+    print(f"\nSpace-time planners: every replan of {episodes} episodes among 300 resting cylinders (nothing moving) beside "
+          f"every replan of {episodes} test episodes among 8 moving obstacles (random, Δd 0.5), ms (target: ratio <= 2)")
+    print("| planner | replans, 300 cylinders | median | median CPU | success | replans, 8 obstacles | median | median CPU | ratio (median CPU) |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for name in HOLONOMIC_SPACETIME:
+        times, cpu, wins = clutter_replans(name, episodes)
+        few_cpu: list[float] = []
+        few, _ = replan_cell(name, 0.5, heldout_seeds(0, episodes), cpu=few_cpu)
+        ratio = np.median(cpu) / np.median(few_cpu)  # CPU: what a shared machine's load changes least
+        print(f"| {name} | {len(times)} | {np.median(times):.2f} | {np.median(cpu):.2f} | {wins}/{episodes} | {len(few)} | {np.median(few):.2f} "
+              f"| {np.median(few_cpu):.2f} | {ratio:.1f} |", flush=True)  # fmt: skip
 
 
 def main(argv=None) -> None:

@@ -28,6 +28,7 @@ import numpy as np
 from numba.extending import overload
 
 from agents.planners.costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal
+from agents.planners.resting_discs import EVERY_OBSTACLE, RestingSet, obstacles_along, obstacles_near, visit_buffer, visited
 from pathplan_env.geometry.contacts import swept_pair
 from pathplan_env.geometry.walls import swept_capsule
 from pathplan_env.robots.holonomic import reach_fraction, substep_point
@@ -87,6 +88,8 @@ class TimedScene(NamedTuple):
     # (N,) or empty: obstacles the rest's pieces never pay Eq. 4 on, resting ones the cost-to-go already
     # goes round (as walls: charging both held the planners among a few hundred cylinders)
     rest_exempt: np.ndarray = np.zeros(0, np.bool_)
+    # the broad phase: which obstacles rest, in a grid (:mod:`agents.planners.resting_discs`; default: none, visit all)
+    resting: RestingSet | None = EVERY_OBSTACLE
 
 
 class OptimizerResult(NamedTuple):
@@ -306,12 +309,14 @@ def timed_path_cost(x, scene):
     stop_at_contact = scene.violation == FIRST_CONTACT
     contact = False
     running = 0.0  # the sum of the cost-to-go where each step ends (``progress_weight``)
+    visit = visit_buffer(scene.resting, n_obs)  # the obstacles a test visits (the broad phase: the others cannot reach)
     for step in range(horizon_steps):
         nseg, qx, qy = walk_along(pts, seg, px, py, x[2 * k + seg] * reach)
         dx, dy = qx - px, qy - py
         goal_t = reach_fraction(px, py, dx, dy, goal[0], goal[1], goal_radius)
         first = step * n
-        for o in range(n_obs):
+        for q in range(obstacles_near(scene.resting, n_obs, px, py, reach + robot_radius, visit)):
+            o = visited(scene.resting, visit, q)
             ox, oy = traj[first, o, 0], traj[first, o, 1]
             gap0 = math.sqrt((px - ox) * (px - ox) + (py - oy) * (py - oy)) - robot_radius - contact_radii[o]
             if gap0 > reach + travel[step, o]:
@@ -359,7 +364,8 @@ def timed_path_cost(x, scene):
         for s in range(seg + 1, k + 2):
             bx, by = pts[s, 0], pts[s, 1]
             rest += math.sqrt((bx - ax) * (bx - ax) + (by - ay) * (by - ay))
-            for o in range(rest_obstacles):
+            for q in range(obstacles_along(scene.resting, n_obs, ax, ay, bx, by, robot_radius, visit) if rest_obstacles else 0):
+                o = visited(scene.resting, visit, q)
                 if o < scene.rest_exempt.shape[0] and scene.rest_exempt[o]:
                     continue
                 r = contact_radii[o] + robot_radius

@@ -40,7 +40,7 @@ def predict_obstacles(positions, velocities, radii, bounds, dt, n_steps, substep
 
 
 @numba.njit(cache=True)
-def predict_among(positions, velocities, radii, bounds, segments, dt, n_steps, substeps):
+def predict_among(positions, velocities, radii, bounds, segments, dt, n_steps, substeps, resting_pairs=False):
     """Obstacle states ``(n_steps * substeps + 1, N, 4)`` (x, y, vx, vy) at every substep from now.
 
     Each substep moves every body, then solves all its contacts together as Chipmunk does:
@@ -49,6 +49,10 @@ def predict_among(positions, velocities, radii, bounds, segments, dt, n_steps, s
     walls and resting obstacles have infinite mass. Then every obstacle gets its own speed back.
     The scene's walls and polygon edges (``segments``, capsule rows ``(x0, y0, x1, y1, half)``, as
     pymunk's segment shapes) are walls too: the contact normal runs from the segment's nearest point.
+
+    Two resting obstacles never make a contact (both of infinite mass), so their pairs are skipped
+    (the same contacts, in the same order: the same trajectory); ``resting_pairs=True`` visits them
+    all as before, to test that.
     """
     n = radii.shape[0]
     out = np.empty((n_steps * substeps + 1, n, 4))
@@ -64,7 +68,14 @@ def predict_among(positions, velocities, radii, bounds, segments, dt, n_steps, s
     lo = (bounds[0], bounds[1])
     hi = (bounds[2], bounds[3])
     n_seg = segments.shape[0]
-    cap = n * (n - 1) // 2 + 4 * n + n * n_seg + 1
+    # the broad phase among resting obstacles (infinite mass): two of them never make a contact, so
+    # a resting body's pairs are only those with the moving bodies after it (every contact is found,
+    # in the same order); among hundreds of resting discs that leaves O(moving x N) pairs a substep
+    everyone = np.arange(n)
+    moving = everyone if resting_pairs else np.flatnonzero(inv_mass > 0.0)
+    cap = min(n * (n - 1) // 2, moving.shape[0] * n) + 4 * n + n * n_seg + 1  # every pair holds a moving body
+    last_moving = moving[-1] if moving.shape[0] else -1
+    active = np.flatnonzero((inv_mass > 0.0) | (np.arange(n) < last_moving))  # a resting body after every moving one makes no contact of its own
     ca = np.empty(cap, np.int64)  # body a, or -1 for a wall
     cb = np.empty(cap, np.int64)
     cn = np.empty((cap, 2))  # normal from a to b
@@ -76,7 +87,7 @@ def predict_among(positions, velocities, radii, bounds, segments, dt, n_steps, s
             x[i, 0] += v[i, 0] * h
             x[i, 1] += v[i, 1] * h
         m = 0
-        for i in range(n):
+        for i in active:
             for axis in range(2):  # walls: the arena's edges, normals pointing inward
                 for side in range(2):
                     inside = x[i, axis] - lo[axis] if side == 0 else hi[axis] - x[i, axis]
@@ -96,7 +107,9 @@ def predict_among(positions, velocities, radii, bounds, segments, dt, n_steps, s
                     ca[m], cb[m] = -1, i
                     cn[m, 0], cn[m, 1] = dx / d, dy / d
                     m += 1
-            for j in range(i + 1, n):
+            others = everyone if inv_mass[i] > 0.0 else moving  # the bodies after i that can touch it
+            for q in range(np.searchsorted(others, i, side="right"), others.shape[0]):
+                j = others[q]
                 dx, dy = x[j, 0] - x[i, 0], x[j, 1] - x[i, 1]
                 d = math.hypot(dx, dy)
                 if d < radii[i] + radii[j] and d > 0.0 and inv_mass[i] + inv_mass[j] > 0.0:

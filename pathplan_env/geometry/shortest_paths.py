@@ -43,25 +43,37 @@ def _point_tangents(p: np.ndarray, centers: np.ndarray, radii: np.ndarray):
     return pts, angles, valid
 
 
+#: The four common tangents of a circle pair, as ``(sign_j, s)``: outer (``sign_j`` 1) and inner (-1),
+#: the normal turned by ``s`` times the tangent's angle.
+BITANGENT_KINDS = ((1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0))
+
+
 def _bitangents(centers: np.ndarray, radii: np.ndarray):
     """The four common tangents of every circle pair i < j: endpoints and angles on each circle."""
-    n = len(radii)
-    ii, jj = np.triu_indices(n, k=1)
+    ii, jj = np.triu_indices(len(radii), k=1)
+    out = []
+    # outer tangents: normal angle phi +- acos((ri - rj) / D); inner: phi +- acos((ri + rj) / D)
+    for sign_j, s in BITANGENT_KINDS:
+        ok, pi_, pj_, ang_i, ang_j = bitangent_ends(centers, radii, ii, jj, sign_j, s)
+        out.append((ii[ok], jj[ok], pi_[ok], pj_[ok], ang_i[ok], ang_j[ok]))
+    return out
+
+
+def bitangent_ends(centers: np.ndarray, radii: np.ndarray, ii: np.ndarray, jj: np.ndarray, sign_j: float, s: float):
+    """One kind (:data:`BITANGENT_KINDS`) of common tangent of the circle pairs ``ii[k] < jj[k]``:
+    whether it exists, its end on each circle and that end's angle. Element by element (the same
+    numbers for a pair whichever other pairs are asked with it)."""
     d = centers[jj] - centers[ii]
     dist = np.linalg.norm(d, axis=1)
     phi = np.arctan2(d[:, 1], d[:, 0])
-    out = []
-    # outer tangents: normal angle phi +- acos((ri - rj) / D); inner: phi +- acos((ri + rj) / D)
-    for sign_j, diff in ((1.0, radii[ii] - radii[jj]), (-1.0, radii[ii] + radii[jj])):
-        ok = dist > np.abs(diff)
-        beta = np.arccos(np.clip(diff / np.where(ok, dist, 1.0), -1.0, 1.0))
-        for s in (1.0, -1.0):
-            ang_i = phi + s * beta
-            ang_j = ang_i if sign_j > 0 else ang_i + np.pi
-            pi_ = centers[ii] + radii[ii, None] * np.stack([np.cos(ang_i), np.sin(ang_i)], axis=1)
-            pj_ = centers[jj] + radii[jj, None] * np.stack([np.cos(ang_j), np.sin(ang_j)], axis=1)
-            out.append((ii[ok], jj[ok], pi_[ok], pj_[ok], ang_i[ok], ang_j[ok]))
-    return out
+    diff = radii[ii] - radii[jj] if sign_j > 0 else radii[ii] + radii[jj]
+    ok = dist > np.abs(diff)
+    beta = np.arccos(np.clip(diff / np.where(ok, dist, 1.0), -1.0, 1.0))
+    ang_i = phi + s * beta
+    ang_j = ang_i if sign_j > 0 else ang_i + np.pi
+    pi_ = centers[ii] + radii[ii, None] * np.stack([np.cos(ang_i), np.sin(ang_i)], axis=1)
+    pj_ = centers[jj] + radii[jj, None] * np.stack([np.cos(ang_j), np.sin(ang_j)], axis=1)
+    return ok, pi_, pj_, ang_i, ang_j
 
 
 def shortest_path(

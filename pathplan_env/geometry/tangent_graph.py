@@ -20,10 +20,16 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from pathplan_env.geometry.shortest_paths import _bitangents, _chain_points, _graph_chain, _path_inputs, _point_tangents
-
-_TOL = 1e-7  # the reference's tolerance: a point this close to a boundary is outside
-_SLACK = 1e-6  # pruning margin, far above float error: a pruned shape is farther than this from the point
+from pathplan_env.geometry.shortest_paths import (
+    BITANGENT_KINDS,
+    _bitangents,
+    _chain_points,
+    _graph_chain,
+    _path_inputs,
+    _point_tangents,
+    bitangent_ends,
+)
+from pathplan_env.geometry.tangent_screen import _SLACK, _TOL, _near, _psd, bitangent_candidates
 
 
 class Shapes(NamedTuple):
@@ -32,17 +38,6 @@ class Shapes(NamedTuple):
     centers: np.ndarray
     radii: np.ndarray
     capsules: np.ndarray
-
-
-@numba.njit(cache=True, inline="always")
-def _psd(px, py, ax, ay, bx, by):
-    """``geometry.point_segment_distance``'s arithmetic for one point and segment."""
-    abx, aby = bx - ax, by - ay
-    denom = abx * abx + aby * aby
-    t = ((px - ax) * abx + (py - ay) * aby) / (denom if denom > 0 else 1.0)
-    t = min(max(t, 0.0), 1.0)
-    dx, dy = px - (ax + t * abx), py - (ay + t * aby)
-    return math.sqrt(dx * dx + dy * dy)
 
 
 @numba.njit(cache=True, inline="always")
@@ -70,26 +65,6 @@ def _box_gap(px, py, x0, y0, x1, y1):
     gx = max(x0 - px, px - x1, 0.0)
     gy = max(y0 - py, py - y1, 0.0)
     return math.sqrt(gx * gx + gy * gy)
-
-
-@numba.njit(cache=True)
-def _near(cx, cy, cr, shapes, skip):
-    """Indices of the circles (but ``skip``) and capsules that come within ``_SLACK`` of the circle
-    ``(c, cr)``: no other shape can hold a point of it."""
-    c, r, k = shapes.centers, shapes.radii, shapes.capsules
-    near_c = np.empty(r.shape[0], np.int64)
-    n_c = 0
-    for i in range(r.shape[0]):
-        if i != skip and math.hypot(c[i, 0] - cx, c[i, 1] - cy) < cr + r[i] + _SLACK:
-            near_c[n_c] = i
-            n_c += 1
-    near_k = np.empty(k.shape[0], np.int64)
-    n_k = 0
-    for i in range(k.shape[0]):
-        if _psd(cx, cy, k[i, 0], k[i, 1], k[i, 2], k[i, 3]) < cr + k[i, 4] + _SLACK:
-            near_k[n_k] = i
-            n_k += 1
-    return near_c[:n_c], near_k[:n_k]
 
 
 @numba.njit(cache=True)
@@ -173,8 +148,36 @@ def arcs_blocked(points, circle, shapes, bounds):
     return out
 
 
-def shortest_path(start, goal, centers, radii, bounds=None, arc_resolution: float = 0.05, capsules=None):
-    """``pathplan_env.geometry.shortest_paths.shortest_path``, argument for argument and result for result."""
+#: From this many circles on the common tangents' nodes are screened (:mod:`.tangent_screen`): below,
+#: the screen's eight numpy passes cost more than the nodes it would spare (a few hundred).
+SCREEN_FROM = 32
+
+
+def _screened_bitangents(shapes, box, add_nodes, edges_a, edges_b) -> None:
+    """The common tangents' nodes and edges, the reference's order and numbers (``_bitangents``), less
+    the nodes surely unusable (:func:`.tangent_screen.bitangent_candidates`): an unusable node has no
+    edge nor arc, so the graph is the reference's with its numbering squeezed, order kept (Dijkstra's
+    and the arcs' ties fall the same way)."""
+    centers, radii = shapes.centers, shapes.radii
+    pairs = np.triu_indices(len(radii), k=1)
+    candidates = bitangent_candidates(shapes, box)
+    for kind, (sign_j, s) in enumerate(BITANGENT_KINDS):
+        kept = []
+        for end in (0, 1):
+            chosen = np.flatnonzero(candidates[kind, end])
+            ok, pi_, pj_, ai, aj = bitangent_ends(centers, radii, pairs[0][chosen], pairs[1][chosen], sign_j, s)
+            xy_end, angle_end = (pi_, ai) if end == 0 else (pj_, aj)
+            kept.append((chosen[ok], add_nodes(xy_end[ok], pairs[end][chosen[ok]], angle_end[ok])))
+        (on_i, nodes_i), (on_j, nodes_j) = kept
+        _, at_i, at_j = np.intersect1d(on_i, on_j, assume_unique=True, return_indices=True)
+        edges_a.append(nodes_i[at_i]), edges_b.append(nodes_j[at_j])
+
+
+def shortest_path(start, goal, centers, radii, bounds=None, arc_resolution: float = 0.05, capsules=None, broad_phase: bool = True):
+    """``pathplan_env.geometry.shortest_paths.shortest_path``, argument for argument and result for result.
+
+    :param broad_phase: screen the common tangents' nodes among :data:`SCREEN_FROM` circles or more
+        (:func:`_screened_bitangents`); ``False`` computes every one exactly (the same result, to test that)."""
     start, goal, centers, radii, capsules = _path_inputs(start, goal, centers, radii, capsules)
     centers, radii, capsules = np.ascontiguousarray(centers), np.ascontiguousarray(radii), np.ascontiguousarray(capsules)
     shapes = Shapes(centers, radii, capsules)
@@ -194,16 +197,19 @@ def shortest_path(start, goal, centers, radii, bounds=None, arc_resolution: floa
         for k in (0, 1):
             idx = add_nodes(pts[valid, k], np.flatnonzero(valid), angles[valid, k])
             edges_a.append(np.full(len(idx), endpoint)), edges_b.append(idx)
-    for ii, jj, pi_, pj_, ai, aj in _bitangents(centers, radii):
-        edges_a.append(add_nodes(pi_, ii, ai)), edges_b.append(add_nodes(pj_, jj, aj))
+    box = (-np.inf, -np.inf, np.inf, np.inf) if bounds is None else tuple(float(v) for v in bounds)
+    if broad_phase and len(radii) >= SCREEN_FROM:
+        _screened_bitangents(shapes, np.asarray(box, float), add_nodes, edges_a, edges_b)
+    else:
+        for ii, jj, pi_, pj_, ai, aj in _bitangents(centers, radii):
+            edges_a.append(add_nodes(pi_, ii, ai)), edges_b.append(add_nodes(pj_, jj, aj))
 
     xy = np.ascontiguousarray(np.concatenate(xy_parts))
     circle = np.concatenate(circle_parts).astype(int)
     angle = np.concatenate(angle_parts).astype(float)
     inside_bounds = np.ones(len(xy), bool)
-    box = (-np.inf, -np.inf, np.inf, np.inf)
     if bounds is not None:
-        xmin, ymin, xmax, ymax = box = tuple(float(v) for v in bounds)
+        xmin, ymin, xmax, ymax = box
         inside_bounds = (xy[:, 0] >= xmin) & (xy[:, 0] <= xmax) & (xy[:, 1] >= ymin) & (xy[:, 1] <= ymax)
     usable = inside_bounds.copy()
     usable[inside_bounds] = ~nodes_blocked(np.ascontiguousarray(xy[inside_bounds]), circle[inside_bounds], shapes)

@@ -32,6 +32,7 @@ import numpy as np
 
 from agents.planners.costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal
 from agents.planners.reachable_set import provably_lost
+from agents.planners.resting_discs import EVERY_OBSTACLE, RestingSet, obstacles_along, obstacles_near, visited
 from pathplan_env.arena import ArenaBox
 from pathplan_env.geometry.contacts import swept_pair
 from pathplan_env.geometry.walls import swept_capsule
@@ -58,6 +59,7 @@ class SpacetimeProblem(NamedTuple):
     reach: float  # m: the robot's step at top speed
     statics: np.ndarray = np.zeros((0, 5))  # (M, 5): walls and polygon edges (``World.static_segments`` rows)
     cost_to_go: CostToGo = STRAIGHT_LINE  # the heuristic's distance to the goal (:mod:`agents.planners.costtogo`)
+    resting: RestingSet | None = EVERY_OBSTACLE  # the broad phase's resting obstacles (:mod:`agents.planners.resting_discs`)
 
 
 class SearchSettings(NamedTuple):
@@ -272,6 +274,7 @@ def search(problem, settings):
     near = np.empty(radii.shape[0], np.int64)
     close = np.empty(radii.shape[0], np.int64)
     near_s = np.empty(statics.shape[0], np.int64)
+    visit = np.empty(radii.shape[0], np.int64)  # the obstacles the broad phase visits (the others cannot reach)
     paths = step_paths(traj, n)
 
     def distance(x, y):  # along the static cost-to-go (m)
@@ -309,7 +312,8 @@ def search(problem, settings):
         n_near = 0
         ends, deviation = paths.ends[k], paths.deviation[k]
         slack = 1e-9 * (1.0 + abs(x) + abs(y) + reach)
-        for o in range(radii.shape[0]):
+        for q in range(obstacles_near(problem.resting, radii.shape[0], x, y, reach + robot_radius + slack, visit)):
+            o = visited(problem.resting, visit, q)
             gap = _segment_distance(x, y, x, y, ends[o, 0], ends[o, 1], ends[o, 2], ends[o, 3]) - robot_radius - radii[o]
             if gap <= reach + deviation[o] + slack:
                 near[n_near] = o
@@ -374,7 +378,7 @@ def replay(problem, targets):
     start, box, reach = problem.start, problem.box, problem.reach
     x, y = start[0], start[1]
     steps = min(targets.shape[0], (traj.shape[0] - 1) // n)
-    near = np.arange(radii.shape[0])
+    near = np.arange(radii.shape[0])  # every obstacle, or the broad phase's (written per step)
     close = np.empty(radii.shape[0], np.int64)
     statics = problem.statics
     every_static = np.arange(statics.shape[0])
@@ -382,7 +386,9 @@ def replay(problem, targets):
     for k in range(steps):
         action = _to_action(targets[k, 0], targets[k, 1], box)
         _, _, _, dx, dy = robot_move(action, box, x, y, reach)
-        candidates = Candidates(near, radii.shape[0], every_static, statics.shape[0])
+        slack = 1e-9 * (1.0 + abs(x) + abs(y) + abs(dx) + abs(dy))  # _fly's
+        n_near = obstacles_along(problem.resting, radii.shape[0], x, y, x + dx, y + dy, problem.robot_radius + slack, near)
+        candidates = Candidates(near, n_near, every_static, statics.shape[0])
         result, _ = _fly(problem, k * n, (x, y, dx, dy), candidates, paths.ends[k], paths.deviation[k], close)
         if result < 0:
             return k, False

@@ -40,6 +40,7 @@ from agents.planners.reciprocal import (
     reciprocal_trajectory,
     robot_rows,
 )
+from agents.planners.resting_discs import resting_set
 from agents.planners.spacetime.anytime import PARTIAL_RULES, partial_plan
 from agents.planners.spacetime.astar import BUDGET, EXHAUSTED, SearchSettings, SpacetimeProblem, heading_moves, replay, search
 from agents.planners.steering import STEERING_RULES, SteeringCheck
@@ -276,7 +277,7 @@ class SpacetimeAStarAgent(Agent):
         f = self.facts
         segments, ctg = model.statics(obs, memory)
         problem = SpacetimeProblem(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.model.arena.box,
-                                   self.step_length, segments, ctg)  # fmt: skip
+                                   self.step_length, segments, ctg, resting_set(trajectory, radii))  # fmt: skip
         targets = memory.get("plan")
         if targets is not None and len(targets) > 0 and not guide_switched(memory):  # keep the previous plan while it still holds
             free, reached = replay(problem, targets)

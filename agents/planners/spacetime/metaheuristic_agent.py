@@ -21,6 +21,7 @@ from agents.planners.metaheuristic import MetaheuristicAgent
 from agents.planners.objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, TimedScene, walk_along
 from agents.planners.passable import guided_by_passable, passable_around
 from agents.planners.reciprocal import ROBOT_MARGIN
+from agents.planners.resting_discs import resting_set
 from agents.planners.spacetime.astar_agent import SpacetimeModel
 from agents.planners.spacetime.seeds import SearchSeed, search_seeds
 from agents.planners.steering import STEERING_RULES, SteeringCheck
@@ -156,7 +157,8 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         exempt = resting if guided_by_passable(memory or {}) else np.zeros(0, np.bool_)
         return TimedScene(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.step_length,
                           self.model.horizon_steps, self.penalty_weight, travel, segments, ctg, self.violation,
-                          0.0 if self.constraint == "adaptive" else INFEASIBLE, rest_obstacles, self.progress_weight, exempt)  # fmt: skip
+                          0.0 if self.constraint == "adaptive" else INFEASIBLE, rest_obstacles, self.progress_weight, exempt,
+                          resting_set(trajectory, radii))  # fmt: skip
 
     def seed_paths(self, robot: np.ndarray, goal: np.ndarray, problem: TimedScene | None = None) -> np.ndarray:
         """Warm-start candidates at top speed: the straight line, then a first waypoint

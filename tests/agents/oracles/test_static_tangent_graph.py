@@ -54,3 +54,24 @@ def test_static_oracle_flies_the_reference_episode(preset, seed, monkeypatch):
         return np.array(out)
 
     assert np.array_equal(positions(fast), positions(reference))
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_the_screened_tangent_graph_is_the_unscreened_one_in_clutter(seed):
+    """Among hundreds of overlapping inflated cylinders (and the box, and a wall) the broad phase drops
+    nine in ten tangent nodes unseen; the path is the one computing every node gives, to the bit."""
+    from pathplan_env.scenarios.clutter import clutter_scenario
+
+    scene = clutter_scenario(np.random.default_rng(seed), n_cylinders=[300, 200, 120][seed], layout=["grid", "scatter", None][seed])
+    centers = scene.arrays()["positions"]
+    radii = scene.arrays()["radii"] + scene.robot_radius + 0.02
+    capsules = np.array([[4.0, 0.5, 4.0, 2.0, 0.05 + scene.robot_radius]]) if seed == 2 else None
+    bounds = (scene.robot_radius, scene.robot_radius, 12.0 - scene.robot_radius, 8.0 - scene.robot_radius)
+    lengths = []
+    for start, goal in ((scene.start, scene.goal), ((1.0, 4.0), (11.0, 4.0))):
+        screened, length = fast(start, goal, centers, radii, bounds=bounds, capsules=capsules, arc_resolution=0.002)
+        every, every_length = fast(start, goal, centers, radii, bounds=bounds, capsules=capsules, arc_resolution=0.002, broad_phase=False)
+        assert length == every_length
+        assert (screened is None and every is None) or np.array_equal(screened, every)
+        lengths.append(length)
+    assert np.isfinite(lengths[0])  # the clutter's corridor: a path was compared

@@ -28,6 +28,7 @@ from agents.base import real_obstacles as real_obstacles  # 0.1.0 public path
 from agents.base import real_static_segments as real_static_segments
 from agents.observation import Observation, covering_rows
 from agents.planners.costtogo import CostToGo
+from agents.planners.costtogo import observed_cost_to_go as observed_cost_to_go  # 0.1.0 public path
 from agents.planners.passable import guide_switched, guided_by_passable, guiding_cost_to_go
 from agents.planners.prediction import predict_among, substeps_for
 from agents.planners.reciprocal import (

@@ -279,8 +279,14 @@ def around_obstacles(static: CostToGo, goal, goal_radius: float, box, segments: 
     on); the static field stands where the discs leave the goal no way at all or without walls."""
     if static.field.size == 0 or len(radii) == 0:
         return static
-    blocked = cost_to_go(goal, goal_radius, box, segments, robot_radius, centers, radii, static.cell)
-    if blocked.field.shape != static.field.shape:  # the goal's cells are all covered: no field to speak of
+    return blocked_beside_static(static, cost_to_go(goal, goal_radius, box, segments, robot_radius, centers, radii, static.cell))
+
+
+def blocked_beside_static(static: CostToGo, blocked: CostToGo | None) -> CostToGo:
+    """``blocked`` (a cost-to-go with discs standing in the way) where it is finite, and past its largest
+    finite value plus ``static``'s where the discs cut a place off; ``static`` itself where ``blocked``
+    has no field to speak of (``None``, another grid: the goal's cells all covered, or nowhere finite)."""
+    if blocked is None or blocked.field.shape != static.field.shape:
         return static
     finite = np.isfinite(blocked.field)
     if not finite.any():

@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from agents.planners.costtogo import _MOVES, CostToGo, _blocked, _grid_dijkstra, distance_to_goal, observed_cost_to_go
+from agents.planners.costtogo import _MOVES, CostToGo, _blocked, _grid_dijkstra, blocked_beside_static, distance_to_goal, observed_cost_to_go
 
 #: The lower bound misleads where the passable field's way from the robot is longer than this share
 #: of it plus :data:`MISLEAD_SLACK`: among walls the two agree to 5.4 % at the families' starts (the
@@ -169,11 +169,4 @@ def passable_around(static: CostToGo, obs: dict, facts, margin: float, centers: 
     segments = parsed.walls
     blocked = passable_cost_to_go(np.asarray(obs["goal"], np.float64), facts.goal_radius, facts.arena.box, segments, facts.robot_radius,
                                   centres, reach * (1.0 + margin), static.cell)  # fmt: skip
-    if blocked is None or blocked.field.shape != static.field.shape:
-        return static
-    finite = np.isfinite(blocked.field)
-    if not finite.any():
-        return static
-    field = np.where(finite, blocked.field, blocked.field[finite].max() + static.field)
-    return static._replace(field=np.ascontiguousarray(field))
-
+    return blocked_beside_static(static, blocked)

@@ -35,7 +35,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from pathplan_env.crowds.grid_dijkstra import Graph, Queue, RouteRows, buckets, extend_rows, grid_adjacency
+from pathplan_env.crowds.grid_dijkstra import GridGraph, Queue, RouteRows, buckets, extend_rows, grid_adjacency, grid_graph
 from pathplan_env.crowds.orca_obstacles import ORCAObstacles, obstacle_vertices
 from pathplan_env.geometry.walls import points_clearance
 
@@ -77,7 +77,7 @@ class HumanStatics(NamedTuple):
     obstacles: ORCAObstacles  # for ORCA: RVO2's obstacle vertices
     segments: np.ndarray  # (M, 5) capsule rows, for social force
     routes: Routes
-    adjacency: Graph  # the grid's graph (grid_dijkstra.grid_adjacency), for the rows' Dijkstra
+    graph: GridGraph  # the grid's graph (grid_dijkstra.grid_graph), for the rows' Dijkstra
     queue: Queue  # its search's scratch queue (grid_dijkstra.buckets)
     goal_cells: np.ndarray  # (routed,) int64
     # the compiled steps' arguments, built once per world, not per step (a tuple per call cost ~1 µs):
@@ -101,7 +101,7 @@ class HumanStatics(NamedTuple):
         routes = self.routes
         rows = routes.row_of[self.missing[:n_missing]]
         out = RouteRows(routes.dist, routes.pred, routes.settled, routes.ready)
-        extend_rows(self.adjacency, self.queue, self.goal_cells[rows], rows, routes.need[rows], ROUTE_REACH, out)
+        extend_rows(self.graph, self.queue, self.goal_cells[rows], rows, routes.need[rows], ROUTE_REACH, out)
 
 
 class _Grid(NamedTuple):
@@ -112,8 +112,8 @@ class _Grid(NamedTuple):
     cols: int
     free: np.ndarray
     nearest: np.ndarray
-    adjacency: Graph  # 8-connected free cells, both directions (grid_dijkstra)
-    queue: Queue  # grid_dijkstra.buckets of it: scratch for every route on this grid (a few MB, allocated once)
+    graph: GridGraph  # 8-connected free cells (grid_dijkstra.grid_graph)
+    queue: Queue  # grid_dijkstra.buckets of it: scratch for every route on grids of its size (a few MB, allocated once)
     blocked_below: np.ndarray  # (rows + 1, cols + 1) int64 (Routes.blocked_below)
 
 
@@ -146,11 +146,19 @@ def _grid(key: tuple, clearance: float, cell: float) -> _Grid:
         nearest = (ni * cols + nj).ravel().astype(np.int64)
     else:
         nearest = np.arange(rows * cols, dtype=np.int64)
-    adjacency = grid_adjacency(free, rows, cols, cell * math.hypot(0, 1), cell * math.hypot(1, 1))
-    queue = buckets(adjacency.weights, adjacency.indices.shape[0])
+    graph = grid_graph(free, rows, cols, cell * math.hypot(0, 1), cell * math.hypot(1, 1))
+    queue = _queue(rows * cols, cell)
     blocked_below = np.zeros((rows + 1, cols + 1), np.int64)
     blocked_below[1:, 1:] = (~grid).cumsum(axis=0).cumsum(axis=1)
-    return _Grid(xmin, ymin, cell, rows, cols, free, nearest, adjacency, queue, blocked_below)
+    return _Grid(xmin, ymin, cell, rows, cols, free, nearest, graph, queue, blocked_below)
+
+
+@lru_cache(maxsize=4)
+def _queue(n_cells: int, cell: float) -> Queue:
+    """The search queue of every grid of ``n_cells`` cells of side ``cell`` (scratch: one serves them
+    all; the doorway's grid changes with its door at every reset, its size does not)."""
+    steps = np.array([cell * math.hypot(0, 1), cell * math.hypot(1, 1)])  # (grid_graph's: only their extremes and the count matter)
+    return buckets(GridGraph(np.zeros(n_cells, np.uint8), np.zeros(8, np.int64), steps))
 
 
 @lru_cache(maxsize=16)
@@ -192,7 +200,7 @@ def human_statics(scenario, goals: np.ndarray, routed: np.ndarray, clearance: fl
     routes = Routes(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.free, grid.nearest, dist, pred, row_of, np.zeros(len(routed), np.bool_),
                     grid.blocked_below, np.zeros((len(routed), n_cells), np.bool_), np.zeros(len(routed), np.int64))  # fmt: skip
     obstacles = orca_obstacles(scenario)
-    return HumanStatics(obstacles, scenario.static_segments, routes, grid.adjacency, grid.queue, goal_cells, tuple(obstacles), tuple(routes), goals.copy(),
+    return HumanStatics(obstacles, scenario.static_segments, routes, grid.graph, grid.queue, goal_cells, tuple(obstacles), tuple(routes), goals.copy(),
                         np.empty(len(goals), np.int64))  # fmt: skip
 
 
@@ -202,7 +210,7 @@ def _all_pairs(key: tuple, clearance: float, cell: float) -> tuple[_Grid, np.nda
     from scipy.sparse.csgraph import dijkstra
 
     grid = _grid(key, clearance, cell)
-    adjacency, n = grid.adjacency, grid.rows * grid.cols
+    adjacency, n = grid_adjacency(grid.free, grid.rows, grid.cols, cell * math.hypot(0, 1), cell * math.hypot(1, 1)), grid.rows * grid.cols
     graph = scipy.sparse.csr_matrix((adjacency.weights, adjacency.indices, adjacency.indptr), shape=(n, n))
     return grid, dijkstra(graph, directed=False)  # (distances only: the same whatever order cells settle in)
 
@@ -270,19 +278,58 @@ def _box_free(routes, ax, ay, bx, by):
     return below[i1 + 1, j1 + 1] - below[i0, j1 + 1] - below[i1 + 1, j0] + below[i0, j0] == 0
 
 
+@numba.njit(cache=True, inline="always")
+def _sample_cell(routes, ax, ay, bx, by, k, n):
+    """``(i, j)``: the row and column of the cell of the segment's ``k``-th of ``n`` samples, computed
+    as ``_cell`` of ``_sees``' sample (the same expressions)."""
+    t = k / n
+    x, y = ax + t * (bx - ax), ay + t * (by - ay)
+    j = min(max(int((x - routes.x0) / routes.cell), 0), routes.cols - 1)
+    i = min(max(int((y - routes.y0) / routes.cell), 0), routes.rows - 1)
+    return i, j
+
+
+@numba.njit(cache=True, inline="always")
+def _samples_free(routes, ax, ay, bx, by, lo, hi, n):
+    """Whether the cells of samples ``lo`` to ``hi`` of the segment are all free, by the cells' box
+    between those of samples ``lo`` and ``hi`` (four reads of the summed-area table). Exact, not a
+    bound: a sample's coordinate ``a + (k / n) * (b - a)`` is monotone in ``k`` (each rounding is
+    monotone), and its cell index in its coordinate, so every sample between lies in that box."""
+    i0, j0 = _sample_cell(routes, ax, ay, bx, by, lo, n)
+    i1, j1 = _sample_cell(routes, ax, ay, bx, by, hi, n)
+    i0, i1 = min(i0, i1), max(i0, i1)
+    j0, j1 = min(j0, j1), max(j0, j1)
+    below = routes.blocked_below
+    return below[i1 + 1, j1 + 1] - below[i0, j1 + 1] - below[i1 + 1, j0] + below[i0, j0] == 0
+
+
 @numba.njit(cache=True)
 def _sees(routes, ax, ay, bx, by):
     """Whether the segment from ``a`` to ``b`` stays in free cells beyond its first :data:`LEAVE`
     metres (a human pressed into a wall's margin is at most ``ROUTE_MARGIN`` deep in it; a wall's far
-    side is a radius away, so this never sees through one)."""
-    if _box_free(routes, ax, ay, bx, by):  # the common case in open space: no sample to test
-        return True
+    side is a radius away, so this never sees through one): its samples every half cell, those past
+    ``LEAVE`` tested by boxes of samples (:func:`_samples_free`: the whole run, runs of 16, of 4),
+    one by one only where a box of 4 holds a blocked cell. The answer is the one-by-one test's of
+    every sample (``tests/scenarios/test_family_scenes.py``)."""
     length = math.hypot(bx - ax, by - ay)
     n = int(length / (0.5 * routes.cell)) + 1
-    for k in range(n + 1):
-        t = k / n
-        if t * length > LEAVE and not routes.free[_cell(routes, ax + t * (bx - ax), ay + t * (by - ay))]:
-            return False
+    first = 0
+    while first <= n and first / n * length <= LEAVE:  # (the samples the walk from a wall skips: t * length <= LEAVE)
+        first += 1
+    if first > n or _samples_free(routes, ax, ay, bx, by, first, n, n):
+        return True
+    for lo in range(first, n + 1, 16):
+        hi = min(lo + 15, n)
+        if _samples_free(routes, ax, ay, bx, by, lo, hi, n):
+            continue
+        for lo4 in range(lo, hi + 1, 4):
+            hi4 = min(lo4 + 3, hi)
+            if _samples_free(routes, ax, ay, bx, by, lo4, hi4, n):
+                continue
+            for k in range(lo4, hi4 + 1):
+                i, j = _sample_cell(routes, ax, ay, bx, by, k, n)
+                if not routes.free[i * routes.cols + j]:
+                    return False
     return True
 
 

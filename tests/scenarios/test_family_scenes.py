@@ -92,11 +92,13 @@ def test_the_sight_lines_box_test_changes_no_answer(name):
     xmin, ymin, xmax, ymax = scenario.bounds
     low, span = np.array([xmin - 0.5, ymin - 0.5]), np.array([xmax - xmin + 1.0, ymax - ymin + 1.0])
     boxed = 0
-    for _ in range(3000):
+    for _ in range(6000):
         (ax, ay), d = low + span * rng.random(2), rng.normal(0.0, 2.0, 2)
         bx, by = ax + d[0], ay + d[1]
         if rng.random() < 0.3:  # along a row or column of cells, and on cell boundaries
             bx, ay = ax, round(ay * 10) / 10
+        elif rng.random() < 0.3:  # to a cell's centre anywhere (a route's waypoint): long, past walls
+            bx, by = xmin + (np.floor(rng.random() * (xmax - xmin) * 10) + 0.5) / 10, ymin + (np.floor(rng.random() * (ymax - ymin) * 10) + 0.5) / 10
         assert _sees(routes, ax, ay, bx, by) == _sees_sampled(routes, ax, ay, bx, by)
         boxed += bool(_box_free(routes, ax, ay, bx, by))
     assert boxed > 100  # the box test decides often

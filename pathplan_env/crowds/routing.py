@@ -61,7 +61,7 @@ class Routes(NamedTuple):
     rows: int
     cols: int
     free: np.ndarray  # (rows * cols,) bool
-    nearest: np.ndarray  # (rows * cols,) int64: the nearest free cell (itself when free)
+    nearest: np.ndarray  # (rows * cols,) int64: the nearest free cell (itself when free; -1 until the grid's first need of it: resolve_nearest)
     dist: np.ndarray  # (routed, rows * cols) m to the goal; inf where unreachable
     pred: np.ndarray  # (routed, rows * cols) int32: the next cell toward the goal; < 0 at the goal or unreachable
     row_of: np.ndarray  # (n_obstacles,) int64: obstacle i's row in dist/pred, -1 if not routed
@@ -90,18 +90,24 @@ class HumanStatics(NamedTuple):
         """``(n, 2)`` preferred-velocity targets of the humans ``idx`` (rows of others: their goals)."""
         targets = goals.copy()
         n_missing = _route_targets_fields(self.routes_fields, idx, state, goals, targets, self.missing)
-        if n_missing:  # the first loss of sight: run those humans' Dijkstra, then route again
+        while n_missing:  # the first loss of sight: run those humans' Dijkstra, then route again
             self.fill_routes(n_missing)
-            _route_targets_fields(self.routes_fields, idx, state, goals, targets, self.missing)
+            n_missing = _route_targets_fields(self.routes_fields, idx, state, goals, targets, self.missing)
         return targets
 
     def fill_routes(self, n_missing: int) -> None:
         """Take the Dijkstra of the first ``n_missing`` humans of ``missing`` (out of sight of their
-        goals) as far as the cells they stand on, and :data:`ROUTE_REACH` beyond."""
+        goals) as far as the cells they stand on, and :data:`ROUTE_REACH` beyond; a human on a blocked
+        cell whose nearest free cell is not known yet (``need`` -1) has the grid's nearest cells
+        computed instead, its route at the next call."""
         routes = self.routes
         rows = routes.row_of[self.missing[:n_missing]]
+        needs = routes.need[rows]
+        if (needs < 0).any():
+            resolve_nearest(routes.nearest, routes.free, routes.rows, routes.cols)
+            rows, needs = rows[needs >= 0], needs[needs >= 0]
         out = RouteRows(routes.dist, routes.pred, routes.settled, routes.ready)
-        extend_rows(self.graph, self.queue, self.goal_cells[rows], rows, routes.need[rows], ROUTE_REACH, out)
+        extend_rows(self.graph, self.queue, self.goal_cells[rows], rows, needs, ROUTE_REACH, out)
 
 
 class _Grid(NamedTuple):
@@ -122,35 +128,49 @@ def _geometry_key(scenario) -> tuple:
 
 
 @lru_cache(maxsize=16)
+def _cells(bounds: tuple, clearance: float, cell: float) -> tuple:
+    """``(rows, cols, xs, ys, inside)`` of a grid over ``bounds``: its cells' centres (flat, row-major)
+    and whether each keeps ``clearance`` from the arena's edges (cached: the doorway's grid changes
+    at every reset, its arena does not)."""
+    xmin, ymin, xmax, ymax = bounds
+    cols, rows = max(1, math.ceil((xmax - xmin) / cell)), max(1, math.ceil((ymax - ymin) / cell))
+    xs, ys = np.meshgrid(xmin + (np.arange(cols) + 0.5) * cell, ymin + (np.arange(rows) + 0.5) * cell)
+    xs, ys = xs.ravel(), ys.ravel()
+    inside = (xs - xmin >= clearance) & (xmax - xs >= clearance) & (ys - ymin >= clearance) & (ymax - ys >= clearance)
+    for array in (xs, ys, inside):
+        array.flags.writeable = False
+    return rows, cols, xs, ys, inside
+
+
+@lru_cache(maxsize=16)
 def _grid(key: tuple, clearance: float, cell: float) -> _Grid:
     """The free cells of a geometry for discs of ``clearance`` and their 8-connected graph."""
-    import scipy.ndimage
     import shapely
 
     from pathplan_env.geometry.walls import segments_of
 
     bounds, walls, thickness, polygons = key
-    xmin, ymin, xmax, ymax = bounds
-    cols, rows = max(1, math.ceil((xmax - xmin) / cell)), max(1, math.ceil((ymax - ymin) / cell))
-    xs, ys = np.meshgrid(xmin + (np.arange(cols) + 0.5) * cell, ymin + (np.arange(rows) + 0.5) * cell)
-    xs, ys = xs.ravel(), ys.ravel()
-    free = (xs - xmin >= clearance) & (xmax - xs >= clearance) & (ys - ymin >= clearance) & (ymax - ys >= clearance)
+    rows, cols, xs, ys, inside = _cells(bounds, clearance, cell)
+    free = inside.copy()
     segments = segments_of(walls, thickness, polygons)
     if len(segments):
-        free &= points_clearance(np.column_stack([xs, ys]), segments) >= clearance
+        # only the cells within a capsule's box widened by its radius, the clearance and a cell can be
+        # closer than the clearance: the others keep it by a cell's width, far beyond rounding
+        reach = segments[:, 4] + clearance + cell
+        lo, hi = np.minimum(segments[:, :2], segments[:, 2:4]) - reach[:, None], np.maximum(segments[:, :2], segments[:, 2:4]) + reach[:, None]
+        near = np.flatnonzero(((xs[:, None] >= lo[:, 0]) & (xs[:, None] <= hi[:, 0]) & (ys[:, None] >= lo[:, 1]) & (ys[:, None] <= hi[:, 1])).any(axis=1))
+        free[near] &= points_clearance(np.column_stack([xs[near], ys[near]]), segments) >= clearance
     for vertices in polygons:
         free &= ~shapely.contains_xy(shapely.Polygon(vertices), xs, ys)
     grid = free.reshape(rows, cols)
-    if grid.any():
-        _, (ni, nj) = scipy.ndimage.distance_transform_edt(~grid, return_indices=True)
-        nearest = (ni * cols + nj).ravel().astype(np.int64)
-    else:
-        nearest = np.arange(rows * cols, dtype=np.int64)
+    # the blocked cells' nearest free cells when first needed (resolve_nearest): a human routed from a
+    # blocked cell, a goal on one; the doorway's grid, new at every reset, rarely needs them
+    nearest = np.where(free, np.arange(rows * cols, dtype=np.int64), -1 if grid.any() else np.arange(rows * cols, dtype=np.int64))
     graph = grid_graph(free, rows, cols, cell * math.hypot(0, 1), cell * math.hypot(1, 1))
     queue = _queue(rows * cols, cell)
     blocked_below = np.zeros((rows + 1, cols + 1), np.int64)
     blocked_below[1:, 1:] = (~grid).cumsum(axis=0).cumsum(axis=1)
-    return _Grid(xmin, ymin, cell, rows, cols, free, nearest, graph, queue, blocked_below)
+    return _Grid(bounds[0], bounds[1], cell, rows, cols, free, nearest, graph, queue, blocked_below)
 
 
 @lru_cache(maxsize=4)
@@ -185,6 +205,17 @@ def _orca_obstacles(key: tuple) -> ORCAObstacles:
     return obstacle_vertices(rings + lines)
 
 
+def resolve_nearest(nearest: np.ndarray, free: np.ndarray, rows: int, cols: int) -> None:
+    """Fill ``nearest`` (a grid's, in place) with each cell's nearest free cell: scipy's Euclidean
+    distance transform's, whose ties decide which (a no-op once filled)."""
+    import scipy.ndimage
+
+    if nearest.min() >= 0:
+        return
+    ni, nj = scipy.ndimage.distance_transform_edt(~free.reshape(rows, cols), return_distances=False, return_indices=True)
+    nearest[:] = (ni * cols + nj).ravel()
+
+
 def orca_obstacles(scenario) -> ORCAObstacles:
     """The scenario's walls and polygons as RVO2 obstacles (cached per geometry)."""
     return _orca_obstacles(_geometry_key(scenario))
@@ -195,6 +226,9 @@ def human_statics(scenario, goals: np.ndarray, routed: np.ndarray, clearance: fl
     keep ``clearance + ROUTE_MARGIN`` from the geometry."""
     grid = _grid(_geometry_key(scenario), float(clearance) + ROUTE_MARGIN, GRID_CELL)
     goal_cells, row_of = _goal_cells(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.nearest, goals, routed)
+    if len(goal_cells) and goal_cells.min() < 0:  # a goal on a blocked cell
+        resolve_nearest(grid.nearest, grid.free, grid.rows, grid.cols)
+        goal_cells, row_of = _goal_cells(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.nearest, goals, routed)
     n_cells = grid.rows * grid.cols
     dist, pred = np.empty((len(routed), n_cells)), np.empty((len(routed), n_cells), np.int32)
     routes = Routes(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.free, grid.nearest, dist, pred, row_of, np.zeros(len(routed), np.bool_),
@@ -220,6 +254,7 @@ def path_lengths(scenario, starts: np.ndarray, goals: np.ndarray, clearance: flo
     of ``clearance`` around the scenario's geometry: all pairs of a ``cell`` grid, computed once per
     geometry (for samplers of fixed maps: 1,600 cells on the maze)."""
     grid, dist = _all_pairs(_geometry_key(scenario), float(clearance), float(cell))
+    resolve_nearest(grid.nearest, grid.free, grid.rows, grid.cols)
     ok = np.isfinite(starts).all(axis=1) & np.isfinite(goals).all(axis=1)
     out = np.full(len(starts), np.inf)
     a, b = grid.nearest[_cells_of(grid, starts[ok])], grid.nearest[_cells_of(grid, goals[ok])]
@@ -348,6 +383,11 @@ def route_targets(routes, idx, state, goals, targets, missing):
         if row < 0 or _sees(routes, x, y, gx, gy):
             continue
         c = routes.nearest[_cell(routes, x, y)]
+        if c < 0:  # on a blocked cell whose nearest free cell is not known yet (HumanStatics.fill_routes)
+            routes.need[row] = -1
+            missing[n_missing] = i
+            n_missing += 1
+            continue
         if not (routes.ready[row] or routes.settled[row, c]):
             routes.need[row] = c
             missing[n_missing] = i
@@ -381,4 +421,7 @@ def _route_targets_fields(routes_fields, idx, state, goals, targets, missing):
     return route_targets(Routes(*routes_fields), idx, state, goals, targets, missing)
 
 
-__all__ = ["GRID_CELL", "HumanStatics", "ROUTE_MARGIN", "Routes", "drivers_statics", "human_statics", "path_lengths", "orca_obstacles", "route_targets"]
+__all__ = [
+    "GRID_CELL", "HumanStatics", "ROUTE_MARGIN", "Routes", "drivers_statics", "human_statics", "path_lengths",
+    "orca_obstacles", "resolve_nearest", "route_targets",
+]

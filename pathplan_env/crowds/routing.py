@@ -422,6 +422,14 @@ def _route_targets_fields(routes_fields, idx, state, goals, targets, missing):
 
 
 __all__ = [
-    "GRID_CELL", "HumanStatics", "ROUTE_MARGIN", "Routes", "drivers_statics", "human_statics", "path_lengths",
-    "orca_obstacles", "resolve_nearest", "route_targets",
+    "GRID_CELL",
+    "HumanStatics",
+    "ROUTE_MARGIN",
+    "Routes",
+    "drivers_statics",
+    "human_statics",
+    "path_lengths",
+    "orca_obstacles",
+    "resolve_nearest",
+    "route_targets",
 ]

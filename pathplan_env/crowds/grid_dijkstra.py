@@ -108,15 +108,12 @@ def grid_graph(free, rows, cols, straight, diagonal):
             v = r * cols + c
             if not free[v]:
                 continue
-            bits = 0
-            for k in range(8):
-                di, dj = NEIGHBOURS[k]
-                r2, c2 = r + di, c + dj
-                if r2 < 0 or r2 >= rows or c2 < 0 or c2 >= cols or not free[r2 * cols + c2]:
-                    continue
-                if di != 0 and dj != 0 and not (free[r * cols + c2] and free[r2 * cols + c]):
-                    continue
-                bits |= 1 << k
+            up, down, left, right = r > 0, r < rows - 1, c > 0, c < cols - 1
+            fu, fd = up and free[v - cols], down and free[v + cols]
+            fl, fr = left and free[v - 1], right and free[v + 1]
+            bits = fu << 1 | fl << 3 | fr << 4 | fd << 6  # a diagonal step: both cells beside it free
+            bits |= (fu and fl and free[v - cols - 1]) << 0 | (fu and fr and free[v - cols + 1]) << 2
+            bits |= (fd and fl and free[v + cols - 1]) << 5 | (fd and fr and free[v + cols + 1]) << 7
             mask[v] = bits
     return GridGraph(mask, offset, weight)
 

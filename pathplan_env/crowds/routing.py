@@ -156,9 +156,7 @@ def _grid(key: tuple, clearance: float, cell: float) -> _Grid:
     if len(segments):
         # only the cells within a capsule's box widened by its radius, the clearance and a cell can be
         # closer than the clearance: the others keep it by a cell's width, far beyond rounding
-        reach = segments[:, 4] + clearance + cell
-        lo, hi = np.minimum(segments[:, :2], segments[:, 2:4]) - reach[:, None], np.maximum(segments[:, :2], segments[:, 2:4]) + reach[:, None]
-        near = np.flatnonzero(((xs[:, None] >= lo[:, 0]) & (xs[:, None] <= hi[:, 0]) & (ys[:, None] >= lo[:, 1]) & (ys[:, None] <= hi[:, 1])).any(axis=1))
+        near = np.flatnonzero(_near_capsules(xs[:cols], ys[::cols], segments, clearance + cell))
         free[near] &= points_clearance(np.column_stack([xs[near], ys[near]]), segments) >= clearance
     for vertices in polygons:
         free &= ~shapely.contains_xy(shapely.Polygon(vertices), xs, ys)
@@ -168,8 +166,7 @@ def _grid(key: tuple, clearance: float, cell: float) -> _Grid:
     nearest = np.where(free, np.arange(rows * cols, dtype=np.int64), -1 if grid.any() else np.arange(rows * cols, dtype=np.int64))
     graph = grid_graph(free, rows, cols, cell * math.hypot(0, 1), cell * math.hypot(1, 1))
     queue = _queue(rows * cols, cell)
-    blocked_below = np.zeros((rows + 1, cols + 1), np.int64)
-    blocked_below[1:, 1:] = (~grid).cumsum(axis=0).cumsum(axis=1)
+    blocked_below = _blocked_below(free, rows, cols)
     return _Grid(bounds[0], bounds[1], cell, rows, cols, free, nearest, graph, queue, blocked_below)
 
 
@@ -179,6 +176,35 @@ def _queue(n_cells: int, cell: float) -> Queue:
     all; the doorway's grid changes with its door at every reset, its size does not)."""
     steps = np.array([cell * math.hypot(0, 1), cell * math.hypot(1, 1)])  # (grid_graph's: only their extremes and the count matter)
     return buckets(GridGraph(np.zeros(n_cells, np.uint8), np.zeros(8, np.int64), steps))
+
+
+@numba.njit(cache=True)
+def _near_capsules(column_x, row_y, segments, margin):
+    """``(rows * cols,)`` bool: the cells whose centre lies in some capsule's box widened by its radius
+    and ``margin`` (the grid's column and row centres given)."""
+    near = np.zeros((row_y.shape[0], column_x.shape[0]), np.bool_)
+    for s in range(segments.shape[0]):
+        reach = segments[s, 4] + margin
+        x0, x1 = min(segments[s, 0], segments[s, 2]) - reach, max(segments[s, 0], segments[s, 2]) + reach
+        y0, y1 = min(segments[s, 1], segments[s, 3]) - reach, max(segments[s, 1], segments[s, 3]) + reach
+        for i in range(row_y.shape[0]):
+            if y0 <= row_y[i] <= y1:
+                for j in range(column_x.shape[0]):
+                    if x0 <= column_x[j] <= x1:
+                        near[i, j] = True
+    return near.ravel()
+
+
+@numba.njit(cache=True)
+def _blocked_below(free, rows, cols):
+    """:attr:`Routes.blocked_below`: the blocked cells below and left of each corner."""
+    below = np.zeros((rows + 1, cols + 1), np.int64)
+    for i in range(rows):
+        run = 0
+        for j in range(cols):
+            run += not free[i * cols + j]
+            below[i + 1, j + 1] = below[i, j + 1] + run
+    return below
 
 
 @lru_cache(maxsize=16)

@@ -394,6 +394,51 @@ def _sees(routes, ax, ay, bx, by):
     return True
 
 
+#: Chain cells tested at once by :func:`_farthest_seen`'s box.
+CHAIN_BLOCK = 8
+
+
+@numba.njit(cache=True)
+def _farthest_seen(routes, row, c, x, y):
+    """The farthest of the :data:`LOOKAHEAD_CELLS` cells of ``row``'s chain from the cell ``c`` that
+    the human at ``(x, y)`` sees, every one before it seen too (``c`` if none): :func:`_sees` of each
+    in turn, up to the first it does not see. A block of :data:`CHAIN_BLOCK` chain cells is seen at
+    once when every cell of the box around them and the human's cell is free: the same answer, one
+    read of the summed-area table for eight sight lines (a sight line's samples lie in the box of the
+    cells of its first, the human's position itself, and its last, within a few ulps of the chain
+    cell's centre: ``_samples_free``)."""
+    cols = routes.cols
+    h = _cell(routes, x, y)
+    hi, hj = h // cols, h % cols
+    best, cur, walked = c, c, 0
+    while walked < LOOKAHEAD_CELLS:
+        i0, i1, j0, j1 = hi, hi, hj, hj
+        probe, k = cur, 0
+        while k < min(CHAIN_BLOCK, LOOKAHEAD_CELLS - walked):
+            nxt = routes.pred[row, probe]
+            if nxt < 0:
+                break
+            ni, nj = nxt // cols, nxt % cols
+            i0, i1, j0, j1 = min(i0, ni), max(i1, ni), min(j0, nj), max(j1, nj)
+            probe, k = nxt, k + 1
+        if k == 0:
+            return best
+        i0, i1 = max(i0, 0), min(i1, routes.rows - 1)
+        j0, j1 = max(j0, 0), min(j1, cols - 1)
+        below = routes.blocked_below
+        if below[i1 + 1, j1 + 1] - below[i0, j1 + 1] - below[i1 + 1, j0] + below[i0, j0] == 0:
+            best, cur, walked = probe, probe, walked + k
+            continue
+        for _ in range(k):  # some cell of the box is blocked: each sight line as it is
+            nxt = routes.pred[row, cur]
+            cx, cy = routes.x0 + (nxt % cols + 0.5) * routes.cell, routes.y0 + (nxt // cols + 0.5) * routes.cell
+            if not _sees(routes, x, y, cx, cy):
+                return best
+            best, cur = nxt, nxt
+        walked += k
+    return best
+
+
 @numba.njit(cache=True)
 def route_targets(routes, idx, state, goals, targets, missing):
     """Each human ``i`` in ``idx``: ``targets[i]`` = its goal if it sees it, else a point toward its
@@ -421,15 +466,7 @@ def route_targets(routes, idx, state, goals, targets, missing):
             continue
         if not math.isfinite(routes.dist[row, c]):
             continue  # no route: head straight for the goal (ORCA keeps it off the walls)
-        best, cur = c, c
-        for _ in range(LOOKAHEAD_CELLS):
-            nxt = routes.pred[row, cur]
-            if nxt < 0:
-                break
-            cx, cy = routes.x0 + (nxt % routes.cols + 0.5) * routes.cell, routes.y0 + (nxt // routes.cols + 0.5) * routes.cell
-            if not _sees(routes, x, y, cx, cy):
-                break
-            best, cur = nxt, nxt
+        best = _farthest_seen(routes, row, c, x, y)
         wx = routes.x0 + (best % routes.cols + 0.5) * routes.cell
         wy = routes.y0 + (best // routes.cols + 0.5) * routes.cell
         d = math.hypot(wx - x, wy - y)

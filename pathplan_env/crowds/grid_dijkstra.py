@@ -125,7 +125,7 @@ def _search(graph, queue, source, need, reach, dist, pred, settled):
     settled (``need < 0``: every cell). Returns whether the search is complete (nothing left queued)."""
     mask, offset, weight = graph
     width, ring, fill = queue
-    n_ring = ring.shape[0]
+    per_metre, wrap = 1.0 / width, ring.shape[0] - 1  # (a bucket's index: distance x per_metre; the ring's slot: index & wrap)
     fill[:] = 0
     pending, b = 0, -1
     if not settled[source]:  # a new search
@@ -137,16 +137,16 @@ def _search(graph, queue, source, need, reach, dist, pred, settled):
     else:  # resumed: the queue is the cells reached and not settled (a bucket's order is free)
         for v in range(dist.shape[0]):
             if not settled[v] and dist[v] < np.inf:
-                q = int(dist[v] / width)
+                q = int(dist[v] * per_metre)
                 if b < 0 or q < b:
                     b = q
-                s = q % n_ring
+                s = q & wrap
                 ring[s, fill[s]] = v
                 fill[s] += 1
                 pending += 1
     stop = -1
     while pending:
-        slot = b % n_ring
+        slot = b & wrap
         for q in range(fill[slot]):
             v = ring[slot, q]
             if settled[v]:
@@ -161,7 +161,7 @@ def _search(graph, queue, source, need, reach, dist, pred, settled):
                 nd = d + weight[e]
                 if nd < dist[j]:
                     dist[j], pred[j] = nd, v
-                    s = int(nd / width) % n_ring
+                    s = int(nd * per_metre) & wrap
                     ring[s, fill[s]] = j
                     fill[s] += 1
                     pending += 1
@@ -172,7 +172,7 @@ def _search(graph, queue, source, need, reach, dist, pred, settled):
         pending -= fill[slot]
         fill[slot] = 0
         if need >= 0 and stop < 0 and settled[need]:
-            stop = int((dist[need] + reach) / width)
+            stop = int((dist[need] + reach) * per_metre)
         if stop >= 0 and b >= stop and pending:
             return False  # every cell of the buckets up to here is settled, the rest queued
         b += 1
@@ -187,7 +187,9 @@ def buckets(graph):
     every push (one per strict decrease: at most one per edge, +1). Scratch: one serves every search
     on a grid of its size and steps."""
     width = 0.5 * graph.weight.min()
-    n_ring = int(graph.weight.max() / width) + 3
+    n_ring = 1
+    while n_ring < int(graph.weight.max() / width) + 3:  # (a power of two: a slot is an index's low bits)
+        n_ring *= 2
     return Queue(width, np.empty((n_ring, 8 * graph.mask.shape[0] + 1), np.int32), np.zeros(n_ring, np.int64))
 
 

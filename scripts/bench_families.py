@@ -162,6 +162,8 @@ def profile(preset: str, n: int | None, delta_d: float, steps: int, top: int = 1
     profiler.disable()
     print(f"\nWhere {preset} ({n if n is not None else 'own count'} obstacles) spends {steps} random steps, by own time:")
     pstats.Stats(profiler).sort_stats("tottime").print_stats(top)
+    print("... and by cumulative time (resets and steps, then their parts):")
+    pstats.Stats(profiler).sort_stats("cumtime").print_stats(2 * top)
 
 
 def import_other(checkout: str) -> str:

@@ -6,6 +6,10 @@ time goes.
 
     python scripts/bench_families.py [--steps 5000] [--repeats 3] [--profile] [--clock cpu] [--crowd-only]
     python scripts/bench_families.py --against <checkout> [--preset corridor-crowd] [--clock cpu]
+    python scripts/bench_families.py --split [--steps 20000] [--clock cpu]
+
+``--split``: the crowd families' random-action time split into steps and resets (mean episode
+length, µs a step, ms a reset, resets' µs a step) beside the µs a step the target ratio allows.
 
 ``--clock cpu`` times with this thread's CPU time (as ``bench_env.py``'s); ``--crowd-only`` prints
 the crowd rows alone (to compare two versions of the package: ``PYTHONPATH=<dir>``).
@@ -110,6 +114,44 @@ def cost_table(delta_d: float, rows=FAMILY_ROWS) -> list[str]:
     return lines
 
 
+def episode_split(preset: str, n: int | None, steps: int, seed: int = 1) -> tuple[float, float, float, float]:
+    """``(mean episode length, µs a step without resets, ms a reset, µs a step with resets)`` under
+    random actions (``steps_per_second``'s loop, each call timed apart)."""
+    env = make_family(preset, n, None)
+    steps_per_second(env, min(steps, 1000))  # warm-up
+    env.reset(seed=seed)
+    env.action_space.seed(seed)
+    actions = [env.action_space.sample() for _ in range(steps)]
+    clock, stepping, resetting, resets = bench_env.clock, 0.0, 0.0, 0
+    for action in actions:
+        start = clock()
+        _, _, terminated, truncated, _ = env.step(action)
+        stepping += clock() - start
+        if terminated or truncated:
+            start = clock()
+            env.reset()
+            resetting += clock() - start
+            resets += 1
+    return steps / max(resets, 1), 1e6 * stepping / steps, 1e3 * resetting / max(resets, 1), 1e6 * (stepping + resetting) / steps
+
+
+def split_table(reference: gym.Env, steps: int, rows=FAMILY_ROWS) -> list[str]:
+    """The crowd families' random-action time split into steps and resets, beside the time a step may
+    take at the target ratio (CartPole-v1 timed in the same run)."""
+    cartpole = steps_per_second(reference, steps)
+    lines = [f"Steps and resets under random actions (CartPole-v1 {cartpole:.0f} steps/s in this run)",
+             "| family | obstacles | episode (steps) | step µs | reset ms | resets µs a step | µs a step | µs a step at the target |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|"]  # fmt: skip
+    for preset, n, target in rows:
+        if target is None:
+            continue
+        length, step_us, reset_ms, total_us = episode_split(preset, n, steps)
+        count = n if n is not None else make_family(preset, None, None).unwrapped.scenario.n_obstacles
+        budget = 1e6 / (target * cartpole)
+        lines.append(f"| {preset} | {count} | {length:.1f} | {step_us:.0f} | {reset_ms:.2f} | {1e3 * reset_ms / length:.0f} | {total_us:.0f} | {budget:.0f} |")
+    return lines
+
+
 def profile(preset: str, n: int | None, delta_d: float, steps: int, top: int = 15) -> None:
     """cProfile of ``steps`` random steps (resets included), the ``top`` functions by own time."""
     env = make_family(preset, n, delta_d)
@@ -120,6 +162,8 @@ def profile(preset: str, n: int | None, delta_d: float, steps: int, top: int = 1
     profiler.disable()
     print(f"\nWhere {preset} ({n if n is not None else 'own count'} obstacles) spends {steps} random steps, by own time:")
     pstats.Stats(profiler).sort_stats("tottime").print_stats(top)
+    print("... and by cumulative time (resets and steps, then their parts):")
+    pstats.Stats(profiler).sort_stats("cumtime").print_stats(2 * top)
 
 
 def import_other(checkout: str) -> str:
@@ -184,6 +228,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--profile", action="store_true", help="also profile --preset (corridor-crowd with 20 humans by default)")
     parser.add_argument("--clock", choices=sorted(CLOCKS), default="wall", help="time with the wall clock or this thread's CPU time")
     parser.add_argument("--crowd-only", action="store_true", help="only the crowd rows: corridor-crowd with 20 humans, doorway-crowd, maze-crowd")
+    parser.add_argument("--split", action="store_true", help="only the crowd families' time under random actions split into steps and resets")
     parser.add_argument("--against", metavar="CHECKOUT", help="compare with another checkout's package in this process (interleaved rounds)")
     parser.add_argument("--preset", default="corridor-crowd", help="the family --against compares and --profile profiles (default corridor-crowd)")
     parser.add_argument("--obstacles", default="20", help="its obstacle count, or 'own' for the family's default")
@@ -200,6 +245,10 @@ def main(argv=None) -> None:
     print(f"pathplan_env from {os.path.dirname(pathplan_env.__file__)}; clock: {args.clock}; load average (1 min) {os.getloadavg()[0]:.1f}")
     if args.against:
         against(args.against, args.preset, None if args.obstacles == "own" else int(args.obstacles), args.steps, args.repeats)
+        print(f"(load average (1 min) {os.getloadavg()[0]:.1f} after; {os.cpu_count()} cores)")
+        return
+    if args.split:
+        print("\n".join(split_table(gym.make("CartPole-v1"), args.steps)))
         print(f"(load average (1 min) {os.getloadavg()[0]:.1f} after; {os.cpu_count()} cores)")
         return
     reference = gym.make("CartPole-v1")

@@ -118,9 +118,9 @@ class ORCA:
         # computed (scipy's Dijkstra) and the call repeated, as statics.targets does
         args = (crowd, self._params_fields, pad, statics.obstacle_fields, statics.routes_fields, statics.scratch_targets, statics.missing)
         n_missing = _orca_routed_step_fields(*args)
-        if n_missing:
+        while n_missing:
             statics.fill_routes(n_missing)
-            _orca_routed_step_fields(*args)
+            n_missing = _orca_routed_step_fields(*args)
 
 
 @dataclass(frozen=True)

@@ -32,6 +32,21 @@ class Graph(NamedTuple):
     weights: np.ndarray  # (edges,) float64
 
 
+class GridGraph(NamedTuple):
+    """The same graph as :func:`grid_adjacency`'s, kept as the grid (:func:`grid_graph`): each cell's
+    neighbours as a bit mask, in :data:`NEIGHBOURS`' order (the CSR rows' order: increasing index).
+    What the searches walk: a mask per cell is built in a few µs where the CSR rows took a fifth of a
+    millisecond on a 9,600-cell grid (the doorway's, rebuilt at every reset)."""
+
+    mask: np.ndarray  # (cells,) uint8: bit k set if the step NEIGHBOURS[k] leads to a neighbour
+    offset: np.ndarray  # (8,) int64: the cell index's change of each step
+    weight: np.ndarray  # (8,) float64: each step's length
+
+
+#: ``(row, column)`` steps in increasing order of the neighbour's index.
+NEIGHBOURS = ((-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1))
+
+
 class Queue(NamedTuple):
     """A search's bucket queue (:func:`buckets`): scratch, one per graph serves every search on it."""
 
@@ -80,13 +95,37 @@ def grid_adjacency(free, rows, cols, straight, diagonal):
 
 
 @numba.njit(cache=True)
+def grid_graph(free, rows, cols, straight, diagonal):
+    """The :class:`GridGraph` of :func:`grid_adjacency`'s graph (the same edges and lengths)."""
+    mask = np.zeros(rows * cols, np.uint8)
+    offset, weight = np.empty(8, np.int64), np.empty(8)
+    for k in range(8):
+        di, dj = NEIGHBOURS[k]
+        offset[k] = di * cols + dj
+        weight[k] = diagonal if di != 0 and dj != 0 else straight
+    for r in range(rows):
+        for c in range(cols):
+            v = r * cols + c
+            if not free[v]:
+                continue
+            up, down, left, right = r > 0, r < rows - 1, c > 0, c < cols - 1
+            fu, fd = up and free[v - cols], down and free[v + cols]
+            fl, fr = left and free[v - 1], right and free[v + 1]
+            bits = fu << 1 | fl << 3 | fr << 4 | fd << 6  # a diagonal step: both cells beside it free
+            bits |= (fu and fl and free[v - cols - 1]) << 0 | (fu and fr and free[v - cols + 1]) << 2
+            bits |= (fd and fl and free[v + cols - 1]) << 5 | (fd and fr and free[v + cols + 1]) << 7
+            mask[v] = bits
+    return GridGraph(mask, offset, weight)
+
+
+@numba.njit(cache=True)
 def _search(graph, queue, source, need, reach, dist, pred, settled):
     """One row's search from ``source``, begun or resumed (its state: ``dist``, ``pred``, ``settled``),
     bucket by bucket until the cell ``need`` and every cell up to ``reach`` metres beyond it are
     settled (``need < 0``: every cell). Returns whether the search is complete (nothing left queued)."""
-    indptr, indices, weights = graph
+    mask, offset, weight = graph
     width, ring, fill = queue
-    n_ring = ring.shape[0]
+    per_metre, wrap = 1.0 / width, ring.shape[0] - 1  # (a bucket's index: distance x per_metre; the ring's slot: index & wrap)
     fill[:] = 0
     pending, b = 0, -1
     if not settled[source]:  # a new search
@@ -98,28 +137,31 @@ def _search(graph, queue, source, need, reach, dist, pred, settled):
     else:  # resumed: the queue is the cells reached and not settled (a bucket's order is free)
         for v in range(dist.shape[0]):
             if not settled[v] and dist[v] < np.inf:
-                q = int(dist[v] / width)
+                q = int(dist[v] * per_metre)
                 if b < 0 or q < b:
                     b = q
-                s = q % n_ring
+                s = q & wrap
                 ring[s, fill[s]] = v
                 fill[s] += 1
                 pending += 1
     stop = -1
     while pending:
-        slot = b % n_ring
+        slot = b & wrap
         for q in range(fill[slot]):
             v = ring[slot, q]
             if settled[v]:
                 continue  # queued again at a shorter distance, and settled then
             settled[v] = True
             d = dist[v]
-            for e in range(indptr[v], indptr[v + 1]):
-                j = indices[e]
-                nd = d + weights[e]
+            bits = mask[v]
+            for e in range(8):
+                if not (bits >> e) & 1:
+                    continue
+                j = v + offset[e]
+                nd = d + weight[e]
                 if nd < dist[j]:
                     dist[j], pred[j] = nd, v
-                    s = int(nd / width) % n_ring
+                    s = int(nd * per_metre) & wrap
                     ring[s, fill[s]] = j
                     fill[s] += 1
                     pending += 1
@@ -130,7 +172,7 @@ def _search(graph, queue, source, need, reach, dist, pred, settled):
         pending -= fill[slot]
         fill[slot] = 0
         if need >= 0 and stop < 0 and settled[need]:
-            stop = int((dist[need] + reach) / width)
+            stop = int((dist[need] + reach) * per_metre)
         if stop >= 0 and b >= stop and pending:
             return False  # every cell of the buckets up to here is settled, the rest queued
         b += 1
@@ -138,23 +180,26 @@ def _search(graph, queue, source, need, reach, dist, pred, settled):
 
 
 @numba.njit(cache=True)
-def buckets(weights, n_edges):
-    """``(width, ring, fill)``, a search's queue: buckets half the shortest edge wide (a cell's
-    neighbours settle in later buckets, so a bucket's cells are final when it is reached and settle in
-    any order) and a ring of the buckets ahead, each with room for every push (one per strict
-    decrease: at most one per edge, +1). Scratch: one per graph serves every search on it."""
-    width = 0.5 * weights.min() if weights.shape[0] else 1.0
-    n_ring = int(weights.max() / width) + 3 if weights.shape[0] else 1
-    return Queue(width, np.empty((n_ring, n_edges + 1), np.int64), np.zeros(n_ring, np.int64))
+def buckets(graph):
+    """``(width, ring, fill)``, a search's queue on the :class:`GridGraph` ``graph``: buckets half the
+    shortest step wide (a cell's neighbours settle in later buckets, so a bucket's cells are final
+    when it is reached and settle in any order) and a ring of the buckets ahead, each with room for
+    every push (one per strict decrease: at most one per edge, +1). Scratch: one serves every search
+    on a grid of its size and steps."""
+    width = 0.5 * graph.weight.min()
+    n_ring = 1
+    while n_ring < int(graph.weight.max() / width) + 3:  # (a power of two: a slot is an index's low bits)
+        n_ring *= 2
+    return Queue(width, np.empty((n_ring, 8 * graph.mask.shape[0] + 1), np.int32), np.zeros(n_ring, np.int64))
 
 
 @numba.njit(cache=True)
 def route_rows(graph, sources, rows, dist, pred):
     """For each ``k``: ``dist[rows[k]]`` (m; inf where unreachable) and ``pred[rows[k]]`` (the next
     cell toward ``sources[k]``; :data:`NO_PREDECESSOR` at it and where unreachable) from the cell
-    ``sources[k]`` over the undirected :class:`Graph` ``graph``: every cell."""
-    queue = buckets(graph.weights, graph.indices.shape[0])
-    settled = np.empty(graph.indptr.shape[0] - 1, np.bool_)
+    ``sources[k]`` over the :class:`GridGraph` ``graph``: every cell."""
+    queue = buckets(graph)
+    settled = np.empty(graph.mask.shape[0], np.bool_)
     for k in range(sources.shape[0]):
         settled[:] = False
         _search(graph, queue, sources[k], -1, 0.0, dist[rows[k]], pred[rows[k]], settled)
@@ -173,4 +218,4 @@ def extend_rows(graph, queue, sources, rows, needs, reach, out):
         out.complete[r] = _search(graph, queue, sources[k], needs[k], reach, out.dist[r], out.pred[r], out.settled[r])
 
 
-__all__ = ["NO_PREDECESSOR", "Graph", "Queue", "RouteRows", "buckets", "extend_rows", "grid_adjacency", "route_rows"]
+__all__ = ["NEIGHBOURS", "NO_PREDECESSOR", "Graph", "GridGraph", "Queue", "RouteRows", "buckets", "extend_rows", "grid_adjacency", "grid_graph", "route_rows"]

@@ -35,7 +35,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from pathplan_env.crowds.grid_dijkstra import Graph, Queue, RouteRows, buckets, extend_rows, grid_adjacency
+from pathplan_env.crowds.grid_dijkstra import GridGraph, Queue, RouteRows, buckets, extend_rows, grid_adjacency, grid_graph
 from pathplan_env.crowds.orca_obstacles import ORCAObstacles, obstacle_vertices
 from pathplan_env.geometry.walls import points_clearance
 
@@ -61,7 +61,7 @@ class Routes(NamedTuple):
     rows: int
     cols: int
     free: np.ndarray  # (rows * cols,) bool
-    nearest: np.ndarray  # (rows * cols,) int64: the nearest free cell (itself when free)
+    nearest: np.ndarray  # (rows * cols,) int64: the nearest free cell (itself when free; -1 until the grid's first need of it: resolve_nearest)
     dist: np.ndarray  # (routed, rows * cols) m to the goal; inf where unreachable
     pred: np.ndarray  # (routed, rows * cols) int32: the next cell toward the goal; < 0 at the goal or unreachable
     row_of: np.ndarray  # (n_obstacles,) int64: obstacle i's row in dist/pred, -1 if not routed
@@ -77,7 +77,7 @@ class HumanStatics(NamedTuple):
     obstacles: ORCAObstacles  # for ORCA: RVO2's obstacle vertices
     segments: np.ndarray  # (M, 5) capsule rows, for social force
     routes: Routes
-    adjacency: Graph  # the grid's graph (grid_dijkstra.grid_adjacency), for the rows' Dijkstra
+    graph: GridGraph  # the grid's graph (grid_dijkstra.grid_graph), for the rows' Dijkstra
     queue: Queue  # its search's scratch queue (grid_dijkstra.buckets)
     goal_cells: np.ndarray  # (routed,) int64
     # the compiled steps' arguments, built once per world, not per step (a tuple per call cost ~1 µs):
@@ -90,18 +90,24 @@ class HumanStatics(NamedTuple):
         """``(n, 2)`` preferred-velocity targets of the humans ``idx`` (rows of others: their goals)."""
         targets = goals.copy()
         n_missing = _route_targets_fields(self.routes_fields, idx, state, goals, targets, self.missing)
-        if n_missing:  # the first loss of sight: run those humans' Dijkstra, then route again
+        while n_missing:  # the first loss of sight: run those humans' Dijkstra, then route again
             self.fill_routes(n_missing)
-            _route_targets_fields(self.routes_fields, idx, state, goals, targets, self.missing)
+            n_missing = _route_targets_fields(self.routes_fields, idx, state, goals, targets, self.missing)
         return targets
 
     def fill_routes(self, n_missing: int) -> None:
         """Take the Dijkstra of the first ``n_missing`` humans of ``missing`` (out of sight of their
-        goals) as far as the cells they stand on, and :data:`ROUTE_REACH` beyond."""
+        goals) as far as the cells they stand on, and :data:`ROUTE_REACH` beyond; a human on a blocked
+        cell whose nearest free cell is not known yet (``need`` -1) has the grid's nearest cells
+        computed instead, its route at the next call."""
         routes = self.routes
         rows = routes.row_of[self.missing[:n_missing]]
+        needs = routes.need[rows]
+        if (needs < 0).any():
+            resolve_nearest(routes.nearest, routes.free, routes.rows, routes.cols)
+            rows, needs = rows[needs >= 0], needs[needs >= 0]
         out = RouteRows(routes.dist, routes.pred, routes.settled, routes.ready)
-        extend_rows(self.adjacency, self.queue, self.goal_cells[rows], rows, routes.need[rows], ROUTE_REACH, out)
+        extend_rows(self.graph, self.queue, self.goal_cells[rows], rows, needs, ROUTE_REACH, out)
 
 
 class _Grid(NamedTuple):
@@ -112,8 +118,8 @@ class _Grid(NamedTuple):
     cols: int
     free: np.ndarray
     nearest: np.ndarray
-    adjacency: Graph  # 8-connected free cells, both directions (grid_dijkstra)
-    queue: Queue  # grid_dijkstra.buckets of it: scratch for every route on this grid (a few MB, allocated once)
+    graph: GridGraph  # 8-connected free cells (grid_dijkstra.grid_graph)
+    queue: Queue  # grid_dijkstra.buckets of it: scratch for every route on grids of its size (a few MB, allocated once)
     blocked_below: np.ndarray  # (rows + 1, cols + 1) int64 (Routes.blocked_below)
 
 
@@ -122,35 +128,83 @@ def _geometry_key(scenario) -> tuple:
 
 
 @lru_cache(maxsize=16)
+def _cells(bounds: tuple, clearance: float, cell: float) -> tuple:
+    """``(rows, cols, xs, ys, inside)`` of a grid over ``bounds``: its cells' centres (flat, row-major)
+    and whether each keeps ``clearance`` from the arena's edges (cached: the doorway's grid changes
+    at every reset, its arena does not)."""
+    xmin, ymin, xmax, ymax = bounds
+    cols, rows = max(1, math.ceil((xmax - xmin) / cell)), max(1, math.ceil((ymax - ymin) / cell))
+    xs, ys = np.meshgrid(xmin + (np.arange(cols) + 0.5) * cell, ymin + (np.arange(rows) + 0.5) * cell)
+    xs, ys = xs.ravel(), ys.ravel()
+    inside = (xs - xmin >= clearance) & (xmax - xs >= clearance) & (ys - ymin >= clearance) & (ymax - ys >= clearance)
+    for array in (xs, ys, inside):
+        array.flags.writeable = False
+    return rows, cols, xs, ys, inside
+
+
+@lru_cache(maxsize=16)
 def _grid(key: tuple, clearance: float, cell: float) -> _Grid:
     """The free cells of a geometry for discs of ``clearance`` and their 8-connected graph."""
-    import scipy.ndimage
     import shapely
 
     from pathplan_env.geometry.walls import segments_of
 
     bounds, walls, thickness, polygons = key
-    xmin, ymin, xmax, ymax = bounds
-    cols, rows = max(1, math.ceil((xmax - xmin) / cell)), max(1, math.ceil((ymax - ymin) / cell))
-    xs, ys = np.meshgrid(xmin + (np.arange(cols) + 0.5) * cell, ymin + (np.arange(rows) + 0.5) * cell)
-    xs, ys = xs.ravel(), ys.ravel()
-    free = (xs - xmin >= clearance) & (xmax - xs >= clearance) & (ys - ymin >= clearance) & (ymax - ys >= clearance)
+    rows, cols, xs, ys, inside = _cells(bounds, clearance, cell)
+    free = inside.copy()
     segments = segments_of(walls, thickness, polygons)
     if len(segments):
-        free &= points_clearance(np.column_stack([xs, ys]), segments) >= clearance
+        # only the cells within a capsule's box widened by its radius, the clearance and a cell can be
+        # closer than the clearance: the others keep it by a cell's width, far beyond rounding
+        near = np.flatnonzero(_near_capsules(xs[:cols], ys[::cols], segments, clearance + cell))
+        free[near] &= points_clearance(np.column_stack([xs[near], ys[near]]), segments) >= clearance
     for vertices in polygons:
         free &= ~shapely.contains_xy(shapely.Polygon(vertices), xs, ys)
     grid = free.reshape(rows, cols)
-    if grid.any():
-        _, (ni, nj) = scipy.ndimage.distance_transform_edt(~grid, return_indices=True)
-        nearest = (ni * cols + nj).ravel().astype(np.int64)
-    else:
-        nearest = np.arange(rows * cols, dtype=np.int64)
-    adjacency = grid_adjacency(free, rows, cols, cell * math.hypot(0, 1), cell * math.hypot(1, 1))
-    queue = buckets(adjacency.weights, adjacency.indices.shape[0])
-    blocked_below = np.zeros((rows + 1, cols + 1), np.int64)
-    blocked_below[1:, 1:] = (~grid).cumsum(axis=0).cumsum(axis=1)
-    return _Grid(xmin, ymin, cell, rows, cols, free, nearest, adjacency, queue, blocked_below)
+    # the blocked cells' nearest free cells when first needed (resolve_nearest): a human routed from a
+    # blocked cell, a goal on one; the doorway's grid, new at every reset, rarely needs them
+    nearest = np.where(free, np.arange(rows * cols, dtype=np.int64), -1 if grid.any() else np.arange(rows * cols, dtype=np.int64))
+    graph = grid_graph(free, rows, cols, cell * math.hypot(0, 1), cell * math.hypot(1, 1))
+    queue = _queue(rows * cols, cell)
+    blocked_below = _blocked_below(free, rows, cols)
+    return _Grid(bounds[0], bounds[1], cell, rows, cols, free, nearest, graph, queue, blocked_below)
+
+
+@lru_cache(maxsize=4)
+def _queue(n_cells: int, cell: float) -> Queue:
+    """The search queue of every grid of ``n_cells`` cells of side ``cell`` (scratch: one serves them
+    all; the doorway's grid changes with its door at every reset, its size does not)."""
+    steps = np.array([cell * math.hypot(0, 1), cell * math.hypot(1, 1)])  # (grid_graph's: only their extremes and the count matter)
+    return buckets(GridGraph(np.zeros(n_cells, np.uint8), np.zeros(8, np.int64), steps))
+
+
+@numba.njit(cache=True)
+def _near_capsules(column_x, row_y, segments, margin):
+    """``(rows * cols,)`` bool: the cells whose centre lies in some capsule's box widened by its radius
+    and ``margin`` (the grid's column and row centres given)."""
+    near = np.zeros((row_y.shape[0], column_x.shape[0]), np.bool_)
+    for s in range(segments.shape[0]):
+        reach = segments[s, 4] + margin
+        x0, x1 = min(segments[s, 0], segments[s, 2]) - reach, max(segments[s, 0], segments[s, 2]) + reach
+        y0, y1 = min(segments[s, 1], segments[s, 3]) - reach, max(segments[s, 1], segments[s, 3]) + reach
+        for i in range(row_y.shape[0]):
+            if y0 <= row_y[i] <= y1:
+                for j in range(column_x.shape[0]):
+                    if x0 <= column_x[j] <= x1:
+                        near[i, j] = True
+    return near.ravel()
+
+
+@numba.njit(cache=True)
+def _blocked_below(free, rows, cols):
+    """:attr:`Routes.blocked_below`: the blocked cells below and left of each corner."""
+    below = np.zeros((rows + 1, cols + 1), np.int64)
+    for i in range(rows):
+        run = 0
+        for j in range(cols):
+            run += not free[i * cols + j]
+            below[i + 1, j + 1] = below[i, j + 1] + run
+    return below
 
 
 @lru_cache(maxsize=16)
@@ -177,6 +231,17 @@ def _orca_obstacles(key: tuple) -> ORCAObstacles:
     return obstacle_vertices(rings + lines)
 
 
+def resolve_nearest(nearest: np.ndarray, free: np.ndarray, rows: int, cols: int) -> None:
+    """Fill ``nearest`` (a grid's, in place) with each cell's nearest free cell: scipy's Euclidean
+    distance transform's, whose ties decide which (a no-op once filled)."""
+    import scipy.ndimage
+
+    if nearest.min() >= 0:
+        return
+    ni, nj = scipy.ndimage.distance_transform_edt(~free.reshape(rows, cols), return_distances=False, return_indices=True)
+    nearest[:] = (ni * cols + nj).ravel()
+
+
 def orca_obstacles(scenario) -> ORCAObstacles:
     """The scenario's walls and polygons as RVO2 obstacles (cached per geometry)."""
     return _orca_obstacles(_geometry_key(scenario))
@@ -187,12 +252,15 @@ def human_statics(scenario, goals: np.ndarray, routed: np.ndarray, clearance: fl
     keep ``clearance + ROUTE_MARGIN`` from the geometry."""
     grid = _grid(_geometry_key(scenario), float(clearance) + ROUTE_MARGIN, GRID_CELL)
     goal_cells, row_of = _goal_cells(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.nearest, goals, routed)
+    if len(goal_cells) and goal_cells.min() < 0:  # a goal on a blocked cell
+        resolve_nearest(grid.nearest, grid.free, grid.rows, grid.cols)
+        goal_cells, row_of = _goal_cells(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.nearest, goals, routed)
     n_cells = grid.rows * grid.cols
     dist, pred = np.empty((len(routed), n_cells)), np.empty((len(routed), n_cells), np.int32)
     routes = Routes(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.free, grid.nearest, dist, pred, row_of, np.zeros(len(routed), np.bool_),
                     grid.blocked_below, np.zeros((len(routed), n_cells), np.bool_), np.zeros(len(routed), np.int64))  # fmt: skip
     obstacles = orca_obstacles(scenario)
-    return HumanStatics(obstacles, scenario.static_segments, routes, grid.adjacency, grid.queue, goal_cells, tuple(obstacles), tuple(routes), goals.copy(),
+    return HumanStatics(obstacles, scenario.static_segments, routes, grid.graph, grid.queue, goal_cells, tuple(obstacles), tuple(routes), goals.copy(),
                         np.empty(len(goals), np.int64))  # fmt: skip
 
 
@@ -202,7 +270,7 @@ def _all_pairs(key: tuple, clearance: float, cell: float) -> tuple[_Grid, np.nda
     from scipy.sparse.csgraph import dijkstra
 
     grid = _grid(key, clearance, cell)
-    adjacency, n = grid.adjacency, grid.rows * grid.cols
+    adjacency, n = grid_adjacency(grid.free, grid.rows, grid.cols, cell * math.hypot(0, 1), cell * math.hypot(1, 1)), grid.rows * grid.cols
     graph = scipy.sparse.csr_matrix((adjacency.weights, adjacency.indices, adjacency.indptr), shape=(n, n))
     return grid, dijkstra(graph, directed=False)  # (distances only: the same whatever order cells settle in)
 
@@ -212,6 +280,7 @@ def path_lengths(scenario, starts: np.ndarray, goals: np.ndarray, clearance: flo
     of ``clearance`` around the scenario's geometry: all pairs of a ``cell`` grid, computed once per
     geometry (for samplers of fixed maps: 1,600 cells on the maze)."""
     grid, dist = _all_pairs(_geometry_key(scenario), float(clearance), float(cell))
+    resolve_nearest(grid.nearest, grid.free, grid.rows, grid.cols)
     ok = np.isfinite(starts).all(axis=1) & np.isfinite(goals).all(axis=1)
     out = np.full(len(starts), np.inf)
     a, b = grid.nearest[_cells_of(grid, starts[ok])], grid.nearest[_cells_of(grid, goals[ok])]
@@ -270,20 +339,106 @@ def _box_free(routes, ax, ay, bx, by):
     return below[i1 + 1, j1 + 1] - below[i0, j1 + 1] - below[i1 + 1, j0] + below[i0, j0] == 0
 
 
+@numba.njit(cache=True, inline="always")
+def _sample_cell(routes, ax, ay, bx, by, k, n):
+    """``(i, j)``: the row and column of the cell of the segment's ``k``-th of ``n`` samples, computed
+    as ``_cell`` of ``_sees``' sample (the same expressions)."""
+    t = k / n
+    x, y = ax + t * (bx - ax), ay + t * (by - ay)
+    j = min(max(int((x - routes.x0) / routes.cell), 0), routes.cols - 1)
+    i = min(max(int((y - routes.y0) / routes.cell), 0), routes.rows - 1)
+    return i, j
+
+
+@numba.njit(cache=True, inline="always")
+def _samples_free(routes, ax, ay, bx, by, lo, hi, n):
+    """Whether the cells of samples ``lo`` to ``hi`` of the segment are all free, by the cells' box
+    between those of samples ``lo`` and ``hi`` (four reads of the summed-area table). Exact, not a
+    bound: a sample's coordinate ``a + (k / n) * (b - a)`` is monotone in ``k`` (each rounding is
+    monotone), and its cell index in its coordinate, so every sample between lies in that box."""
+    i0, j0 = _sample_cell(routes, ax, ay, bx, by, lo, n)
+    i1, j1 = _sample_cell(routes, ax, ay, bx, by, hi, n)
+    i0, i1 = min(i0, i1), max(i0, i1)
+    j0, j1 = min(j0, j1), max(j0, j1)
+    below = routes.blocked_below
+    return below[i1 + 1, j1 + 1] - below[i0, j1 + 1] - below[i1 + 1, j0] + below[i0, j0] == 0
+
+
 @numba.njit(cache=True)
 def _sees(routes, ax, ay, bx, by):
     """Whether the segment from ``a`` to ``b`` stays in free cells beyond its first :data:`LEAVE`
     metres (a human pressed into a wall's margin is at most ``ROUTE_MARGIN`` deep in it; a wall's far
-    side is a radius away, so this never sees through one)."""
-    if _box_free(routes, ax, ay, bx, by):  # the common case in open space: no sample to test
+    side is a radius away, so this never sees through one): its samples every half cell, those past
+    ``LEAVE`` tested by boxes of samples (:func:`_samples_free`: the whole run, runs of 16, of 4),
+    one by one only where a box of 4 holds a blocked cell. The answer is the one-by-one test's of
+    every sample (``tests/scenarios/test_family_scenes.py``)."""
+    if _box_free(routes, ax, ay, bx, by):  # the common case in open space: four divisions
         return True
     length = math.hypot(bx - ax, by - ay)
     n = int(length / (0.5 * routes.cell)) + 1
-    for k in range(n + 1):
-        t = k / n
-        if t * length > LEAVE and not routes.free[_cell(routes, ax + t * (bx - ax), ay + t * (by - ay))]:
-            return False
+    first = 0
+    while first <= n and first / n * length <= LEAVE:  # (the samples the walk from a wall skips: t * length <= LEAVE)
+        first += 1
+    if first > n or _samples_free(routes, ax, ay, bx, by, first, n, n):
+        return True
+    for lo in range(first, n + 1, 16):
+        hi = min(lo + 15, n)
+        if _samples_free(routes, ax, ay, bx, by, lo, hi, n):
+            continue
+        for lo4 in range(lo, hi + 1, 4):
+            hi4 = min(lo4 + 3, hi)
+            if _samples_free(routes, ax, ay, bx, by, lo4, hi4, n):
+                continue
+            for k in range(lo4, hi4 + 1):
+                i, j = _sample_cell(routes, ax, ay, bx, by, k, n)
+                if not routes.free[i * routes.cols + j]:
+                    return False
     return True
+
+
+#: Chain cells tested at once by :func:`_farthest_seen`'s box.
+CHAIN_BLOCK = 8
+
+
+@numba.njit(cache=True)
+def _farthest_seen(routes, row, c, x, y):
+    """The farthest of the :data:`LOOKAHEAD_CELLS` cells of ``row``'s chain from the cell ``c`` that
+    the human at ``(x, y)`` sees, every one before it seen too (``c`` if none): :func:`_sees` of each
+    in turn, up to the first it does not see. A block of :data:`CHAIN_BLOCK` chain cells is seen at
+    once when every cell of the box around them and the human's cell is free: the same answer, one
+    read of the summed-area table for eight sight lines (a sight line's samples lie in the box of the
+    cells of its first, the human's position itself, and its last, within a few ulps of the chain
+    cell's centre: ``_samples_free``)."""
+    cols = routes.cols
+    h = _cell(routes, x, y)
+    hi, hj = h // cols, h % cols
+    best, cur, walked = c, c, 0
+    while walked < LOOKAHEAD_CELLS:
+        i0, i1, j0, j1 = hi, hi, hj, hj
+        probe, k = cur, 0
+        while k < min(CHAIN_BLOCK, LOOKAHEAD_CELLS - walked):
+            nxt = routes.pred[row, probe]
+            if nxt < 0:
+                break
+            ni, nj = nxt // cols, nxt % cols
+            i0, i1, j0, j1 = min(i0, ni), max(i1, ni), min(j0, nj), max(j1, nj)
+            probe, k = nxt, k + 1
+        if k == 0:
+            return best
+        i0, i1 = max(i0, 0), min(i1, routes.rows - 1)
+        j0, j1 = max(j0, 0), min(j1, cols - 1)
+        below = routes.blocked_below
+        if below[i1 + 1, j1 + 1] - below[i0, j1 + 1] - below[i1 + 1, j0] + below[i0, j0] == 0:
+            best, cur, walked = probe, probe, walked + k
+            continue
+        for _ in range(k):  # some cell of the box is blocked: each sight line as it is
+            nxt = routes.pred[row, cur]
+            cx, cy = routes.x0 + (nxt % cols + 0.5) * routes.cell, routes.y0 + (nxt // cols + 0.5) * routes.cell
+            if not _sees(routes, x, y, cx, cy):
+                return best
+            best, cur = nxt, nxt
+        walked += k
+    return best
 
 
 @numba.njit(cache=True)
@@ -301,6 +456,11 @@ def route_targets(routes, idx, state, goals, targets, missing):
         if row < 0 or _sees(routes, x, y, gx, gy):
             continue
         c = routes.nearest[_cell(routes, x, y)]
+        if c < 0:  # on a blocked cell whose nearest free cell is not known yet (HumanStatics.fill_routes)
+            routes.need[row] = -1
+            missing[n_missing] = i
+            n_missing += 1
+            continue
         if not (routes.ready[row] or routes.settled[row, c]):
             routes.need[row] = c
             missing[n_missing] = i
@@ -308,15 +468,7 @@ def route_targets(routes, idx, state, goals, targets, missing):
             continue
         if not math.isfinite(routes.dist[row, c]):
             continue  # no route: head straight for the goal (ORCA keeps it off the walls)
-        best, cur = c, c
-        for _ in range(LOOKAHEAD_CELLS):
-            nxt = routes.pred[row, cur]
-            if nxt < 0:
-                break
-            cx, cy = routes.x0 + (nxt % routes.cols + 0.5) * routes.cell, routes.y0 + (nxt // routes.cols + 0.5) * routes.cell
-            if not _sees(routes, x, y, cx, cy):
-                break
-            best, cur = nxt, nxt
+        best = _farthest_seen(routes, row, c, x, y)
         wx = routes.x0 + (best % routes.cols + 0.5) * routes.cell
         wy = routes.y0 + (best // routes.cols + 0.5) * routes.cell
         d = math.hypot(wx - x, wy - y)
@@ -334,4 +486,15 @@ def _route_targets_fields(routes_fields, idx, state, goals, targets, missing):
     return route_targets(Routes(*routes_fields), idx, state, goals, targets, missing)
 
 
-__all__ = ["GRID_CELL", "HumanStatics", "ROUTE_MARGIN", "Routes", "drivers_statics", "human_statics", "path_lengths", "orca_obstacles", "route_targets"]
+__all__ = [
+    "GRID_CELL",
+    "HumanStatics",
+    "ROUTE_MARGIN",
+    "Routes",
+    "drivers_statics",
+    "human_statics",
+    "path_lengths",
+    "orca_obstacles",
+    "resolve_nearest",
+    "route_targets",
+]

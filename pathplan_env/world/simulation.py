@@ -227,7 +227,7 @@ class World(SpaceKeeper):
             args = (self._ints, self._floats, statics.routes_fields, statics.obstacle_fields, statics.scratch_targets, statics.missing,
                     (x0, y0, dx, dy, goal_fraction, static_contact, min_gap))  # fmt: skip
             ax, ay, moving, min_gap, first_contact, n_missing = step_kernel.world_step_routed(*args)
-            if n_missing:  # some human first lost sight of its goal: its route (scipy's Dijkstra), then the step
+            while n_missing:  # some human first lost sight of its goal: its route (grid_dijkstra), then the step
                 statics.fill_routes(n_missing)
                 ax, ay, moving, min_gap, first_contact, n_missing = step_kernel.world_step_routed(*args)
         else:

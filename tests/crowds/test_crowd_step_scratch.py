@@ -53,10 +53,11 @@ def test_a_reset_builds_new_scratch():
 def test_compiled_goal_cells_are_numpys():
     """``routing._goal_cells`` against the numpy of before (``_cells_of``), goals outside the grid and on
     cell edges included."""
-    from pathplan_env.crowds.routing import _cells_of, _goal_cells, _grid
+    from pathplan_env.crowds.routing import _cells_of, _goal_cells, _grid, resolve_nearest
 
     rng = np.random.default_rng(5)
     grid = _grid(((0.0, 0.0, 16.0, 6.0), (((0.0, 1.0), (16.0, 1.0)),), 0.1, ()), 0.35, 0.1)
+    resolve_nearest(grid.nearest, grid.free, grid.rows, grid.cols)
     goals = np.concatenate([rng.uniform(-1, 17, (300, 2)), np.round(rng.uniform(0, 16, (100, 2)), 1)])
     routed = np.sort(rng.choice(len(goals), 250, replace=False)).astype(np.int64)
     cells, row_of = _goal_cells(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.nearest, goals, routed)
@@ -64,3 +65,18 @@ def test_compiled_goal_cells_are_numpys():
     expected_rows[routed] = np.arange(len(routed))
     assert np.array_equal(cells, grid.nearest[_cells_of(grid, goals[routed])])
     assert np.array_equal(row_of, expected_rows)
+
+
+def test_the_nearest_free_cells_come_when_needed_as_scipy_gives_them():
+    """A grid's blocked cells learn their nearest free cell when a route first needs one (-1 until
+    then); then it is scipy's distance transform's, ties and all; free cells are their own."""
+    import scipy.ndimage
+
+    from pathplan_env.crowds.routing import _grid, resolve_nearest
+
+    grid = _grid(((0.0, 0.0, 12.0, 8.0), (((6.0, 0.0), (6.0, 3.1)), ((6.0, 4.3), (6.0, 8.0))), 0.2, ()), 0.35, 0.1)
+    cells = np.arange(grid.rows * grid.cols)
+    assert np.array_equal(grid.nearest[grid.free], cells[grid.free]) and (grid.nearest[~grid.free] == -1).all()
+    resolve_nearest(grid.nearest, grid.free, grid.rows, grid.cols)
+    _, (ni, nj) = scipy.ndimage.distance_transform_edt(~grid.free.reshape(grid.rows, grid.cols), return_indices=True)
+    assert np.array_equal(grid.nearest, (ni * grid.cols + nj).ravel())

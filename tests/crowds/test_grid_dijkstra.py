@@ -8,7 +8,7 @@ import pytest
 import scipy.sparse
 from scipy.sparse.csgraph import dijkstra
 
-from pathplan_env.crowds.grid_dijkstra import NO_PREDECESSOR, RouteRows, buckets, extend_rows, grid_adjacency, route_rows
+from pathplan_env.crowds.grid_dijkstra import NO_PREDECESSOR, RouteRows, buckets, extend_rows, grid_adjacency, grid_graph, route_rows
 
 scipy_version = tuple(int(part) for part in scipy.__version__.split(".")[:2])
 
@@ -35,7 +35,8 @@ def test_route_rows_are_scipys_dijkstra(seed):
     sources = np.flatnonzero(free)[:: 37]
     expected_dist, expected_pred = dijkstra(graph, directed=False, indices=sources, return_predecessors=True)
     dist, pred = np.empty((len(sources) + 1, rows * cols)), np.zeros((len(sources) + 1, rows * cols), np.int32)
-    route_rows(adjacency, sources, np.arange(1, len(sources) + 1), dist, pred)  # rows 1..: row 0 untouched
+    graph = grid_graph(free, rows, cols, cell * math.hypot(0, 1), cell * math.hypot(1, 1))  # (what the searches walk)
+    route_rows(graph, sources, np.arange(1, len(sources) + 1), dist, pred)  # rows 1..: row 0 untouched
     np.testing.assert_array_equal(dist[1:].view(np.int64), expected_dist.view(np.int64))
     np.testing.assert_array_equal(pred[1:], expected_pred)
     assert (pred[0] == 0).all()
@@ -58,17 +59,17 @@ def test_extended_rows_settle_what_full_rows_hold():
     distances and predecessors on every cell it settled, and all of them once complete."""
     rows, cols, cell = 30, 40, 0.1
     free = _grid(1, rows, cols)
-    adjacency = grid_adjacency(free, rows, cols, cell * math.hypot(0, 1), cell * math.hypot(1, 1))
+    graph = grid_graph(free, rows, cols, cell * math.hypot(0, 1), cell * math.hypot(1, 1))
     cells = np.flatnonzero(free)
     source = cells[len(cells) // 2]
     full_dist, full_pred = np.empty((1, rows * cols)), np.empty((1, rows * cols), np.int32)
-    route_rows(adjacency, np.array([source]), np.array([0]), full_dist, full_pred)
+    route_rows(graph, np.array([source]), np.array([0]), full_dist, full_pred)
     dist, pred = np.empty((1, rows * cols)), np.empty((1, rows * cols), np.int32)
     settled, complete = np.zeros((1, rows * cols), bool), np.zeros(1, bool)
     order = np.argsort(full_dist[0][cells])
-    queue = buckets(adjacency.weights, len(adjacency.indices))
+    queue = buckets(graph)
     for need in cells[order[[10, 200, 150, 600, -1]]]:  # nearer and farther cells, resumed each time
-        extend_rows(adjacency, queue, np.array([source]), np.array([0]), np.array([need]), 0.3, RouteRows(dist, pred, settled, complete))
+        extend_rows(graph, queue, np.array([source]), np.array([0]), np.array([need]), 0.3, RouteRows(dist, pred, settled, complete))
         assert settled[0, need]
         assert complete[0] == (need == cells[order[-1]])  # (stopped short of the far cells until the farthest is needed)
         done = settled[0]
@@ -76,3 +77,17 @@ def test_extended_rows_settle_what_full_rows_hold():
         np.testing.assert_array_equal(pred[0][done], full_pred[0][done])
     assert complete[0] and settled[0][free].all()
     np.testing.assert_array_equal(dist[0][free], full_dist[0][free])
+
+
+@pytest.mark.parametrize("seed", [0, 3])
+def test_the_grid_graph_is_the_csr_graph(seed):
+    """The searches walk each cell's neighbour mask: the same edges, lengths and order as the CSR rows
+    scipy is given."""
+    rows, cols, cell = 30, 40, 0.1
+    free = _grid(seed, rows, cols)
+    indptr, indices, weights = grid_adjacency(free, rows, cols, cell, cell * math.sqrt(2))
+    mask, offset, weight = grid_graph(free, rows, cols, cell, cell * math.sqrt(2))
+    for v in range(rows * cols):
+        steps = [k for k in range(8) if mask[v] >> k & 1]
+        assert (v + offset[steps]).tolist() == indices[indptr[v] : indptr[v + 1]].tolist()
+        assert weight[steps].tolist() == weights[indptr[v] : indptr[v + 1]].tolist()

@@ -12,7 +12,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from pathplan_env.crowds.routing import LEAVE, _box_free, _cell, _sees, human_statics
+from pathplan_env.crowds.grid_dijkstra import route_rows
+from pathplan_env.crowds.routing import LEAVE, LOOKAHEAD_CELLS, _box_free, _cell, _farthest_seen, _sees, human_statics, resolve_nearest
 from pathplan_env.scenarios.crowd_families import CROWD_FAMILIES
 from pathplan_env.scenarios.scenario import Obstacle, Scenario
 from pathplan_env.scenarios.wall_families import FAMILIES
@@ -92,11 +93,49 @@ def test_the_sight_lines_box_test_changes_no_answer(name):
     xmin, ymin, xmax, ymax = scenario.bounds
     low, span = np.array([xmin - 0.5, ymin - 0.5]), np.array([xmax - xmin + 1.0, ymax - ymin + 1.0])
     boxed = 0
-    for _ in range(3000):
+    for _ in range(6000):
         (ax, ay), d = low + span * rng.random(2), rng.normal(0.0, 2.0, 2)
         bx, by = ax + d[0], ay + d[1]
         if rng.random() < 0.3:  # along a row or column of cells, and on cell boundaries
             bx, ay = ax, round(ay * 10) / 10
+        elif rng.random() < 0.3:  # to a cell's centre anywhere (a route's waypoint): long, past walls
+            bx, by = xmin + (np.floor(rng.random() * (xmax - xmin) * 10) + 0.5) / 10, ymin + (np.floor(rng.random() * (ymax - ymin) * 10) + 0.5) / 10
         assert _sees(routes, ax, ay, bx, by) == _sees_sampled(routes, ax, ay, bx, by)
         boxed += bool(_box_free(routes, ax, ay, bx, by))
     assert boxed > 100  # the box test decides often
+
+
+def _farthest_seen_one_by_one(routes, row, c, x, y):
+    """``routing._farthest_seen`` without its boxes: each chain cell's sight line in turn."""
+    best = cur = c
+    for _ in range(LOOKAHEAD_CELLS):
+        nxt = routes.pred[row, cur]
+        if nxt < 0:
+            break
+        cx, cy = routes.x0 + (nxt % routes.cols + 0.5) * routes.cell, routes.y0 + (nxt // routes.cols + 0.5) * routes.cell
+        if not _sees(routes, x, y, cx, cy):
+            break
+        best = cur = nxt
+    return best
+
+
+@pytest.mark.parametrize("name", ["doorway-crowd", "maze-crowd"])
+def test_the_chain_walks_box_test_changes_no_waypoint(name):
+    scenario = FAST_FAMILIES[name](np.random.default_rng(2), None)
+    goals = np.array([ob.goal for ob in scenario.obstacles])
+    statics = human_statics(scenario, goals, np.arange(len(goals)), 0.3)
+    routes = statics.routes
+    route_rows(statics.graph, statics.goal_cells, np.arange(len(goals)), routes.dist, routes.pred)
+    resolve_nearest(routes.nearest, routes.free, routes.rows, routes.cols)
+    rng = np.random.default_rng(3)
+    xmin, ymin, xmax, ymax = scenario.bounds
+    blocks = 0
+    for _ in range(3000):
+        x, y, row = xmin + (xmax - xmin) * rng.random(), ymin + (ymax - ymin) * rng.random(), int(rng.integers(len(goals)))
+        c = int(routes.nearest[_cell(routes, x, y)])  # (humans pressed into a wall's margin included)
+        if not np.isfinite(routes.dist[row, c]):
+            continue
+        expected = _farthest_seen_one_by_one(routes, row, c, x, y)
+        assert _farthest_seen(routes, row, c, x, y) == expected
+        blocks += expected != c
+    assert blocks > 500  # most walk some way

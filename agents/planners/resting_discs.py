@@ -120,11 +120,3 @@ def visited(resting, out, q):
     if resting is None:
         return q
     return out[q]
-
-
-@numba.njit(cache=True)
-def visit_buffer(resting, n_obstacles):
-    """The ``out`` array :func:`obstacles_near` and :func:`obstacles_along` write to (empty without a broad phase)."""
-    if resting is None:
-        return np.empty(0, np.int64)
-    return np.empty(n_obstacles, np.int64)

@@ -107,3 +107,18 @@ def test_the_rest_skipping_the_exempt_grid_ranks_every_candidate_the_same(seed):
         for b in others:
             assert np.array_equal(a.best, b.best) and np.array_equal(a.history, b.history) and a.best_penalty == b.best_penalty
         assert np.unique(a.history).size > 1  # the run improved on its start: it compared costs
+
+
+def test_a_prediction_where_nothing_moves_is_the_one_every_substep_computes():
+    """Nothing moving, the prediction repeats its first substep: the same bits as stepping every
+    body through every substep (``resting_pairs=True`` visits every pair, so it never takes the shortcut)."""
+    from agents.planners.prediction import predict_among
+
+    rng = np.random.default_rng(3)
+    positions = rng.uniform(0.5, 9.5, (120, 2))
+    positions[0] = (-0.0, 5.0)  # a centre at -0.0: an added +0 makes it +0.0 once, then never again
+    velocities = np.zeros((120, 2))
+    velocities[::7] = -0.0
+    args = (positions, velocities, rng.uniform(0.05, 0.3, 120), np.array([0.0, 0.0, 10.0, 10.0]), np.array([[3.0, 3.0, 6.0, 4.0, 0.05]]), 0.1, 20, 3)
+    shortcut, stepped = predict_among(*args), predict_among(*args, True)
+    assert np.array_equal(shortcut, stepped) and np.array_equal(np.signbit(shortcut), np.signbit(stepped))

@@ -28,7 +28,7 @@ import numpy as np
 from numba.extending import overload
 
 from agents.planners.costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal
-from agents.planners.resting_discs import EVERY_OBSTACLE, RestingSet, moving_obstacles, obstacles_along, obstacles_near, visited
+from agents.planners.resting_discs import EVERY_OBSTACLE, RestingSet, moving_obstacles, obstacles_along, obstacles_near_again, visited
 from pathplan_env.geometry.contacts import swept_pair
 from pathplan_env.geometry.walls import swept_capsule
 from pathplan_env.robots.holonomic import reach_fraction, substep_point
@@ -336,7 +336,7 @@ def timed_path_cost(x, scene):
     # per obstacle, read only once ``touched`` (its first touch writes them): among hundreds of resting
     # discs, zeroing them and summing over every obstacle cost more than a plan's few contacts
     # (three allocations, not six: an evaluation among 8 obstacles costs under a microsecond)
-    floats, flags, indices = np.empty(2 * n_obs), np.zeros(2 * n_obs, np.bool_), np.empty(2 * n_obs, np.int64)
+    floats, flags, indices = np.empty(2 * n_obs), np.zeros(2 * n_obs, np.bool_), np.empty(2 * n_obs + 5, np.int64)
     depth, first_touch = floats[:n_obs], floats[n_obs:]  # when first touched, in steps
     touched, near = flags[:n_obs], flags[n_obs:]  # near: touched within the horizon, against the step-by-step prediction
     hits = indices[:n_obs]  # the obstacles touched, in the order first touched
@@ -350,13 +350,15 @@ def timed_path_cost(x, scene):
     contact = False
     running = 0.0  # the sum of the cost-to-go where each step ends (``progress_weight``)
     # the obstacles a test visits (the broad phase: the others cannot reach; unused without one)
-    visit = indices[n_obs:]
+    visit = indices[n_obs : 2 * n_obs]
+    span = indices[2 * n_obs :]  # the grid cells ``visit`` holds for the horizon's steps (none yet)
+    span[:] = -2
     for step in range(horizon_steps):
         nseg, qx, qy = walk_along(pts, seg, px, py, x[2 * k + seg] * reach)
         dx, dy = qx - px, qy - py
         goal_t = reach_fraction(px, py, dx, dy, goal[0], goal[1], goal_radius)
         first = step * n
-        for q in range(obstacles_near(scene.resting, n_obs, px, py, reach + robot_radius, visit)):
+        for q in range(obstacles_near_again(scene.resting, n_obs, px, py, reach + robot_radius, visit, span)):
             o = visited(scene.resting, visit, q)
             ox, oy = traj[first, o, 0], traj[first, o, 1]
             gap0 = math.sqrt((px - ox) * (px - ox) + (py - oy) * (py - oy)) - robot_radius - contact_radii[o]

@@ -102,6 +102,7 @@ class MetaheuristicAgent(Agent):
         self.last_history_evaluations: np.ndarray | None = None  # evaluations spent at each history entry
         self.last_cost = self.last_penalty = np.nan
         self.last_scouted = 0
+        self.last_evaluations = 0  # objective evaluations the last run spent
 
     def scene(self, obs: dict[str, np.ndarray]) -> Scene:
         """The objective's problem; the scene's walls and polygon edges (from the observation) are
@@ -163,6 +164,7 @@ class MetaheuristicAgent(Agent):
         self.last_cost, self.last_penalty = float(result.best_cost), float(result.best_penalty)
         self.last_history, self.last_history_evaluations = result.history, result.history_evaluations
         self.last_scouted = int(result.scouted)
+        self.last_evaluations = int(result.evaluations)
         return result.best
 
     def plan(self, obs, memory):

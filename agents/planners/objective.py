@@ -28,7 +28,7 @@ import numpy as np
 from numba.extending import overload
 
 from agents.planners.costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal
-from agents.planners.resting_discs import EVERY_OBSTACLE, RestingSet, obstacles_along, obstacles_near, visit_buffer, visited
+from agents.planners.resting_discs import EVERY_OBSTACLE, RestingSet, moving_obstacles, obstacles_along, obstacles_near_again, visited
 from pathplan_env.geometry.contacts import swept_pair
 from pathplan_env.geometry.walls import swept_capsule
 from pathplan_env.robots.holonomic import reach_fraction, substep_point
@@ -90,6 +90,9 @@ class TimedScene(NamedTuple):
     rest_exempt: np.ndarray = np.zeros(0, np.bool_)
     # the broad phase: which obstacles rest, in a grid (:mod:`agents.planners.resting_discs`; default: none, visit all)
     resting: RestingSet | None = EVERY_OBSTACLE
+    # every resting obstacle of ``resting`` is ``rest_exempt``: the rest's pieces visit the moving ones
+    # alone (the grid's would all be skipped; among 300 cylinders a long piece lists a hundred of them)
+    rest_skips_resting: bool = False
 
 
 class OptimizerResult(NamedTuple):
@@ -224,10 +227,10 @@ def _running_to_go(scene, x, y):
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
-def _contact_penalty(scene, near, first_touch, depth, wall_touch, wall_depth):
+def _contact_penalty(scene, near, hits, n_hits, first_touch, depth, wall_touch, wall_depth):
     """The constraint: the penalty of the contacts within the horizon, as ``scene.violation`` measures it.
 
-    Each contact (a wall's or an obstacle's, ``near``) pays Eq. 4 and the rest of the horizon after
+    Each contact (a wall's, or of the obstacles touched, ``hits[:n_hits]`` ascending, a ``near`` one) pays Eq. 4 and the rest of the horizon after
     it (a later touch costs less); ``CONTACTS`` adds the feasibility offset to each, ``FIRST_CONTACT``
     adds it once, with ``SURVIVAL_WEIGHT`` times the rest of the horizon after the earliest contact."""
     horizon_steps, reach, robot_radius, penalty_weight = scene.horizon_steps, scene.reach, scene.robot_radius, scene.penalty_weight
@@ -238,7 +241,8 @@ def _contact_penalty(scene, near, first_touch, depth, wall_touch, wall_depth):
     if wall_touch >= 0.0:
         penalty = TWO_PI * robot_radius + penalty_weight * wall_depth + (horizon_steps - wall_touch) * reach + offset
         survival = wall_touch
-    for o in range(near.shape[0]):
+    for q in range(n_hits):
+        o = hits[q]
         if near[o]:
             penalty += (TWO_PI * (scene.contact_radii[o] + robot_radius) + penalty_weight * depth[o]
                         + (horizon_steps - first_touch[o]) * reach) + offset  # fmt: skip
@@ -246,6 +250,38 @@ def _contact_penalty(scene, near, first_touch, depth, wall_touch, wall_depth):
     if first and penalty > 0.0:
         penalty += SURVIVAL_WEIGHT * (horizon_steps - survival) * reach + scene.offset
     return penalty
+
+
+@numba.njit(cache=True, inline="always")
+def _touch(o, touched, depth, hits, n_hits):
+    """Mark obstacle ``o`` touched: on its first touch its depth starts at 0 and it joins ``hits[:n_hits]``; the new count."""
+    if touched[o]:
+        return n_hits
+    touched[o] = True
+    depth[o] = 0.0
+    hits[n_hits] = o
+    return n_hits + 1
+
+
+@numba.njit(cache=True, inline="always")
+def _rest_visits(scene, ax, ay, bx, by, visit):
+    """The obstacles a piece ``a``-``b`` of the rest visits (written to ``visit``, :func:`visited`): the moving
+    ones alone where every resting one is exempt (:attr:`TimedScene.rest_skips_resting`); their count."""
+    if scene.rest_skips_resting:
+        return moving_obstacles(scene.resting, scene.contact_radii.shape[0], visit)
+    return obstacles_along(scene.resting, scene.contact_radii.shape[0], ax, ay, bx, by, scene.robot_radius, visit)
+
+
+@numba.njit(cache=True, inline="always")
+def _sort_ascending(values, count):
+    """Sort ``values[:count]`` in place (insertion sort: a plan touches a few obstacles)."""
+    for i in range(1, count):
+        v = values[i]
+        j = i - 1
+        while j >= 0 and values[j] > v:
+            values[j + 1] = values[j]
+            j -= 1
+        values[j + 1] = v
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
@@ -297,10 +333,14 @@ def timed_path_cost(x, scene):
         pts[i + 1, 0], pts[i + 1, 1] = x[2 * i], x[2 * i + 1]
     pts[k + 1, 0], pts[k + 1, 1] = goal[0], goal[1]
     n_obs = contact_radii.shape[0]
-    depth = np.zeros(n_obs)
-    touched = np.zeros(n_obs, np.bool_)
-    near = np.zeros(n_obs, np.bool_)  # touched within the horizon, against the step-by-step prediction
-    first_touch = np.zeros(n_obs)  # when, in steps
+    # per obstacle, read only once ``touched`` (its first touch writes them): among hundreds of resting
+    # discs, zeroing them and summing over every obstacle cost more than a plan's few contacts
+    # (three allocations, not six: an evaluation among 8 obstacles costs under a microsecond)
+    floats, flags, indices = np.empty(2 * n_obs), np.zeros(2 * n_obs, np.bool_), np.empty(2 * n_obs + 5, np.int64)
+    depth, first_touch = floats[:n_obs], floats[n_obs:]  # when first touched, in steps
+    touched, near = flags[:n_obs], flags[n_obs:]  # near: touched within the horizon, against the step-by-step prediction
+    hits = indices[:n_obs]  # the obstacles touched, in the order first touched
+    n_hits = 0
     wall_touch = -1.0  # the first predicted contact with a wall within the horizon (steps), if any
     wall_depth = 0.0
     seg, px, py = 0, robot[0], robot[1]
@@ -309,13 +349,16 @@ def timed_path_cost(x, scene):
     stop_at_contact = scene.violation == FIRST_CONTACT
     contact = False
     running = 0.0  # the sum of the cost-to-go where each step ends (``progress_weight``)
-    visit = visit_buffer(scene.resting, n_obs)  # the obstacles a test visits (the broad phase: the others cannot reach)
+    # the obstacles a test visits (the broad phase: the others cannot reach; unused without one)
+    visit = indices[n_obs : 2 * n_obs]
+    span = indices[2 * n_obs :]  # the grid cells ``visit`` holds for the horizon's steps (none yet)
+    span[:] = -2
     for step in range(horizon_steps):
         nseg, qx, qy = walk_along(pts, seg, px, py, x[2 * k + seg] * reach)
         dx, dy = qx - px, qy - py
         goal_t = reach_fraction(px, py, dx, dy, goal[0], goal[1], goal_radius)
         first = step * n
-        for q in range(obstacles_near(scene.resting, n_obs, px, py, reach + robot_radius, visit)):
+        for q in range(obstacles_near_again(scene.resting, n_obs, px, py, reach + robot_radius, visit, span)):
             o = visited(scene.resting, visit, q)
             ox, oy = traj[first, o, 0], traj[first, o, 1]
             gap0 = math.sqrt((px - ox) * (px - ox) + (py - oy) * (py - oy)) - robot_radius - contact_radii[o]
@@ -336,7 +379,8 @@ def timed_path_cost(x, scene):
                 if t_hit <= 1.0 and (j - 1 + t_hit) / n <= goal_t:  # a contact before the goal counts
                     if not near[o]:
                         first_touch[o] = step + (j - 1 + t_hit) / n
-                    touched[o] = near[o] = contact = True
+                    n_hits = _touch(o, touched, depth, hits, n_hits)
+                    near[o] = contact = True
                     depth[o] = max(depth[o], -gap)
                 ax, ay = bx, by
         wall_touch, wall_depth = _wall_contact(scene, px, py, qx, qy, goal_t, step, wall_touch, wall_depth)
@@ -364,14 +408,14 @@ def timed_path_cost(x, scene):
         for s in range(seg + 1, k + 2):
             bx, by = pts[s, 0], pts[s, 1]
             rest += math.sqrt((bx - ax) * (bx - ax) + (by - ay) * (by - ay))
-            for q in range(obstacles_along(scene.resting, n_obs, ax, ay, bx, by, robot_radius, visit) if rest_obstacles else 0):
+            for q in range(_rest_visits(scene, ax, ay, bx, by, visit) if rest_obstacles else 0):
                 o = visited(scene.resting, visit, q)
                 if o < scene.rest_exempt.shape[0] and scene.rest_exempt[o]:
                     continue
                 r = contact_radii[o] + robot_radius
                 d2 = _segment_origin_distance_sq(ax - last[o, 0], ay - last[o, 1], bx - last[o, 0], by - last[o, 1])
                 if d2 < r * r:
-                    touched[o] = True
+                    n_hits = _touch(o, touched, depth, hits, n_hits)
                     depth[o] = max(depth[o], r - math.sqrt(d2))
             detour += capsule_penalty(ax, ay, bx, by, rest_statics, robot_radius, penalty_weight)  # through a wall: Eq. 4
             ax, ay = bx, by
@@ -379,10 +423,12 @@ def timed_path_cost(x, scene):
         # straight line without walls: then the path's own rest, always as long, decides as before)
         to_go = distance_to_goal(scene.cost_to_go, px, py, goal[0], goal[1], goal_radius)
         arrival = horizon_steps + max(rest - goal_radius, to_go, 0.0) / reach
-    for o in range(n_obs):
-        if touched[o] and not near[o]:
+    _sort_ascending(hits, n_hits)  # the sums below in the obstacles' order, as a loop over all of them adds
+    for q in range(n_hits):
+        o = hits[q]
+        if not near[o]:
             detour += TWO_PI * (contact_radii[o] + robot_radius) + penalty_weight * depth[o]
-    penalty = _contact_penalty(scene, near, first_touch, depth, wall_touch, wall_depth)
+    penalty = _contact_penalty(scene, near, hits, n_hits, first_touch, depth, wall_touch, wall_depth)
     detour += scene.progress_weight * running / horizon_steps  # 0.0 without a running cost
     return arrival * reach + detour + penalty, penalty
 

@@ -82,7 +82,10 @@ def predict_among(positions, velocities, radii, bounds, segments, dt, n_steps, s
     mass_n = np.empty(cap)
     bounce = np.empty(cap)
     acc = np.empty(cap)
-    for s in range(1, n_steps * substeps + 1):
+    # nothing moves (every speed 0, no contact): each substep adds the same +-0 to every centre, which after
+    # the first leaves every bit as it is; among 300 resting discs copying that one costs a sixth of the loop
+    stepped = n_steps * substeps if moving.shape[0] else min(1, n_steps * substeps)
+    for s in range(1, stepped + 1):
         for i in range(n):
             x[i, 0] += v[i, 0] * h
             x[i, 1] += v[i, 1] * h
@@ -142,4 +145,5 @@ def predict_among(positions, velocities, radii, bounds, segments, dt, n_steps, s
                 v[i, 0] *= speed[i] / norm
                 v[i, 1] *= speed[i] / norm
             out[s, i, 0], out[s, i, 1], out[s, i, 2], out[s, i, 3] = x[i, 0], x[i, 1], v[i, 0], v[i, 1]
+    out[stepped + 1 :] = out[stepped]
     return out

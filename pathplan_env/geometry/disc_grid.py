@@ -96,22 +96,34 @@ def _collect(grid, i, j0, j1, out, count):
     return count
 
 
+@numba.njit(cache=True, inline="always")
+def cell_span(grid, x0, y0, x1, y1, distance):
+    """The cells :func:`near_box` collects: columns ``i0..i1`` x rows ``j0..j1`` (``i0 > i1``: none)."""
+    if grid.items.shape[0] == 0:
+        return 0, -1, 0, -1
+    grow = distance + grid.reach + SLACK * (1.0 + abs(distance) + abs(x0) + abs(y0) + abs(x1) + abs(y1))
+    if x1 + grow < grid.x0 or y1 + grow < grid.y0:
+        return 0, -1, 0, -1
+    if x0 - grow > grid.x0 + grid.nx * grid.cell or y0 - grow > grid.y0 + grid.ny * grid.cell:
+        return 0, -1, 0, -1
+    return _column(grid, x0 - grow), _column(grid, x1 + grow), _row(grid, y0 - grow), _row(grid, y1 + grow)
+
+
+@numba.njit(cache=True, inline="always")
+def collect_span(grid, i0, i1, j0, j1, out):
+    """Write to ``out`` the discs of the cells ``i0..i1`` x ``j0..j1`` (:func:`cell_span`); their count."""
+    count = 0
+    for i in range(i0, i1 + 1):
+        count = _collect(grid, i, j0, j1, out, count)
+    return count
+
+
 @numba.njit(cache=True)
 def near_box(grid, x0, y0, x1, y1, distance, out):
     """Write to ``out`` the discs whose centre may lie within ``distance`` plus their radius of the box
     ``[x0, x1] x [y0, y1]`` (a superset, each disc once); their count."""
-    if grid.items.shape[0] == 0:
-        return 0
-    grow = distance + grid.reach + SLACK * (1.0 + abs(distance) + abs(x0) + abs(y0) + abs(x1) + abs(y1))
-    if x1 + grow < grid.x0 or y1 + grow < grid.y0:
-        return 0
-    if x0 - grow > grid.x0 + grid.nx * grid.cell or y0 - grow > grid.y0 + grid.ny * grid.cell:
-        return 0
-    j0, j1 = _row(grid, y0 - grow), _row(grid, y1 + grow)
-    count = 0
-    for i in range(_column(grid, x0 - grow), _column(grid, x1 + grow) + 1):
-        count = _collect(grid, i, j0, j1, out, count)
-    return count
+    i0, i1, j0, j1 = cell_span(grid, x0, y0, x1, y1, distance)
+    return collect_span(grid, i0, i1, j0, j1, out)
 
 
 @numba.njit(cache=True)

@@ -278,7 +278,7 @@ class SpacetimeAStarAgent(Agent):
         f = self.facts
         segments, ctg = model.statics(obs, memory)
         problem = SpacetimeProblem(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.model.arena.box,
-                                   self.step_length, segments, ctg, resting_set(trajectory, radii))  # fmt: skip
+                                   self.step_length, segments, ctg, resting_set(trajectory, radii, memory))  # fmt: skip
         targets = memory.get("plan")
         if targets is not None and len(targets) > 0 and not guide_switched(memory):  # keep the previous plan while it still holds
             free, reached = replay(problem, targets)

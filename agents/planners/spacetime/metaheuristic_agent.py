@@ -155,10 +155,13 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         f = self.facts
         # guided by the passable field, the resting discs are its static geometry: the rest pays them as it pays walls
         exempt = resting if guided_by_passable(memory or {}) else np.zeros(0, np.bool_)
+        broad = resting_set(trajectory, radii, memory)
+        # every disc of the broad phase's grid exempt: the rest visits the moving ones alone (the same costs)
+        skips = broad is not None and exempt.size > 0 and bool(exempt[broad.grid.items].all())
         return TimedScene(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.step_length,
                           self.model.horizon_steps, self.penalty_weight, travel, segments, ctg, self.violation,
                           0.0 if self.constraint == "adaptive" else INFEASIBLE, rest_obstacles, self.progress_weight, exempt,
-                          resting_set(trajectory, radii))  # fmt: skip
+                          broad, skips)  # fmt: skip
 
     def seed_paths(self, robot: np.ndarray, goal: np.ndarray, problem: TimedScene | None = None) -> np.ndarray:
         """Warm-start candidates at top speed: the straight line, then a first waypoint

@@ -1,0 +1,145 @@
+"""The space-time planners' replans among a few hundred resting cylinders, made cheaper (the broad
+phase's grid kept while the resting discs stay, the rest's pieces skipping the grid when every
+resting disc is exempt, the objective's sums over the obstacles touched alone) plan exactly as
+before: the same actions and plans, bit for bit, as at 5c47f38."""
+
+from __future__ import annotations
+
+import hashlib
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import agents
+import pathplan_env  # noqa: F401  (registers the env)
+from agents.planners.resting_discs import resting_rows, resting_set
+from pathplan_env.scenarios.clutter import clutter_scenario
+
+
+def _clutter_env(seed: int, n_moving: int, n_cylinders: int = 300):
+    return gym.make("DynamicObstacle-v0", scenario=clutter_scenario(np.random.default_rng(seed), n_moving, n_cylinders=n_cylinders))
+
+
+def _flown_digest(name: str, seed: int, n_moving: int, steps: int = 30) -> str:
+    env = _clutter_env(seed, n_moving)
+    agent = agents.make(name, env, seed=0)
+    obs, _ = env.reset(seed=seed)
+    h = hashlib.sha256()
+    for _ in range(steps):
+        action, _ = agent.predict(obs, deterministic=True)
+        h.update(np.asarray(action, np.float32).tobytes())
+        h.update(np.asarray(agent.last_plan, np.float64).tobytes())
+        obs, _, terminated, truncated, _ = env.step(action)
+        if terminated or truncated:
+            break
+    return h.hexdigest()
+
+
+FLOWN_DIGESTS = [  # 30 steps' actions and plans among 300 cylinders (and 2 bouncing discs), computed on 5c47f38
+    ("astar-spacetime", 6, 0, "a02ea740c772b2e08b159192d5d8675017aa30578d00e79ddc31d1853502a512"),
+    ("astar-spacetime", 7, 2, "505402f3e14af8d0012d0250b30a830fabe2b42d3da368c5e6425f55629212a4"),
+    ("pso-spacetime", 6, 0, "e00d8a7633ab744d43c61c08c0629537af18097edfe8f277838ed8f7628cc356"),
+    ("pso-spacetime", 7, 2, "0afc7a1dc9890ca1a660c449ec9c4928c012fcaa2ec9ae3349e31175cdc1a004"),
+    ("abc-spacetime", 6, 0, "8f6b8d96b31a20d5bbc3ec85c8fd67a782949164647b741c2b9ecc9401ba6447"),
+    ("abc-spacetime", 7, 2, "47f5425b1283690d3fbb4e3538cf06c9da03facc3318c6c906842412f0f632b0"),
+]
+
+
+@pytest.mark.parametrize("name, seed, n_moving, digest", FLOWN_DIGESTS)
+def test_planners_fly_the_clutter_as_before(name, seed, n_moving, digest):
+    assert _flown_digest(name, seed, n_moving) == digest
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_resting_rows_are_numpys(seed):
+    rng = np.random.default_rng(seed)
+    trajectory = np.repeat(rng.uniform(0, 10, (1, 60, 4)), 13, axis=0)
+    moving = rng.random(60) < 0.3
+    trajectory[1:, moving, :2] += rng.normal(0, 0.1, (12, int(moving.sum()), 2))
+    trajectory[5:, 0, 1] += 1e-300 if seed % 2 else 0.0  # one coordinate moved, by the least it can
+    trajectory[:, 1, 2:] = rng.normal(size=(13, 2))  # velocity columns never count
+    expected = (trajectory[:, :, :2] == trajectory[:1, :, :2]).all(axis=(0, 2))
+    assert np.array_equal(resting_rows(trajectory), expected)
+
+
+def test_the_grid_is_kept_while_the_same_discs_rest_and_built_again_when_one_moves():
+    rng = np.random.default_rng(0)
+    trajectory = np.repeat(rng.uniform(0, 10, (1, 80, 4)), 11, axis=0)
+    radii = rng.uniform(0.05, 0.3, 80)
+    memory: dict = {}
+    first = resting_set(trajectory, radii, memory)
+    assert resting_set(trajectory.copy(), radii.copy(), memory).grid is first.grid  # the same rows, centres, radii
+    moved = trajectory.copy()
+    moved[:, 3, 0] += 0.5  # disc 3 rests elsewhere
+    again = resting_set(moved, radii, memory)
+    fresh = resting_set(moved, radii)
+    assert again.grid is not first.grid
+    assert all(np.array_equal(a, b) for a, b in zip(again.grid, fresh.grid)) and np.array_equal(again.moving, fresh.moving)
+
+
+def _guided_problem(seed: int):
+    """A ``pso-spacetime`` problem among 300 cylinders once the passable field guides it (the rest's
+    pieces exempt from the resting discs), its agent and its observation."""
+    env = _clutter_env(seed, 0)
+    agent = agents.make("pso-spacetime", env, seed=0)
+    obs, _ = env.reset(seed=seed)
+    for _ in range(3):
+        action, _ = agent.predict(obs, deterministic=True)
+        obs, *_ = env.step(action)
+    return agent.timed_problem(obs, agent._memory[0]), agent  # the episode's memory (one env)
+
+
+@pytest.mark.parametrize("seed", [1, 2])  # worlds where the passable field guides from the second replan
+def test_the_rest_skipping_the_exempt_grid_ranks_every_candidate_the_same(seed):
+    """PSO and ABC runs (thousands of evaluations, random starts) on the guided problem are the same
+    with the rest skipping the grid, with it visiting the grid's discs, and visiting every disc."""
+    from agents.planners.bee_colony import abc_run
+    from agents.planners.pso import pso_run
+
+    problem, agent = _guided_problem(seed)
+    assert problem.rest_skips_resting and problem.rest_exempt.any()
+    variants = [problem, problem._replace(rest_skips_resting=False), problem._replace(rest_skips_resting=False, resting=None)]
+    lo, hi = agent._timed_lo, agent._timed_hi
+    x0 = np.random.default_rng(seed).uniform(lo, hi, (40, lo.size))
+    for run, settings in ((pso_run, agent.pso_settings._replace(rule=agent.rule._replace(stall=0))), (abc_run, agent.abc_settings)):
+        a, *others = (run(x0, lo, hi, settings, seed, p) for p in variants)
+        for b in others:
+            assert np.array_equal(a.best, b.best) and np.array_equal(a.history, b.history) and a.best_penalty == b.best_penalty
+        assert np.unique(a.history).size > 1  # the run improved on its start: it compared costs
+
+
+def test_a_prediction_where_nothing_moves_is_the_one_every_substep_computes():
+    """Nothing moving, the prediction repeats its first substep: the same bits as stepping every
+    body through every substep (``resting_pairs=True`` visits every pair, so it never takes the shortcut)."""
+    from agents.planners.prediction import predict_among
+
+    rng = np.random.default_rng(3)
+    positions = rng.uniform(0.5, 9.5, (120, 2))
+    positions[0] = (-0.0, 5.0)  # a centre at -0.0: an added +0 makes it +0.0 once, then never again
+    velocities = np.zeros((120, 2))
+    velocities[::7] = -0.0
+    args = (positions, velocities, rng.uniform(0.05, 0.3, 120), np.array([0.0, 0.0, 10.0, 10.0]), np.array([[3.0, 3.0, 6.0, 4.0, 0.05]]), 0.1, 20, 3)
+    shortcut, stepped = predict_among(*args), predict_among(*args, True)
+    assert np.array_equal(shortcut, stepped) and np.array_equal(np.signbit(shortcut), np.signbit(stepped))
+
+
+def test_a_path_s_steps_visit_the_obstacles_a_fresh_query_lists():
+    """The horizon's steps reuse the last step's list where its grid cells are the same: each step's
+    obstacles, in order, are the ones :func:`obstacles_near` lists afresh."""
+    from agents.planners.resting_discs import obstacles_near, obstacles_near_again
+
+    rng = np.random.default_rng(5)
+    trajectory = np.repeat(rng.uniform(0, 10, (1, 200, 4)), 3, axis=0)
+    trajectory[1:, :4, :2] += 0.3  # four discs move
+    resting = resting_set(trajectory, rng.uniform(0.05, 0.1, 200))
+    again, fresh, span = np.empty(200, np.int64), np.empty(200, np.int64), np.full(5, -2, np.int64)
+    reused = 0
+    x, y = 0.3, 0.2
+    for i in range(300):  # a walk of 8 cm steps across the field and out of it (y < 0)
+        before = span.copy()
+        count = obstacles_near_again(resting, 200, x, y, 0.41, again, span)
+        reused += bool(np.array_equal(before, span))
+        assert count == obstacles_near(resting, 200, x, y, 0.41, fresh) and np.array_equal(again[:count], fresh[:count])
+        x, y = x + 0.08 * np.cos(0.02 * i), y + 0.08 * np.sin(0.02 * i) * 0.5
+    assert 50 < reused < 300  # both ways taken

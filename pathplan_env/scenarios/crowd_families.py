@@ -314,7 +314,35 @@ def maze(rng: np.random.Generator, n: int | None = None) -> Scenario:
 
     n = 6 if n is None else check_count(n, "n_obstacles")
     kwargs = scenario_kwargs(_maze_map(), rng, n_obstacles=n, obstacle_radius=MAZE_OBSTACLE_RADIUS, robot_radius=families.ROBOT_RADIUS)
-    return Scenario(**kwargs, robot_radius=families.ROBOT_RADIUS, robot_speed=families.ROBOT_SPEED, dt=families.DT, name="maze")
+    fields = {**kwargs, "robot_radius": families.ROBOT_RADIUS, "robot_speed": families.ROBOT_SPEED, "dt": families.DT, "name": "maze"}
+    template = _MAZE_TEMPLATE.get("scene")
+    if template is None:  # the first scene validated in full; its map's fields serve the others
+        _MAZE_TEMPLATE["scene"] = template = Scenario(**fields)
+        return template
+    return _maze_scene(template, kwargs["start"], kwargs["goal"], kwargs["obstacles"])
+
+
+#: The first maze scene of the process (validated): the map's fields the others share.
+_MAZE_TEMPLATE: dict[str, Scenario] = {}
+
+
+def _maze_scene(template: Scenario, start, goal, obstacles) -> Scenario:
+    """A maze scene: ``template``'s fields (the map's bounds and polygons, validated once, their shapes and
+    capsules) with this draw's start, goal and obstacles, not validated again. ``scenario_kwargs`` draws
+    them valid by construction: start and goal with the robot's radius + 0.1 m of clearance (shapely's
+    distance) and 0.4 of the map's diagonal apart, obstacles with their radius + 0.1 m of clearance,
+    clear of the start, the goal and each other by 0.1 m, at rest (``make_scenario`` gives them Δd and
+    validates that). ``tests/scenarios/test_maze_scenes.py``: the same scenes as validated ones, and
+    validation passes, over many seeds (the checks cost a fifth of a maze-crowd reset)."""
+    n = len(obstacles)
+    arrays = {"positions": np.array([ob.center for ob in obstacles], np.float64).reshape(n, 2),
+              "velocities": np.array([ob.velocity for ob in obstacles], np.float64).reshape(n, 2),
+              "radii": np.array([ob.radius for ob in obstacles], np.float64).reshape(n)}  # fmt: skip
+    fields = {name: getattr(template, name) for name in Scenario.__dataclass_fields__}
+    fields.update(start=start, goal=goal, obstacles=obstacles)
+    scenario = Scenario._from_checked(arrays, template.static_segments, **fields)
+    object.__setattr__(scenario, "_polygon_shapes", polygon_shapes(template))  # (shapely's, immutable: shared)
+    return scenario
 
 
 def maze_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:

@@ -128,8 +128,8 @@ def _fitting(starts: np.ndarray, goals: np.ndarray, layout: Scenario, grid: tupl
     code = _fitting_kernel(starts, goals, *_rules(layout), values, origin)
     ok = code > 0
     shapes = polygon_shapes(layout)
-    if shapes and ok.any():  # only the candidates still fitting and maybe in a polygon: shapely's cost is per point
-        fit = np.flatnonzero(code == _FITS_UNSURE)
+    fit = np.flatnonzero(code == _FITS_UNSURE) if shapes else ()
+    if len(fit):  # only the candidates still fitting and maybe in a polygon: shapely's cost is per point
         s, g = starts[fit], goals[fit]
         inside = np.zeros(len(fit), np.bool_)
         for shape in shapes:
@@ -277,7 +277,8 @@ def _crowd(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | None = N
     arrays = {"positions": np.array([h.center for h in humans], np.float64).reshape(n, 2), "velocities": np.zeros((n, 2)),
               "radii": np.full(n, HUMAN_RADIUS)}  # fmt: skip
     fields = {name: getattr(layout, name) for name in Scenario.__dataclass_fields__}
-    scenario = Scenario._from_checked(arrays, **{**fields, "obstacles": humans, "behaviour": HUMAN_ORCA, "name": layout.name + "-crowd"})
+    fields.update(obstacles=humans, behaviour=HUMAN_ORCA, name=layout.name + "-crowd")
+    scenario = Scenario._from_checked(arrays, layout.static_segments, **fields)  # (the layout's walls and polygons: its capsules)
     object.__setattr__(scenario, "_polygon_shapes", polygon_shapes(layout))  # (shapely's, immutable: shared)
     return scenario
 

@@ -50,18 +50,18 @@ _CANDIDATES = 64
 _MORE_BATCHES = 32
 
 
-def _humans(rng, n: int, layout: Scenario, draw: Callable) -> tuple[Obstacle, ...]:
+def _humans(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | None = None) -> tuple[Obstacle, ...]:
     """``n`` humans whose (start, goal) pairs come from ``draw(rng, k) -> (starts (k, 2), goals (k, 2))``:
     each takes the first of its candidates that keeps the rules of the module docstring. A human
     whose first ``_CANDIDATES`` all break them draws more batches (only then: a scene that fitted
-    the first time is drawn exactly as before).
+    the first time is drawn exactly as before). ``grid``: the layout's :func:`clearance_grid`, if kept.
 
     :raises ValueError: naming ``n_obstacles`` when one finds no place.
     """
     starts, goals = draw(rng, n * _CANDIDATES)
     rules = _rules(layout)
     if polygon_shapes(layout):  # shapely's test up front; else each candidate is checked when reached
-        ok = _fitting(starts, goals, layout).astype(np.int8)
+        ok = _fitting(starts, goals, layout, grid).astype(np.int8)
     else:
         ok = np.full(n * _CANDIDATES, -1, np.int8)
     starts, goals, ok = starts.reshape(n, _CANDIDATES, 2), goals.reshape(n, _CANDIDATES, 2), ok.reshape(n, _CANDIDATES)
@@ -70,7 +70,7 @@ def _humans(rng, n: int, layout: Scenario, draw: Callable) -> tuple[Obstacle, ..
     while i < n:  # human i found no place among its first candidates: more batches
         for _ in range(_MORE_BATCHES):
             mine_s, mine_g = draw(rng, _CANDIDATES)
-            fits = _fitting(mine_s, mine_g, layout) & _spaced(mine_s, mine_g, centers[:i], ends[:i])
+            fits = _fitting(mine_s, mine_g, layout, grid) & _spaced(mine_s, mine_g, centers[:i], ends[:i])
             if fits.any():
                 break
         if not fits.any():
@@ -97,7 +97,7 @@ def _place_spaced(starts, goals, ok, centers, ends, first, spacing, rules):
         chosen = -1
         for k in range(m):
             if ok[i, k] < 0:
-                ok[i, k] = _fits(starts[i, k], goals[i, k], box, reach, segments, robot, keep)
+                ok[i, k] = _fits(starts[i, k], goals[i, k], box, reach, segments, robot, keep, _NO_GRID, _NO_ORIGIN) > 0
             if ok[i, k] == 0:
                 continue
             clear = True
@@ -116,16 +116,20 @@ def _place_spaced(starts, goals, ok, centers, ends, first, spacing, rules):
     return n
 
 
-def _fitting(starts: np.ndarray, goals: np.ndarray, layout: Scenario) -> np.ndarray:
+def _fitting(starts: np.ndarray, goals: np.ndarray, layout: Scenario, grid: tuple | None = None) -> np.ndarray:
     """Which (start, goal) candidates a human fits: both free, the start clear of the robot's start and goal
     (the arena, the walls and the robot in one compiled pass, the same comparisons as numpy's of before:
-    numpy's dozen passes over the candidates were a fifth of a crowd's reset; polygons by shapely)."""
+    numpy's dozen passes over the candidates were a fifth of a crowd's reset; polygons by shapely).
+    With the layout's ``grid`` (:func:`clearance_grid`) most candidates skip the capsules' loop and
+    shapely's test; the booleans are the same."""
     import shapely
 
-    ok = _fitting_kernel(starts, goals, *_rules(layout))
+    values, origin = (_NO_GRID, _NO_ORIGIN) if grid is None else grid
+    code = _fitting_kernel(starts, goals, *_rules(layout), values, origin)
+    ok = code > 0
     shapes = polygon_shapes(layout)
-    if shapes and ok.any():  # only the candidates still fitting: shapely's cost is per point
-        fit = np.flatnonzero(ok)
+    fit = np.flatnonzero(code == _FITS_UNSURE) if shapes else ()
+    if len(fit):  # only the candidates still fitting and maybe in a polygon: shapely's cost is per point
         s, g = starts[fit], goals[fit]
         inside = np.zeros(len(fit), np.bool_)
         for shape in shapes:
@@ -146,29 +150,94 @@ def _rules(layout: Scenario) -> tuple:
     return box, reach, segments, np.array([layout.start, layout.goal], np.float64), keep
 
 
+_FITS_SURE, _FITS_UNSURE = 1, 2  # fits, outside every polygon for sure / unless shapely says it is in one
+_NO_GRID, _NO_ORIGIN = np.zeros((0, 0, 2)), np.zeros(3)
+#: Width (m) of a :func:`clearance_grid` cell.
+GRID_CELL = 0.1
+
+
+def clearance_grid(layout: Scenario) -> tuple[np.ndarray, np.ndarray]:
+    """Per cell of a :data:`GRID_CELL` grid over ``layout.bounds``: the smallest distance from its centre to
+    the capsules' surfaces, by :func:`_free_point`'s arithmetic, and 1.0 where the centre lies outside every
+    polygon (shapely) else 0.0, as ``(rows, cols, 2)``; and the grid's ``(x0, y0, cell)``. For a fixed map's
+    layout, computed once (:func:`_free_point` reads it)."""
+    import shapely
+
+    xmin, ymin, xmax, ymax = layout.bounds
+    cols, rows = max(1, math.ceil((xmax - xmin) / GRID_CELL)), max(1, math.ceil((ymax - ymin) / GRID_CELL))
+    cx, cy = np.meshgrid(xmin + (np.arange(cols) + 0.5) * GRID_CELL, ymin + (np.arange(rows) + 0.5) * GRID_CELL)
+    values = np.empty((rows, cols, 2))
+    values[:, :, 0] = _nearest_capsule(cx.ravel(), cy.ravel(), np.ascontiguousarray(layout.static_segments, np.float64).reshape(-1, 5)).reshape(rows, cols)
+    inside = np.zeros(cx.size, np.bool_)
+    for shape in polygon_shapes(layout):
+        inside |= shapely.contains_xy(shape, cx.ravel(), cy.ravel())
+    values[:, :, 1] = ~inside.reshape(rows, cols)
+    return values, np.array([xmin, ymin, GRID_CELL])
+
+
 @numba.njit(cache=True)
-def _fitting_kernel(starts, goals, box, reach, segments, robot, keep):
+def _nearest_capsule(x, y, segments):
+    out = np.full(x.shape[0], np.inf)
+    for p in range(x.shape[0]):
+        for i in range(segments.shape[0]):
+            ax, ay, ex, ey = segments[i, 0], segments[i, 1], segments[i, 2] - segments[i, 0], segments[i, 3] - segments[i, 1]
+            ee = ex * ex + ey * ey
+            t = 0.0
+            if ee > 0.0:
+                t = min(max(((x[p] - ax) * ex + (y[p] - ay) * ey) / ee, 0.0), 1.0)
+            out[p] = min(out[p], math.hypot(x[p] - ax - t * ex, y[p] - ay - t * ey) - segments[i, 4])
+    return out
+
+
+@numba.njit(cache=True)
+def _fitting_kernel(starts, goals, box, reach, segments, robot, keep, grid, origin):
     """:func:`_fitting` without the polygons: inside ``box`` (the arena less ``reach``), farther than
     ``reach`` from every capsule (``points_clearance``'s minimum), the start farther than ``keep`` from
-    each row of ``robot``. NaN coordinates fail the box, as in numpy."""
+    each row of ``robot``. NaN coordinates fail the box, as in numpy. 0 where a candidate fails,
+    :data:`_FITS_SURE` where it fits and both its points are outside the polygons for sure (``grid``),
+    else :data:`_FITS_UNSURE`."""
     n = starts.shape[0]
-    ok = np.empty(n, np.bool_)
+    ok = np.empty(n, np.int8)
     for p in range(n):
-        ok[p] = _fits(starts[p], goals[p], box, reach, segments, robot, keep)
+        ok[p] = _fits(starts[p], goals[p], box, reach, segments, robot, keep, grid, origin)
     return ok
 
 
 @numba.njit(cache=True, inline="always")
-def _fits(start, goal, box, reach, segments, robot, keep):
-    return (_free_point(start[0], start[1], box, reach, segments) and _free_point(goal[0], goal[1], box, reach, segments)
-            and _beyond(start[0] - robot[0, 0], start[1] - robot[0, 1], 0.0, keep)
-            and _beyond(start[0] - robot[1, 0], start[1] - robot[1, 1], 0.0, keep))  # fmt: skip
+def _fits(start, goal, box, reach, segments, robot, keep, grid, origin):
+    a = _free_point(start[0], start[1], box, reach, segments, grid, origin)
+    if a == 0:
+        return 0
+    b = _free_point(goal[0], goal[1], box, reach, segments, grid, origin)
+    if b == 0:
+        return 0
+    if not (_beyond(start[0] - robot[0, 0], start[1] - robot[0, 1], 0.0, keep) and _beyond(start[0] - robot[1, 0], start[1] - robot[1, 1], 0.0, keep)):
+        return 0
+    return _FITS_SURE if a == _FITS_SURE and b == _FITS_SURE else _FITS_UNSURE
 
 
 @numba.njit(cache=True, inline="always")
-def _free_point(x, y, box, reach, segments):
+def _free_point(x, y, box, reach, segments, grid, origin):
+    """0 where the point is outside ``box`` or within ``reach`` of a capsule, else :data:`_FITS_SURE` or
+    :data:`_FITS_UNSURE` (whether the ``grid`` proves it outside every polygon).
+
+    The distance to the nearest capsule is 1-Lipschitz: ``grid`` holds it at the cell's centre, ``d``, so
+    at the point, ``s`` from the centre, it lies in ``[d - s, d + s]``; only where that leaves it within
+    1e-9 m of ``reach`` (rounding is ~1e-15 m) are the capsules measured one by one, and the answer is
+    theirs. A centre outside the polygons whose nearest edge is farther than ``s`` sees no edge between it
+    and the point: the point is outside too."""
     if not (x >= box[0] and x <= box[2] and y >= box[1] and y <= box[3]):
-        return False
+        return 0
+    if grid.shape[0] > 0:
+        rows, cols = grid.shape[0], grid.shape[1]
+        j = min(max(int((x - origin[0]) / origin[2]), 0), cols - 1)
+        i = min(max(int((y - origin[1]) / origin[2]), 0), rows - 1)
+        s = math.hypot(x - (origin[0] + (j + 0.5) * origin[2]), y - (origin[1] + (i + 0.5) * origin[2])) + 1e-9
+        d = grid[i, j, 0]
+        if d - s > reach + 1e-9:
+            return _FITS_SURE if grid[i, j, 1] > 0.0 else _FITS_UNSURE
+        if d + s < reach - 1e-9:
+            return 0
     for i in range(segments.shape[0]):  # statics.point_segment's arithmetic, to the hypot
         ax, ay, ex, ey = segments[i, 0], segments[i, 1], segments[i, 2] - segments[i, 0], segments[i, 3] - segments[i, 1]
         ee = ex * ex + ey * ey
@@ -176,8 +245,8 @@ def _free_point(x, y, box, reach, segments):
         if ee > 0.0:
             t = min(max(((x - ax) * ex + (y - ay) * ey) / ee, 0.0), 1.0)
         if not _beyond(x - ax - t * ex, y - ay - t * ey, segments[i, 4], reach):
-            return False
-    return True
+            return 0
+    return _FITS_UNSURE
 
 
 @numba.njit(cache=True, inline="always")
@@ -201,14 +270,15 @@ def _spaced(starts: np.ndarray, goals: np.ndarray, centers: np.ndarray, ends: np
     return ~(near_start | near_goal).any(axis=1)
 
 
-def _crowd(rng, n: int, layout: Scenario, draw: Callable) -> Scenario:
+def _crowd(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | None = None) -> Scenario:
     """The layout (validated when it was built) with ``n`` humans (valid by construction), not validated
     again, as the CrowdNav presets' scenes (``tests/scenarios/test_family_scenes.py``: the same scenario as a validated one)."""
-    humans = _humans(rng, n, layout, draw)
+    humans = _humans(rng, n, layout, draw, grid)
     arrays = {"positions": np.array([h.center for h in humans], np.float64).reshape(n, 2), "velocities": np.zeros((n, 2)),
               "radii": np.full(n, HUMAN_RADIUS)}  # fmt: skip
     fields = {name: getattr(layout, name) for name in Scenario.__dataclass_fields__}
-    scenario = Scenario._from_checked(arrays, **{**fields, "obstacles": humans, "behaviour": HUMAN_ORCA, "name": layout.name + "-crowd"})
+    fields.update(obstacles=humans, behaviour=HUMAN_ORCA, name=layout.name + "-crowd")
+    scenario = Scenario._from_checked(arrays, layout.static_segments, **fields)  # (the layout's walls and polygons: its capsules)
     object.__setattr__(scenario, "_polygon_shapes", polygon_shapes(layout))  # (shapely's, immutable: shared)
     return scenario
 
@@ -314,7 +384,35 @@ def maze(rng: np.random.Generator, n: int | None = None) -> Scenario:
 
     n = 6 if n is None else check_count(n, "n_obstacles")
     kwargs = scenario_kwargs(_maze_map(), rng, n_obstacles=n, obstacle_radius=MAZE_OBSTACLE_RADIUS, robot_radius=families.ROBOT_RADIUS)
-    return Scenario(**kwargs, robot_radius=families.ROBOT_RADIUS, robot_speed=families.ROBOT_SPEED, dt=families.DT, name="maze")
+    fields = {**kwargs, "robot_radius": families.ROBOT_RADIUS, "robot_speed": families.ROBOT_SPEED, "dt": families.DT, "name": "maze"}
+    template = _MAZE_TEMPLATE.get("scene")
+    if template is None:  # the first scene validated in full; its map's fields serve the others
+        _MAZE_TEMPLATE["scene"] = template = Scenario(**fields)
+        return template
+    return _maze_scene(template, kwargs["start"], kwargs["goal"], kwargs["obstacles"])
+
+
+#: The first maze scene of the process (validated): the map's fields the others share.
+_MAZE_TEMPLATE: dict[str, Scenario] = {}
+
+
+def _maze_scene(template: Scenario, start, goal, obstacles) -> Scenario:
+    """A maze scene: ``template``'s fields (the map's bounds and polygons, validated once, their shapes and
+    capsules) with this draw's start, goal and obstacles, not validated again. ``scenario_kwargs`` draws
+    them valid by construction: start and goal with the robot's radius + 0.1 m of clearance (shapely's
+    distance) and 0.4 of the map's diagonal apart, obstacles with their radius + 0.1 m of clearance,
+    clear of the start, the goal and each other by 0.1 m, at rest (``make_scenario`` gives them Δd and
+    validates that). ``tests/scenarios/test_maze_scenes.py``: the same scenes as validated ones, and
+    validation passes, over many seeds (the checks cost a fifth of a maze-crowd reset)."""
+    n = len(obstacles)
+    arrays = {"positions": np.array([ob.center for ob in obstacles], np.float64).reshape(n, 2),
+              "velocities": np.array([ob.velocity for ob in obstacles], np.float64).reshape(n, 2),
+              "radii": np.array([ob.radius for ob in obstacles], np.float64).reshape(n)}  # fmt: skip
+    fields = {name: getattr(template, name) for name in Scenario.__dataclass_fields__}
+    fields.update(start=start, goal=goal, obstacles=obstacles)
+    scenario = Scenario._from_checked(arrays, template.static_segments, **fields)
+    object.__setattr__(scenario, "_polygon_shapes", polygon_shapes(template))  # (shapely's, immutable: shared)
+    return scenario
 
 
 def maze_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:
@@ -337,7 +435,13 @@ def maze_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:
         goals[path_lengths(layout, starts, goals, clearance) > MAZE_TRIP] = np.nan
         return starts, goals
 
-    return _crowd(rng, n, layout, draw)
+    return _crowd(rng, n, layout, draw, _maze_grid())
+
+
+@cache
+def _maze_grid() -> tuple[np.ndarray, np.ndarray]:
+    """The maze's :func:`clearance_grid` (every maze scene has the map's bounds and polygons)."""
+    return clearance_grid(_MAZE_TEMPLATE["scene"])
 
 
 #: Every crowd family and the maze: ``(rng, n_obstacles or None for the family's own count) -> Scenario``.

@@ -200,11 +200,12 @@ class Scenario:
         self._check_geometry()
 
     @classmethod
-    def _from_checked(cls, arrays: dict[str, np.ndarray], **fields) -> Scenario:
+    def _from_checked(cls, arrays: dict[str, np.ndarray], segments: np.ndarray | None = None, **fields) -> Scenario:
         """Build from fields that are already valid and normalised, with their obstacle arrays.
 
         For the random sampler, whose output is valid by construction: validating it again cost
-        about a fifth of a reset with 50 obstacles. Fields left out take their defaults.
+        about a fifth of a reset with 50 obstacles. Fields left out take their defaults; ``segments``,
+        when given, are ``static_segments`` of the same walls and polygons (a fixed map's, kept).
         """
         scenario = object.__new__(cls)
         values = {**_SCENARIO_DEFAULTS, **fields}  # (the instance's __dict__ written at once: a frozen dataclass's setattr per field cost more)
@@ -215,7 +216,7 @@ class Scenario:
         for a in arrays.values():
             a.flags.writeable = False
         values["_arrays"] = arrays
-        values["_segments"] = segments_of(values["walls"], values["wall_thickness"], values["polygons"])
+        values["_segments"] = segments_of(values["walls"], values["wall_thickness"], values["polygons"]) if segments is None else segments
         scenario.__dict__.update(values)
         return scenario
 

@@ -1,4 +1,4 @@
-"""Free-space sampling's cell bound (OccupancyMap._clear): the points shapely's exact clearance of every
+"""Free-space sampling's cell bound (OccupancyMap._candidates, compiled in occupancy._batch): the points shapely's exact clearance of every
 candidate accepted, in the same order, on the shipped maps and a noisy one, at clearances that put many
 candidates at the bound's edge."""
 
@@ -63,4 +63,6 @@ def test_the_bound_decides_a_candidate_exactly_at_the_edge():
     pts = np.column_stack([picks % cols + offsets[:, 0], picks // cols + offsets[:, 1]]) * occupancy.resolution + occupancy.origin
     gaps = occupancy.clearance(pts)
     for clearance in gaps[:50]:  # each a candidate's own clearance: on the edge
-        assert np.array_equal(occupancy._clear(pts, picks, offsets, clearance), (gaps >= clearance) & (gaps > 0))
+        fast_pts, clear = occupancy._candidates(picks, offsets, clearance)
+        assert np.array_equal(fast_pts, pts)  # numpy's arithmetic, bit for bit
+        assert np.array_equal(clear, (gaps >= clearance) & (gaps > 0))

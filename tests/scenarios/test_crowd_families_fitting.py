@@ -85,3 +85,43 @@ def test_candidates_checked_when_reached_are_placed_as_all_checked_first(n):
             i = _place_spaced(starts, goals, ok.reshape(n, _CANDIDATES), centers, ends, 0, SPACING, _rules(layout))
             placed.append((i, centers[:i].tolist(), ends[:i].tolist()))
         assert placed[0] == placed[1] and placed[0][0] >= 2
+
+
+def test_the_clearance_grid_leaves_the_maze_candidates_as_they_were():
+    """``_fitting`` with the maze's ``clearance_grid`` (most candidates skip the capsules and shapely) gives
+    numpy's booleans, on random points and on points placed at the wall clearance's edge."""
+    from pathplan_env.scenarios.crowd_families import clearance_grid, maze_crowd
+
+    rng = np.random.default_rng(11)
+    layout = maze_crowd(np.random.default_rng(0), 0)
+    grid = clearance_grid(layout)
+    reach = HUMAN_RADIUS + WALL_CLEARANCE
+    xmin, ymin, xmax, ymax = layout.bounds
+    for _ in range(3):
+        starts = np.array([xmin, ymin]) + rng.random((6000, 2)) * np.array([xmax - xmin, ymax - ymin])
+        goals = np.array([xmin, ymin]) + rng.random((6000, 2)) * np.array([xmax - xmin, ymax - ymin])
+        # goals on a polygon's edges pushed out by the reach, give or take 1e-12 m
+        seg = layout.static_segments[rng.integers(len(layout.static_segments), size=2000)]
+        t, side = rng.random(2000), rng.choice([-1.0, 1.0], 2000)
+        d = seg[:, 2:4] - seg[:, 0:2]
+        normal = np.column_stack([-d[:, 1], d[:, 0]]) / np.hypot(d[:, 0], d[:, 1])[:, None]
+        goals[:2000] = seg[:, 0:2] + t[:, None] * d + side[:, None] * normal * (reach + rng.choice([-1e-12, 0.0, 1e-12], 2000))[:, None]
+        goals[2000:2100] = np.nan
+        expected = numpy_fitting(starts, goals, layout)
+        assert 0 < expected.sum() < len(expected)
+        assert np.array_equal(_fitting(starts, goals, layout, grid), expected)
+        assert np.array_equal(_fitting(starts, goals, layout), expected)
+
+
+def test_a_wrong_clearance_grid_would_be_caught():
+    """The comparison above could fail: a grid claiming every centre far from the walls accepts points on them."""
+    from pathplan_env.scenarios.crowd_families import clearance_grid, maze_crowd
+
+    layout = maze_crowd(np.random.default_rng(0), 0)
+    values, origin = clearance_grid(layout)
+    lying = values.copy()
+    lying[:, :, 0], lying[:, :, 1] = 100.0, 1.0
+    rng = np.random.default_rng(5)
+    xmin, ymin, xmax, ymax = layout.bounds
+    pts = np.array([xmin, ymin]) + rng.random((3000, 2)) * np.array([xmax - xmin, ymax - ymin])
+    assert not np.array_equal(_fitting(pts, pts[::-1].copy(), layout, (lying, origin)), numpy_fitting(pts, pts[::-1].copy(), layout))

@@ -134,15 +134,21 @@ class ClairvoyantOracle(Agent):
                 break
         return outcome, np.concatenate(parts or [np.zeros((0, 2))]), expansions
 
-    def solve(self) -> dict:
-        """Search from the env's current state; returns the memory entries the episode flies."""
+    def problem(self) -> tuple[SpacetimeProblem, int, bool]:
+        """``(problem, remaining steps, reactive)``: the env's current state and its true future, as
+        :meth:`solve` searches it (``scripts``-side checks of a verdict read the same problem)."""
         env = self._env
         scenario, world = env.scenario, env.world
-        begin = time.perf_counter()
         trajectory, substeps, remaining, reactive, statics, ctg = true_future(env, self.max_steps)
         problem = SpacetimeProblem(trajectory, substeps, scenario.robot_radius, world.radii, np.array(world.robot_xy),
                                    np.array(scenario.goal), scenario.goal_radius, env.arena.box, env.robot_step_length,
                                    statics, ctg)  # fmt: skip
+        return problem, remaining, reactive
+
+    def solve(self) -> dict:
+        """Search from the env's current state; returns the memory entries the episode flies."""
+        begin = time.perf_counter()
+        problem, remaining, reactive = self.problem()
         expansions = 0
         for weight, cell in self.searches:
             result = search(problem, SearchSettings(self.moves, remaining, cell, self.max_expansions, weight))

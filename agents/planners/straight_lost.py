@@ -111,7 +111,8 @@ def _near(grid, step, cx, cy, reach, near, near_s):
 
 @numba.njit(cache=True)
 def _propagate(grid, start, slack, steps):
-    """The kept set step by step from the exact ``start``: ``(outcome, step)`` (``LOST``, ``GOAL``, ``OPEN``)."""
+    """The kept set step by step from the exact ``start``: ``(outcome, step, cells kept after each step)``
+    (``LOST``, ``GOAL``, ``OPEN``)."""
     cell, move_cell, origin, moves = grid.cell, grid.move_cell, grid.origin, grid.moves
     gx, gy = int(math.ceil(grid.origin[2] / cell)), int(math.ceil(grid.origin[3] / cell))
     kept = np.zeros((gx, gy), np.bool_)
@@ -123,6 +124,7 @@ def _propagate(grid, start, slack, steps):
     count = grid.radii.shape[0]
     near = np.empty(count, np.int64)
     near_s = np.empty(grid.statics.shape[0], np.int64)
+    sizes = np.zeros(steps, np.int64)
     sources = np.empty((1, 2), np.int64)  # the start: one source, known exactly (h = 0)
     n_sources = 1
     for step in range(steps):
@@ -147,7 +149,7 @@ def _propagate(grid, start, slack, steps):
                 if reach_fraction(cx, cy, dx, dy, g[0], g[1], goal_r) <= 1.0:
                     c, f = _move_free(grid, cx, cy, dx, dy, first, radius, candidates)
                     if f <= 1.0 and f <= c:
-                        return GOAL, step + 1
+                        return GOAL, step + 1, sizes
                 ex, ey = cx + dx - origin[0], cy + dy - origin[1]
                 i0, i1 = max(int(math.floor((ex - half) / cell)), 0), min(int(math.floor((ex + half) / cell)), gx - 1)
                 j0, j1 = max(int(math.floor((ey - half) / cell)), 0), min(int(math.floor((ey + half) / cell)), gy - 1)
@@ -159,8 +161,9 @@ def _propagate(grid, start, slack, steps):
                     continue
                 marked += (i1 - i0 + 1) * (j1 - j0 + 1) - np.count_nonzero(new[i0 : i1 + 1, j0 : j1 + 1])
                 new[i0 : i1 + 1, j0 : j1 + 1] = True
+        sizes[step] = marked
         if marked == 0:
-            return LOST, step + 1
+            return LOST, step + 1, sizes
         sources = np.empty((marked, 2), np.int64)
         n_sources = 0
         for i in range(gx):
@@ -169,16 +172,18 @@ def _propagate(grid, start, slack, steps):
                     sources[n_sources, 0], sources[n_sources, 1] = i, j
                     n_sources += 1
         kept, new = new, kept
-    return OPEN, steps
+    return OPEN, steps, sizes
 
 
-def provably_lost_straight(problem, cell: float = 0.003, move_cell: float = 0.003, max_steps: int = 6) -> tuple[bool | None, int]:
+def provably_lost_straight(problem, cell: float = 0.003, move_cell: float = 0.003, max_steps: int = 6,
+                           history: list | None = None) -> tuple[bool | None, int]:
     """Whether no sequence of straight one-step moves of the holonomic robot reaches the goal (or
     outlives the episode without contact): the kept set of the module's docstring.
 
     :param problem: a :class:`agents.planners.spacetime.astar.SpacetimeProblem` (its trajectory the
         rest of the episode, as the oracle builds it).
     :param cell: the position grid (m); ``move_cell``: the grid of tried moves (m).
+    :param history: if given, receives the kept set's cell count after every step.
     :return: ``(True, step)`` when the set empties during ``step``, or the episode ends with the goal
         never within reach; ``(False, step)`` when the goal may be reached during ``step``;
         ``(None, max_steps)`` when neither happens within ``max_steps`` steps.
@@ -203,7 +208,9 @@ def provably_lost_straight(problem, cell: float = 0.003, move_cell: float = 0.00
                         np.array([problem.goal[0], problem.goal[1], problem.goal_radius], np.float64),
                         np.array([x0, y0, max(x1 - x0, cell), max(y1 - y0, cell)]), float(cell), _moves(reach, move_cell), float(move_cell))  # fmt: skip
     slack = 1e-9 * (1.0 + abs(start[0]) + abs(start[1]) + reach)  # far above the env's rounding, far below a cell
-    outcome, step = _propagate(grid, start, slack, steps)
+    outcome, step, sizes = _propagate(grid, start, slack, steps)
+    if history is not None:
+        history.extend(int(k) for k in sizes[:step])
     if outcome == LOST:
         return True, step
     if outcome == GOAL:

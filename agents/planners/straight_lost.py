@@ -175,8 +175,7 @@ def _propagate(grid, start, slack, steps):
     return OPEN, steps, sizes
 
 
-def provably_lost_straight(problem, cell: float = 0.003, move_cell: float = 0.003, max_steps: int = 6,
-                           history: list | None = None) -> tuple[bool | None, int]:
+def provably_lost_straight(problem, cell: float = 0.003, move_cell: float = 0.003, max_steps: int = 6, history: list | None = None) -> tuple[bool | None, int]:
     """Whether no sequence of straight one-step moves of the holonomic robot reaches the goal (or
     outlives the episode without contact): the kept set of the module's docstring.
 

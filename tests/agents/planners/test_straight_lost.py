@@ -49,3 +49,14 @@ def test_bad_grids_are_refused(cells):
     problem = _scene(np.random.default_rng(0))
     with pytest.raises(ValueError, match="cell"):
         provably_lost_straight(problem, *cells)
+
+
+@pytest.mark.parametrize("straight_lost", [(0.0, 4), (0.005, 0), (0.005, 2.5), (0.005,)])
+def test_the_limit_refuses_a_bad_straight_lost(straight_lost):
+    import gymnasium as gym
+
+    import pathplan_env  # noqa: F401
+    from agents.oracles.clairvoyant import ClairvoyantOracle
+
+    with pytest.raises(ValueError, match="straight_lost"):
+        ClairvoyantOracle(gym.make("DynamicObstacle-v0"), straight_lost=straight_lost)

@@ -19,8 +19,9 @@ the true future (:meth:`ClairvoyantOracle.receding_plan`). Each step of that is 
 move, free of contact, so it never collides while the scheme finds a free move (until the episode
 ends); the verdict is "plan" if it reaches the goal (its moves prove a collision-free arrival), else
 "undetermined": nothing proved success or impossibility. Where it is cornered (no move free, the
-search exhausted up to its grid) the reachable-set test runs again on a grid twice as fine, and
-"lost" if that proves it; else the episode stays "undetermined" and ends in contact, flying
+search exhausted up to its grid) the reachable-set test runs again on a grid twice as fine, then
+the proof that models the env's one straight move a step (:mod:`agents.planners.straight_lost`), and
+"lost" if either proves it; else the episode stays "undetermined" and ends in contact, flying
 whichever stays free longer: the scheme's moves or the last search's deepest node.
 
 Where goal-directed obstacles see the robot (``Scenario.robot_visible``), their future depends on
@@ -39,6 +40,7 @@ from agents.oracles.clairvoyant_unicycle import UnicycleClairvoyantOracle
 from agents.oracles.future import simulator_of, true_future
 from agents.planners.reachable_set import provably_lost
 from agents.planners.spacetime.astar import BUDGET, EXHAUSTED, FOUND, HORIZON, SearchSettings, SpacetimeProblem, heading_moves, search
+from agents.planners.straight_lost import provably_lost_straight
 from pathplan_env.robots.holonomic import robot_move
 from pathplan_env.robots.unicycle import UnicycleAction
 
@@ -64,6 +66,10 @@ class ClairvoyantOracle(Agent):
         ``(horizon steps, steps committed, merge grid in m, node budget, retry factor)`` of
         :meth:`receding_plan`; ``None``: fly the last search's deepest node, then head for the goal
         (0.1.0's way, which may collide).
+    :param straight_lost: where ``receding`` is cornered and the finer reachable set proves nothing, the
+        lost proof of the robot's one straight move a step (:mod:`agents.planners.straight_lost`):
+        ``(grid in m, steps)``; ``None``: none. Holonomic robot only (the unicycle's oracle keeps the
+        reachable set). It sets only the verdict: the episode flies as without it.
     """
 
     def __new__(cls, *args, **kwargs):
@@ -76,7 +82,7 @@ class ClairvoyantOracle(Agent):
 
     def __init__(self, env, seed: int | None = None, *, n_headings: int = 32, speed_fractions=(1.0, 0.5),
                  searches=((3.0, 0.03), (1.5, 0.03), (3.0, 0.06)), max_expansions: int = 100_000, lost_cell: float = 0.005,
-                 receding=(20, 10, 0.03, 2000, 10)):  # fmt: skip
+                 receding=(20, 10, 0.03, 2000, 10), straight_lost=(0.005, 4)):  # fmt: skip
         super().__init__(env, seed)
         self._env, self.max_steps = simulator_of(env)
         if int(n_headings) != n_headings or n_headings < 4:
@@ -89,6 +95,9 @@ class ClairvoyantOracle(Agent):
         self.moves = heading_moves(int(n_headings), speed_fractions)
         self.max_expansions, self.lost_cell = int(max_expansions), float(lost_cell)
         self.receding = None if receding is None else _receding_settings(receding)
+        if straight_lost is not None and (len(straight_lost) != 2 or not straight_lost[0] > 0 or not _whole(straight_lost[1])):
+            raise ValueError(f"straight_lost must be (grid > 0 in m, steps >= 1) or None, got {straight_lost!r}")
+        self.straight_lost = None if straight_lost is None else (float(straight_lost[0]), int(straight_lost[1]))
         self.verdict: str | None = None  # of the episode planned last
         self.last_search: dict = {}
 
@@ -134,15 +143,21 @@ class ClairvoyantOracle(Agent):
                 break
         return outcome, np.concatenate(parts or [np.zeros((0, 2))]), expansions
 
-    def solve(self) -> dict:
-        """Search from the env's current state; returns the memory entries the episode flies."""
+    def problem(self) -> tuple[SpacetimeProblem, int, bool]:
+        """``(problem, remaining steps, reactive)``: the env's current state and its true future, as
+        :meth:`solve` searches it (``scripts``-side checks of a verdict read the same problem)."""
         env = self._env
         scenario, world = env.scenario, env.world
-        begin = time.perf_counter()
         trajectory, substeps, remaining, reactive, statics, ctg = true_future(env, self.max_steps)
         problem = SpacetimeProblem(trajectory, substeps, scenario.robot_radius, world.radii, np.array(world.robot_xy),
                                    np.array(scenario.goal), scenario.goal_radius, env.arena.box, env.robot_step_length,
                                    statics, ctg)  # fmt: skip
+        return problem, remaining, reactive
+
+    def solve(self) -> dict:
+        """Search from the env's current state; returns the memory entries the episode flies."""
+        begin = time.perf_counter()
+        problem, remaining, reactive = self.problem()
         expansions = 0
         for weight, cell in self.searches:
             result = search(problem, SearchSettings(self.moves, remaining, cell, self.max_expansions, weight))
@@ -165,6 +180,10 @@ class ClairvoyantOracle(Agent):
                     verdict, found_by = "plan", "receding"
                 elif outcome == EXHAUSTED:  # cornered where no move is free: a finer reachable set may prove it
                     lost, lost_at = provably_lost(problem, self.lost_cell / 2)
+                    if not lost and self.straight_lost is not None:  # the env's one straight move a step: tighter
+                        cell, steps = self.straight_lost
+                        straight, at = provably_lost_straight(problem, cell, cell, steps)
+                        lost, lost_at = (True, at) if straight else (lost, lost_at)
                     verdict = "lost" if lost else verdict
         if reactive:
             verdict = "reactive"
@@ -188,6 +207,11 @@ class ClairvoyantOracle(Agent):
         if i < len(targets):
             return targets[i]
         return np.asarray(obs["goal"], np.float64)  # past a failed search's deepest node: head for the goal
+
+
+def _whole(value) -> bool:
+    """Whether ``value`` is a positive whole number (not a bool)."""
+    return not isinstance(value, bool) and int(value) == value and value >= 1
 
 
 def _receding_settings(receding) -> tuple[int, int, float, int, int]:

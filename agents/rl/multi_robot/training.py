@@ -130,7 +130,8 @@ def build_model(args: SharedArgs, vector, log_dir: Path):
     if args.warm_start:
         shipped = PPO.load(MODELS_DIR / f"{args.warm_start}.zip", device="cpu")
         if shipped.observation_space.shape != vector.observation_space.shape:
-            raise ValueError(f"warm_start: {args.warm_start} reads {shipped.observation_space.shape} features, the robots give {vector.observation_space.shape}")
+            have, want = shipped.observation_space.shape, vector.observation_space.shape
+            raise ValueError(f"warm_start: {args.warm_start} reads {have} features, the robots give {want}")
         model.policy.load_state_dict(shipped.policy.state_dict())
         with torch.no_grad():  # explore again around the shipped mean action
             model.policy.log_std.fill_(args.log_std_init)

@@ -6,10 +6,10 @@ import pytest
 
 pytest.importorskip("pettingzoo")
 
-from agents.rl.multi_robot.shared_env import make_shared_env  # noqa: E402
-from pathplan_env.facts import EnvFacts  # noqa: E402
-from pathplan_env.multi_robot import parallel_env  # noqa: E402
-from pathplan_env.wrappers import egocentric_features, relative_action_to_waypoint  # noqa: E402
+from agents.rl.multi_robot.shared_env import make_shared_env
+from pathplan_env.facts import EnvFacts
+from pathplan_env.multi_robot import parallel_env
+from pathplan_env.wrappers import egocentric_features, relative_action_to_waypoint
 
 
 def test_each_robot_sees_and_acts_as_the_single_robot_ppo_does():

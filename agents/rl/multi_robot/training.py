@@ -212,26 +212,42 @@ def _write_csv(path: Path, rows: list[dict]) -> None:
 
 
 def plot_curve(out: Path, curve_rows: list[dict], validation_rows: list[dict]) -> None:
-    """``learning_curve.png``: the training episodes' all-arrived rate and reward per robot, and the validation's all-arrived rate."""
+    """``learning_curve.png``: the all-arrived rate (training episodes, validation), the training
+    episodes' reward per robot, and the validation's makespan."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 3.5))
+    fig, (arrived, reward, makespan) = plt.subplots(1, 3, figsize=(13, 3.5))
     if curve_rows:
         steps = [r["robot_steps"] for r in curve_rows]
-        left.plot(steps, [r["all_arrived"] for r in curve_rows], label="training (last 50 episodes)", lw=1)
-        right.plot(steps, [r["reward_per_robot"] for r in curve_rows], lw=1)
-    left.plot([r["robot_steps"] for r in validation_rows], [r["all_arrived"] for r in validation_rows], "o-", ms=3, label="validation")
-    left.set(xlabel="robot steps", ylabel="all-arrived rate", ylim=(0, 1.02), title=out.name)
-    right.set(xlabel="robot steps", ylabel="episode reward per robot (training)")
-    left.legend(loc="lower right")
-    for ax in (left, right):
+        arrived.plot(steps, [r["all_arrived"] for r in curve_rows], label="training (last 50 episodes)", lw=1)
+        reward.plot(steps, [r["reward_per_robot"] for r in curve_rows], lw=1)
+    validation_steps = [r["robot_steps"] for r in validation_rows]
+    arrived.plot(validation_steps, [r["all_arrived"] for r in validation_rows], "o-", ms=3, label="validation")
+    makespan.plot(validation_steps, [r["makespan"] for r in validation_rows], "o-", ms=3, color="C1")
+    arrived.set(xlabel="robot steps", ylabel="all-arrived rate", ylim=(0, 1.02), title=out.name)
+    reward.set(xlabel="robot steps", ylabel="episode reward per robot (training)")
+    makespan.set(xlabel="robot steps", ylabel="makespan (s), validation")
+    arrived.legend(loc="lower right")
+    for ax in (arrived, reward, makespan):
         ax.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(out / "learning_curve.png", dpi=120)
     plt.close(fig)
 
 
-__all__ = ["SharedArgs", "train_shared", "validate"]
+def replot(out: str | Path) -> Path:
+    """Draw ``out``'s ``learning_curve.png`` again from its ``training_curve.csv`` and ``validation.csv``."""
+    out = Path(out)
+
+    def rows(name):
+        with (out / name).open() as f:
+            return [{k: float(v) if v not in ("", "nan") else float("nan") for k, v in row.items()} for row in csv.DictReader(f)]
+
+    plot_curve(out, rows("training_curve.csv"), rows("validation.csv"))
+    return out / "learning_curve.png"
+
+
+__all__ = ["SharedArgs", "replot", "train_shared", "validate"]

@@ -55,3 +55,19 @@ def test_vector_env_has_a_slot_per_robot_and_ends_episodes_together():
         if len(ends) == 2:
             break
     assert len(ends) == 2
+
+
+def test_the_shipped_shared_policy_drives_each_robot_with_numpy():
+    import agents
+
+    env = parallel_env(scenario="multi-circle-4")
+    observations, _ = env.reset(seed=3)
+    policies = {robot: agents.make("ppo-multi", env.robot_env(robot), seed=0) for robot in env.agents}
+    assert all(p.backend == "numpy" and p.metadata["scenario"] == "multi-circle-4" for p in policies.values())
+    for _ in range(60):
+        if not env.agents:
+            break
+        actions = {robot: policies[robot].predict(observations[robot], deterministic=True)[0] for robot in env.agents}
+        assert all(env.action_space(robot).contains(np.asarray(a, np.float32)) for robot, a in actions.items())
+        observations, _, _, _, infos = env.step(actions)
+    assert not env.agents  # every robot's episode ended within 60 steps (the circle takes about 35)

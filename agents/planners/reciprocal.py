@@ -30,10 +30,10 @@ ROBOT_FLAG = "obstacle_is_robot"
 ROBOT_PREDICTIONS = ("reciprocal", "obstacles")
 #: The relative margin on the contact distance between two robots (the other's planner picks its own
 #: moves and grid, and may be hemmed in by the rest, so its half is not the mirror of this one's):
-#: picked on validation episodes of the 10-robot circle among 8 bouncing obstacles (astar-spacetime,
-#: 60 episodes: 0.25 / 0.4 / 0.6 / 0.8 brought all robots home in 46 / 54 / 57 / 58; pso-spacetime,
-#: 30: 27 at 0.25, 30 at 0.6), the smallest with 0.95 there, then checked on the other circles'
-#: validation episodes (docs/results/multi_robot.md). ROBOT_DEPTH (kept) was picked beside the earlier margin of 0.25 on test episodes.
+#: picked on 60 validation episodes of the 10-robot circle among 8 bouncing obstacles, where 0.25
+#: brought every robot home in 46 (astar-spacetime) and 53 (pso-spacetime), 0.6 in 57 and 60 (0.4 and
+#: 0.8 tried too), then checked on the other circles' validation episodes (docs/results/multi_robot.md
+#: has the commands). ROBOT_DEPTH (kept) was picked beside the earlier margin of 0.25 on test episodes.
 ROBOT_MARGIN = 0.6
 #: How far the disc of another robot reaches past the midpoint (m): a disc of half the contact distance
 #: at the midpoint lets both robots slip round it on the same side.

@@ -19,15 +19,22 @@ from agents.rl.multi_robot.training import SharedArgs, train_shared
 from agents.rl.training import field_docs
 
 
-def parse_args(argv=None) -> SharedArgs:
+def build_parser() -> argparse.ArgumentParser:
+    """Flags from the dataclass's fields (``--total-timesteps``, ``--warm-start``, ...), with their docs."""
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     docs = field_docs(SharedArgs)
     for f in dataclasses.fields(SharedArgs):
         kind = {"int": int, "float": float}.get(f.type, str)
-        parser.add_argument("--" + f.name.replace("_", "-"), type=kind, default=f.default, help=docs.get(f.name, "").replace("%", "%%"))
+        text = docs.get(f.name, "").replace("%", "%%") + " (default: %(default)r)"
+        parser.add_argument("--" + f.name.replace("_", "-"), type=kind, default=f.default, help=text)
+    return parser
+
+
+def parse_args(argv=None) -> SharedArgs:
+    parser = build_parser()
     try:
         return SharedArgs(**vars(parser.parse_args(argv)))
-    except ValueError as error:
+    except ValueError as error:  # a bad combination: one line, before any work
         parser.error(str(error))
 
 

@@ -71,3 +71,11 @@ def test_the_shipped_shared_policy_drives_each_robot_with_numpy():
         assert all(env.action_space(robot).contains(np.asarray(a, np.float32)) for robot, a in actions.items())
         observations, _, _, _, infos = env.step(actions)
     assert not env.agents  # every robot's episode ended within 60 steps (the circle takes about 35)
+
+
+@pytest.mark.parametrize(("field", "value"), [("warm_start", "ppo_nowhere"), ("eval_episodes", 0), ("budget_minutes", -1.0)])
+def test_a_bad_training_argument_is_a_value_error_naming_it(field, value):
+    from agents.rl.multi_robot.training import SharedArgs
+
+    with pytest.raises(ValueError, match=field):
+        SharedArgs(**{field: value})

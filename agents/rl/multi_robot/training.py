@@ -90,12 +90,11 @@ class SharedArgs:
         return shlex.join(words)
 
 
-def validate(model, env: SharedFeaturesEnv) -> dict:
-    """The mean actions of ``model`` for every robot on ``env``'s episodes from the start of its stream:
-    all-arrived rate, collisions per robot, mean makespan of the all-arrived episodes."""
+def validate(model, env: SharedFeaturesEnv, episodes: int) -> dict:
+    """The mean actions of ``model`` for every robot on ``env``'s first ``episodes`` episodes (its stream
+    rewound): all-arrived rate, collisions per robot, mean makespan of the all-arrived episodes."""
     env.restart()
     env.episodes.clear()
-    episodes = env.first_episodes
     for _ in range(episodes):
         observations, _ = env.reset()
         while env.agents:
@@ -155,14 +154,13 @@ def train_shared(args: SharedArgs, command: str | None = None) -> dict:
     vector = shared_vector_env(make_shared_env(args.scenario, args.k_nearest, training_seed_base(args.seed), **env_kwargs))
     seeds = validation_seeds(0, args.eval_episodes)
     validation_env = make_shared_env(args.scenario, args.k_nearest, seeds[0])  # validation at the env's own reward: not read
-    validation_env.first_episodes = args.eval_episodes
     model = build_model(args, vector, out)
     training = _inner(vector)
     curve_rows, validation_rows = [], []
     best = {"key": None}
 
     def evaluate_now(steps: int) -> None:
-        scores = validate(model, validation_env)
+        scores = validate(model, validation_env, args.eval_episodes)
         row = {"robot_steps": steps, "minutes": round((time.perf_counter() - start) / 60, 2), **scores}
         validation_rows.append(row)
         key = (scores["all_arrived"], -scores["makespan"] if scores["makespan"] == scores["makespan"] else -1e9)

@@ -27,6 +27,7 @@ from agents.registry import factory, register
 from agents.requirements import GOAL_KEYS, LIDAR_KEYS, STATE_KEYS
 from agents.rl.lidar.policy import LidarRLAgent
 from agents.rl.obstacle_set.policy import SetRLAgent
+from agents.rl.policy import MODELS_DIR
 from agents.rl.sarl.policy import SARLAgent
 from agents.rl.sb3_model import SB3Agent, trained_agent
 
@@ -39,6 +40,9 @@ TUNINGS = ("default", "crowd")
 WAYPOINT_PREDICTIONS = ("none", "constant-velocity")
 #: The learned PPO agents by the observation they read.
 PPO_OBSERVATIONS = ("state", "lidar", "set")
+#: The shipped PPO models that read the single env's "state" features: one robot among obstacles
+#: (``ppo``), and one policy for every robot of the multi-robot circle (``ppo_multi``, agents.rl.multi_robot).
+PPO_STATE_MODELS = ("ppo", "ppo_multi")
 #: What DWA reads of the obstacles: the state's list (positions and velocities) or the lidar's scan.
 DWA_SENSORS = ("state", "lidar")
 
@@ -108,8 +112,13 @@ def astar(env, seed: int | None = None, *, plan: str = "spacetime", tuning: str 
     return UnicycleAStarAgent(env, seed, **_crowd(tuning, settings, unicycle_astar.CROWD_SETTINGS))
 
 
-def ppo(env, seed: int | None = None, *, observation: str = "state", **settings):
-    """The learned PPO agents by the observation they read: the shipped model of each, or ``path=``."""
+def ppo(env, seed: int | None = None, *, observation: str = "state", model: str | None = None, **settings):
+    """The learned PPO agents by the observation they read: the shipped model of each (``model``: which
+    shipped "state" model, :data:`PPO_STATE_MODELS`), or ``path=``."""
+    if model is not None:
+        if _choice("observation", observation, PPO_OBSERVATIONS) != "state" or "path" in settings:
+            raise ValueError(f"model={model!r} names a shipped 'state' model: give it without observation={observation!r} or path=")
+        settings["path"] = MODELS_DIR / f"{_choice('model', model, PPO_STATE_MODELS)}.zip"
     build = {"state": trained_agent, "lidar": LidarRLAgent, "set": SetRLAgent}[_choice("observation", observation, PPO_OBSERVATIONS)]
     return build(env, seed, **settings)
 
@@ -158,7 +167,8 @@ def register_families() -> None:
     register("oracle-clairvoyant", ClairvoyantOracle, robots=BOTH, observations=GOAL_KEYS,
              summary="privileged: reads the simulator; the earliest collision-free arrival, the harness's limit")  # fmt: skip
     register("ppo", ppo, observations_for=_ppo_reads,
-             axes={"observation": f"the input the network reads: {', '.join(PPO_OBSERVATIONS)}", "path": "a model file (default: shipped)"},
+             axes={"observation": f"the input the network reads: {', '.join(PPO_OBSERVATIONS)}", "path": "a model file (default: shipped)",
+                   "model": f"a shipped 'state' model: {', '.join(PPO_STATE_MODELS)} (ppo_multi: one policy for every robot of the multi-robot circle)"},
              summary="stable-baselines3 PPO policies, shipped with a numpy forward (no torch)")  # fmt: skip
     register("sarl", SARLAgent, observations=STATE_KEYS,
              axes={"model": "the shipped network: sarl_crowdnav, sarl_random, sarl_crowdnav_crossings", "path": "a model file"},

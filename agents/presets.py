@@ -40,6 +40,7 @@ PRESETS: dict[str, tuple[str, dict, str]] = {
     "ppo": ("ppo", {"observation": "state"}, "the shipped PPO (agents/models/ppo.*)"),
     "ppo-lidar": ("ppo", {"observation": "lidar"}, "the shipped lidar PPO (observation='lidar')"),
     "ppo-set": ("ppo", {"observation": "set"}, "the shipped set-encoder PPO"),
+    "ppo-multi": ("ppo", {"observation": "state", "model": "ppo_multi"}, "one policy for every robot, trained on multi-circle-4 (agents/models/ppo_multi.*)"),
     "sarl": ("sarl", {}, "trained on CrowdNav's circle crossing (sarl_crowdnav)"),
     "sarl-random": ("sarl", {"model": "sarl_random"}, "trained on random scenes, bouncing obstacles"),
     "sarl-crossings": ("sarl", {"model": "sarl_crowdnav_crossings"}, "trained on CrowdNav's circle and square crossings"),

@@ -50,6 +50,7 @@ def test_the_readme_and_the_site_name_many_commands():
 def test_readme_command_parses(script, arguments):
     import agents
     import pathplan_env
+    from pathplan_env.multi_robot.presets import PRESETS as MULTI_ROBOT_PRESETS
 
     assert (ROOT / script).exists(), script
     sys.path.insert(0, str(ROOT / "scripts"))
@@ -67,7 +68,8 @@ def test_readme_command_parses(script, arguments):
             assert not agent or own.search(agent) or agent in agents.available(), (script, agent)
     scenarios = getattr(parsed, "scenarios", getattr(parsed, "scenario", "")) or ""
     for scenario in scenarios if isinstance(scenarios, list) else str(scenarios).split(","):
-        assert not scenario or own.search(scenario) or scenario in pathplan_env.PRESETS, (script, scenario)
+        known = scenario in pathplan_env.PRESETS or scenario in MULTI_ROBOT_PRESETS  # (the multi-robot scripts' scenes)
+        assert not scenario or own.search(scenario) or known, (script, scenario)
 
 
 @pytest.mark.slow

@@ -3,6 +3,9 @@
     from agents.evaluation.multi_robot import evaluate_multi
     rows = evaluate_multi(["astar-spacetime", "orca", "oracle-prioritized"], ["multi-circle-4"], [None], 20, "results/multi")
 
+An agent name may carry settings over its own after ``?`` (``"astar-spacetime?robot_margin=0.4"``, several
+joined by ``&``): the variant runs and is labelled by that name.
+
 Each episode is ``pathplan_env.multi_robot.parallel_env(scenario=...)`` reset with the split's seed
 (``pathplan_env.scenarios.splits.episode_seeds``: the same disjoint test and validation seeds as the
 single-robot harness). An agent entry is a name for every robot (decentralised: each robot its own
@@ -70,7 +73,33 @@ def agent_label(entry) -> str:
     return "+".join(f"{k}={v}" for k, v in sorted(entry.items()))
 
 
+def split_settings(name: str) -> tuple[str, dict]:
+    """``"astar-spacetime?robot_margin=0.4"`` -> ``("astar-spacetime", {"robot_margin": 0.4})``: an agent
+    name with settings over its own (Python literals), so a variant runs and is labelled by name.
+
+    :raises ValueError: naming the entry when a setting is not ``key=literal``.
+    """
+    import ast
+
+    base, _, query = name.partition("?")
+    settings = {}
+    for part in filter(None, query.split("&")):
+        key, equals, value = part.partition("=")
+        try:
+            if not (equals and key.isidentifier()):
+                raise ValueError
+            settings[key] = ast.literal_eval(value)
+        except (ValueError, SyntaxError):
+            raise ValueError(f"agent {name!r}: settings after '?' are key=value pairs joined by '&' (values Python literals), got {part!r}") from None
+    return base, settings
+
+
 def _build(name: str, robot_env, seed: int):
+    name, settings = split_settings(name)
+    if settings:
+        import agents
+
+        return agents.make(name, robot_env, seed=seed, **settings)
     if name in MULTI_AGENTS:
         module, attribute = MULTI_AGENTS[name].split(":")
         import importlib

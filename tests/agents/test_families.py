@@ -124,7 +124,8 @@ def test_overrides_go_over_a_presets_parameters():
     ("name", "parameters", "field"),
     [("pso", {"plan": "everything"}, "plan"), ("pso", {"tuning": "crowd"}, "tuning"), ("abc", {"prediction": "cone"}, "prediction"),
      ("pso", {"plan": "spacetime", "variant": "vanilla"}, "variant"), ("astar", {"plan": "waypoint"}, "plan"),
-     ("astar", {"tuning": "loud"}, "tuning"), ("ppo", {"observation": "pixels"}, "observation"), ("straight", {"drive": "sideways"}, "drive"),
+     ("astar", {"tuning": "loud"}, "tuning"), ("ppo", {"observation": "pixels"}, "observation"),
+     ("ppo", {"model": "ppo_huge"}, "model"), ("ppo", {"model": "ppo", "path": "elsewhere.zip"}, "model"), ("straight", {"drive": "sideways"}, "drive"),
      ("pso", {"plan": "controls", "drive": "pure-pursuit"}, "pure-pursuit"), ("dwa", {"drive": "pure-pursuit"}, "pure-pursuit")],
 )  # fmt: skip
 def test_a_bad_parameter_is_a_value_error_naming_it(name, parameters, field):

@@ -52,3 +52,12 @@ def test_the_prioritised_oracle_refuses_a_unicycle_naming_the_robot():
     env.reset(seed=0)
     with pytest.raises(ValueError, match=r"robots\[1\]\.robot"):
         PrioritizedOracle(env.robot_env("robot_1"))
+
+
+def test_an_agent_name_carries_settings_after_a_question_mark():
+    from agents.evaluation.multi_robot import split_settings
+
+    assert split_settings("astar-spacetime?robot_margin=0.4&robots='obstacles'") == ("astar-spacetime", {"robot_margin": 0.4, "robots": "obstacles"})
+    assert split_settings("orca") == ("orca", {})
+    with pytest.raises(ValueError, match="astar-spacetime\\?robot_margin"):
+        split_settings("astar-spacetime?robot_margin")

@@ -31,6 +31,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--seed", type=int, default=0, help="the split's seed (as scripts/evaluate.py)")
     parser.add_argument("--split", default="test", choices=["test", "validation"])
     parser.add_argument("--workers", type=int, default=1)
+    parser.add_argument("--backend", choices=("process", "ray"), default="process",
+                        help='where episodes run: a local process pool (--workers) or Ray (pip install -e ".[ray]")')  # fmt: skip
+    parser.add_argument("--address", help="with --backend ray: a running cluster's address (default: a local Ray)")
     parser.add_argument("--out", type=Path, default=None, help="folder for multi_episodes.jsonl and multi_summary.json")
     parser.add_argument("--resume", action="store_true", help="keep the episodes on record in --out and run the rest")
     return parser
@@ -42,8 +45,11 @@ def main(argv=None) -> None:
     for label, scenarios, delta in (("own", args.scenarios, None), ("bouncing", args.bouncing, args.delta_d)):
         if scenarios:
             out = None if args.out is None else args.out / label
-            rows += evaluate_multi(args.agents, scenarios, [delta], args.episodes, out, seed=args.seed, split=args.split,
-                                   workers=args.workers, resume=args.resume)  # fmt: skip
+            try:
+                rows += evaluate_multi(args.agents, scenarios, [delta], args.episodes, out, seed=args.seed, split=args.split,
+                                       workers=args.workers, resume=args.resume, backend=args.backend, address=args.address)  # fmt: skip
+            except ValueError as error:  # bad input, named by the harness: one line, as scripts/evaluate.py
+                raise SystemExit(f"evaluate_multi.py: {error}") from None
     print(table(rows))
 
 

@@ -17,7 +17,8 @@ Per robot: success, collision and with what (robot, obstacle, wall), time to goa
 episode: all arrived, makespan (the last arrival's time, when all arrived), sum of times (each
 robot's time to its goal, its contact, or the episode's end). Rates carry Wilson intervals. Episodes are appended to
 ``multi_episodes.jsonl`` as they finish (``resume=True`` skips those on record; ``workers`` run them
-on the single harness's process pool, ``agents.evaluation.executors``); ``multi_summary.json`` at the end.
+on the single harness's process pool, ``agents.evaluation.executors``, or ``backend="ray"`` on its Ray
+executor, ``agents.evaluation.ray_backend``); ``multi_summary.json`` at the end.
 """
 
 from __future__ import annotations
@@ -174,6 +175,15 @@ def _run_job(job) -> MultiEpisodeResult:
     return run_multi_episode(*job)
 
 
+def _execute(jobs: list, on_result, workers: int, backend: str, address: str | None) -> None:
+    if backend == "ray":
+        from agents.evaluation.ray_backend import run_jobs_on_ray
+
+        run_jobs_on_ray(jobs, on_result, address=address, num_cpus=workers, runner=_run_job, decode=_from_json)
+    else:
+        run_jobs(jobs, workers, on_result, runner=_run_job)
+
+
 def _from_json(row: dict) -> MultiEpisodeResult:
     row = dict(row)
     row["robots"] = [RobotResult(**r) for r in row["robots"]]
@@ -208,9 +218,17 @@ def summarize_multi(results: list[MultiEpisodeResult]) -> list[dict]:
 
 def evaluate_multi(entries: list, scenarios: list, deltas: list[float | None], episodes: int, out: str | Path | None = None, *,
                    seed: int = 0, split: str = "test", workers: int = 1, resume: bool = False,
-                   env_options: dict | None = None) -> list[dict]:  # fmt: skip
+                   env_options: dict | None = None, backend: str = "process", address: str | None = None) -> list[dict]:  # fmt: skip
     """Run every (entry, scenario, Δd) cell on the split's episodes; write them to ``out`` (if given)
-    and return :func:`summarize_multi`'s rows."""
+    and return :func:`summarize_multi`'s rows. ``backend``: ``"process"`` (a local pool of ``workers``)
+    or ``"ray"`` (a local Ray of ``workers`` CPUs, or the cluster at ``address``), as ``evaluate``'s."""
+    if backend not in ("process", "ray"):
+        raise ValueError(f"backend must be 'process' or 'ray', got {backend!r}")
+    if backend == "ray":
+        try:
+            import ray  # noqa: F401  (checked before any work)
+        except ImportError:
+            raise ValueError('--backend ray needs Ray: pip install -e ".[ray]"') from None
     if split == "crowdnav":
         raise ValueError("split: the multi-robot scenes are drawn from the seeds: use 'test' or 'validation'")
     seeds = episode_seeds(split, seed, episodes)
@@ -218,7 +236,7 @@ def evaluate_multi(entries: list, scenarios: list, deltas: list[float | None], e
             for i, s in enumerate(seeds)]  # fmt: skip
     results: list[MultiEpisodeResult] = []
     if out is None:
-        run_jobs(jobs, workers, results.append, runner=_run_job)
+        _execute(jobs, results.append, workers, backend, address)
         return summarize_multi(results)
     folder = run_folder(out)
     log = folder / LOG_NAME
@@ -236,7 +254,7 @@ def evaluate_multi(entries: list, scenarios: list, deltas: list[float | None], e
                 stream.write(json.dumps(asdict(result)) + "\n")
                 stream.flush()
 
-            run_jobs(left, workers, keep, runner=_run_job)
+            _execute(left, keep, workers, backend, address)
         rows = summarize_multi(results)
         (folder / SUMMARY_NAME).write_text(json.dumps({"split": split, "seed": seed, "episodes": episodes, "rows": rows}, indent=1, default=str))
     return rows

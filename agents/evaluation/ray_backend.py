@@ -1,5 +1,5 @@
-"""The evaluation's Ray executor: the same ``run_episode`` jobs as the local process pool, on a local
-Ray or a cluster (``ray start --head``, then ``--address``). Optional: ``pip install -e ".[ray]"``.
+"""The evaluation's Ray executor: the same jobs as the local process pool (``run_episode``'s, or another
+``runner``'s such as the multi-robot harness's), on a local Ray or a cluster (``ray start --head``, then ``--address``). Optional: ``pip install -e ".[ray]"``.
 
 The jobs carry the agents' and scenarios' specs (``entrants``), the run's env options and split; Ray sends them with cloudpickle, which
 sends a class or function defined in the driver's ``__main__`` by value, so an agent registered or
@@ -16,11 +16,13 @@ from dataclasses import asdict
 MAX_RETRIES = 3
 
 
-def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, num_cpus: int | None = None, runner=None) -> None:
+def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, num_cpus: int | None = None, runner=None,
+                    decode=None) -> None:  # fmt: skip
     """Run ``jobs`` on Ray, calling ``on_result`` with each finished episode as it arrives.
 
-    ``runner(job) -> EpisodeResult`` runs one job (default: ``run_episode(*job)``; tests pass one
-    whose worker dies)."""
+    ``runner(job)`` runs one job and returns a dataclass (default: ``run_episode(*job)``; tests pass
+    one whose worker dies); it travels back as ``asdict`` and ``decode(row)`` rebuilds it (default:
+    ``EpisodeResult(**row)``), as :func:`agents.evaluation.executors.run_jobs` takes a ``runner``."""
     try:
         import ray
     except ImportError:
@@ -31,6 +33,7 @@ def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, nu
     from pathplan_env.records import Episode
 
     run = runner if runner is not None else (lambda job: run_episode(*job))
+    rebuild = decode if decode is not None else (lambda row: EpisodeResult(**row))
     started_here = not ray.is_initialized()
     if started_here:
         ray.init(address=address, num_cpus=None if address else num_cpus, include_dashboard=False,
@@ -49,7 +52,7 @@ def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, nu
                 done, pending = ray.wait(pending, num_returns=min(len(pending), 16), timeout=1.0)
                 for ref in done:
                     row, trajectory = ray.get(ref)
-                    result = EpisodeResult(**row)
+                    result = rebuild(row)
                     if trajectory is not None:
                         result.trajectory = Episode.from_plain(trajectory)
                     on_result(result)

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -117,8 +118,8 @@ class OccupancyMap:
         :func:`_batch`'s bound, shapely measuring only the points it leaves open."""
         centre = self._centre_clearance if self.polygons else _NO_CENTRES
         x0, y0 = (float(v) for v in self.origin)
-        grid = (self.occupied.shape[1], float(self.resolution), x0, y0, *map(float, self.bounds))
-        pts, verdict = _batch(picks, offsets, *grid, centre, self._edges, float(clearance))
+        grid = CellGrid(self.occupied.shape[1], float(self.resolution), x0, y0, *map(float, self.bounds))
+        pts, verdict = _batch(picks, offsets, grid, centre, self._edges, float(clearance))
         unsure = verdict == _UNSURE
         if unsure.any():
             gaps = shapely.distance(self.geometry, shapely.points(pts[unsure]))
@@ -160,8 +161,21 @@ _CLEAR, _UNSURE = 1, 2
 _NO_CENTRES = np.zeros(0)
 
 
+class CellGrid(NamedTuple):
+    """The map's cells as :func:`_batch` reads them: columns, cell size, origin and the map's bounds (m)."""
+
+    cols: int
+    resolution: float
+    x0: float
+    y0: float
+    xmin: float
+    ymin: float
+    xmax: float
+    ymax: float
+
+
 @numba.njit(cache=True)
-def _batch(picks, offsets, cols, resolution, x0, y0, xmin, ymin, xmax, ymax, centre, edges, clearance):
+def _batch(picks, offsets, grid, centre, edges, clearance):
     """One batch of :meth:`OccupancyMap.sample_free`: the points (numpy's arithmetic of before, in its
     order) and per point 0 (refused), ``_CLEAR`` or ``_UNSURE`` (shapely decides); ``centre`` (shapely's
     distance from each cell's centre to the polygons) empty for a map without polygons. The verdicts are
@@ -171,6 +185,8 @@ def _batch(picks, offsets, cols, resolution, x0, y0, xmin, ymin, xmax, ymax, cen
     its distance to them is to their ``edges``), the edges are measured here (rounding ~1e-15 m), and only a
     distance within 1e-9 m of ``clearance`` is left to shapely. Compiled: the batch's dozen numpy passes
     and shapely's call were a sixth of a maze-crowd reset."""
+    cols, resolution, x0, y0 = grid.cols, grid.resolution, grid.x0, grid.y0
+    xmin, ymin, xmax, ymax = grid.xmin, grid.ymin, grid.xmax, grid.ymax
     n = picks.shape[0]
     pts, verdict = np.empty((n, 2)), np.zeros(n, np.int8)
     for k in range(n):

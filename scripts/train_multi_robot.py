@@ -11,31 +11,20 @@ to ``--out``; the library is ``agents.rl.multi_robot.training``.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import shlex
 import sys
 
 from agents.rl.multi_robot.training import SharedArgs, train_shared
-from agents.rl.training import field_docs
+from agents.rl.training import dataclass_parser, parse_dataclass
 
 
 def build_parser() -> argparse.ArgumentParser:
     """Flags from the dataclass's fields (``--total-timesteps``, ``--warm-start``, ...), with their docs."""
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    docs = field_docs(SharedArgs)
-    for f in dataclasses.fields(SharedArgs):
-        kind = {"int": int, "float": float}.get(f.type, str)
-        text = docs.get(f.name, "").replace("%", "%%") + " (default: %(default)r)"
-        parser.add_argument("--" + f.name.replace("_", "-"), type=kind, default=f.default, help=text)
-    return parser
+    return dataclass_parser(SharedArgs, __doc__)
 
 
 def parse_args(argv=None) -> SharedArgs:
-    parser = build_parser()
-    try:
-        return SharedArgs(**vars(parser.parse_args(argv)))
-    except ValueError as error:  # a bad combination: one line, before any work
-        parser.error(str(error))
+    return parse_dataclass(SharedArgs, build_parser(), argv)
 
 
 if __name__ == "__main__":

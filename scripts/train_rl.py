@@ -37,33 +37,19 @@ masked, with an ego token; ``agents.rl.obstacle_set.encoder``: SARL's attention 
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import shlex
 import sys
 
-from agents.rl.training import Args, field_docs, train
+from agents.rl.training import Args, dataclass_parser, parse_dataclass, train
 
 
 def build_parser() -> argparse.ArgumentParser:
     """Flags from the dataclass's fields (``--total-timesteps``, ``--no-progress``, ...), with their docs."""
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    docs = field_docs(Args)
-    for f in dataclasses.fields(Args):
-        flag = "--" + f.name.replace("_", "-")
-        text = docs.get(f.name, "").replace("%", "%%") + " (default: %(default)r)"
-        if f.type == "bool":
-            parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=f.default, help=text)
-        else:
-            parser.add_argument(flag, type={"int": int, "float": float}.get(f.type, str), default=f.default, help=text)
-    return parser
+    return dataclass_parser(Args, __doc__)
 
 
 def parse_args(argv=None) -> Args:
-    parser = build_parser()
-    try:
-        return Args(**vars(parser.parse_args(argv)))
-    except ValueError as error:  # a bad combination: one line, before any work
-        parser.error(str(error))
+    return parse_dataclass(Args, build_parser(), argv)
 
 
 if __name__ == "__main__":

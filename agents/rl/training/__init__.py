@@ -14,12 +14,12 @@ are imported when a run starts.
     meta = train(Args(total_timesteps=100_000, eval_freq=50_000, out="runs/quick"))
 """
 
-from agents.rl.training.config import Args, field_docs
+from agents.rl.training.config import Args, dataclass_parser, field_docs, parse_dataclass
 from agents.rl.training.demonstrations import Demonstrations, collect_demonstrations, discounted_returns
 from agents.rl.training.outputs import learning_curve, run_metadata, ship, write_sidecars
 from agents.rl.training.run import build_model, demonstration_env, make_env, train
 
 __all__ = [
-    "Args", "Demonstrations", "build_model", "collect_demonstrations", "demonstration_env", "discounted_returns", "field_docs",
-    "learning_curve", "make_env", "run_metadata", "ship", "train", "write_sidecars",
+    "Args", "Demonstrations", "build_model", "collect_demonstrations", "demonstration_env", "dataclass_parser", "discounted_returns", "field_docs",
+    "learning_curve", "make_env", "parse_dataclass", "run_metadata", "ship", "train", "write_sidecars",
 ]  # fmt: skip

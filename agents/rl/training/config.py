@@ -6,6 +6,7 @@ come from ``pathplan_env.zoo.PPO_SETTINGS``, the one source rl-zoo3's hyperparam
 
 from __future__ import annotations
 
+import argparse
 import ast
 import dataclasses
 import inspect
@@ -213,3 +214,26 @@ def field_docs(cls) -> dict[str, str]:
         if isinstance(node, ast.AnnAssign) and isinstance(after, ast.Expr) and isinstance(after.value, ast.Constant):
             docs[node.target.id] = " ".join(str(after.value.value).split())
     return docs
+
+
+def dataclass_parser(cls, description: str) -> argparse.ArgumentParser:
+    """A command line whose flags are ``cls``'s fields (``--total-timesteps``; a bool gives ``--x`` and
+    ``--no-x``), each with its field's docstring and default."""
+    parser = argparse.ArgumentParser(description=description, formatter_class=argparse.RawDescriptionHelpFormatter)
+    docs = field_docs(cls)
+    for f in dataclasses.fields(cls):
+        flag = "--" + f.name.replace("_", "-")
+        text = docs.get(f.name, "").replace("%", "%%") + " (default: %(default)r)"
+        if f.type == "bool":
+            parser.add_argument(flag, action=argparse.BooleanOptionalAction, default=f.default, help=text)
+        else:
+            parser.add_argument(flag, type={"int": int, "float": float}.get(f.type, str), default=f.default, help=text)
+    return parser
+
+
+def parse_dataclass(cls, parser: argparse.ArgumentParser, argv=None):
+    """``cls`` from the command line; a bad combination (the dataclass's ``ValueError``) is one line, before any work."""
+    try:
+        return cls(**vars(parser.parse_args(argv)))
+    except ValueError as error:
+        parser.error(str(error))

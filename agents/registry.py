@@ -22,6 +22,7 @@ fail at once, not at their first action or silently.
 
 from __future__ import annotations
 
+import ast
 import dataclasses
 from collections.abc import Callable, Mapping
 from typing import Any
@@ -273,6 +274,26 @@ def robots_of(name: str) -> tuple[str, ...]:
     robot it drives: a waypoint planner's the unicycle too, by pure pursuit."""
     recipe = factory(name)
     return recipe.family.robots_with(recipe.parameters) if name in _PRESETS else recipe.family.every_robot
+
+
+def split_settings(text: str) -> tuple[str, dict]:
+    """``"astar-spacetime?robot_margin=0.4"`` -> ``("astar-spacetime", {"robot_margin": 0.4})``: a name
+    with parameters over its own after ``?`` (``key=value`` joined by ``&``, values Python literals), so a
+    variant runs on the command line and is labelled by that text.
+
+    :raises ValueError: naming the entry when a setting is not ``key=literal``.
+    """
+    base, _, query = text.partition("?")
+    settings = {}
+    for part in filter(None, query.split("&")):
+        key, equals, value = part.partition("=")
+        try:
+            if not (equals and key.isidentifier()):
+                raise ValueError
+            settings[key] = ast.literal_eval(value)
+        except (ValueError, SyntaxError):
+            raise ValueError(f"agent {text!r}: settings after '?' are key=value pairs joined by '&' (values Python literals), got {part!r}") from None
+    return base, settings
 
 
 def available() -> list[str]:

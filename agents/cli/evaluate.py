@@ -16,7 +16,8 @@ the summary tables (success ÷ limit against Δd per scenario). The work is done
 
 Your own agent: ``module:attribute`` (a module on the path or in the current directory) or
 ``path/to/file.py:attribute``, naming a class, a factory or an object with SB3's ``predict``; a learned
-agent's checkpoint as ``ppo@runs/a/best_model.zip``. Your own scene: a JSON or YAML file of a
+agent's checkpoint as ``ppo@runs/a/best_model.zip``; a registered agent with parameters over its own as
+``'pso?iterations=20&population=8'`` (values Python literals). Your own scene: a JSON or YAML file of a
 ``pathplan_env.Scenario``. Any entry takes a label as ``label=entry``; a label given twice is an error.
 
 Env options reach every episode's env (``gym.make`` keywords): ``--observation NAME`` with

@@ -3,6 +3,8 @@
 An agent may be given as
   * a registered name (``"pso"``, see ``agents.available()``; one registered in a script's
     ``__main__`` works too: its factory travels with the jobs);
+  * ``"name?key=value&key=value"``: a registered name with parameters over its own
+    (``"pso?iterations=20"``, values Python literals; :func:`agents.registry.split_settings`);
   * ``"name@model_path"``: a learned agent and its checkpoint (``"ppo@runs/a/best_model.zip"``);
   * ``"module:attribute"`` or ``"path/to/file.py:attribute"``: imported here and again in every worker
     (a module is looked up on ``sys.path`` and in the current directory, as ``python -m`` would);
@@ -45,7 +47,7 @@ from pathplan_env.scenarios.files import SUFFIXES, is_scenario_file, load_scenar
 from pathplan_env.scenarios.map_scenes import MapScenes, is_map_file
 
 _LABELLED = re.compile(r"([\w.+-]+)=(.+)")  # "label=entry": a label has no '/', ':', '@' or '='
-AGENT_FORMS = "a registered name, name@model_path, module:attribute or path/to/file.py:attribute"
+AGENT_FORMS = "a registered name, name?key=value, name@model_path, module:attribute or path/to/file.py:attribute"
 
 
 @dataclass(frozen=True, eq=False)
@@ -70,7 +72,8 @@ class AgentSpec:
         if self.kind == "reference":
             return self.target
         if self.name is not None:
-            return self.name + (f"@{self.kwargs['path']}" if "path" in self.kwargs else "")
+            settings = "&".join(f"{k}={v!r}" for k, v in self.kwargs.items() if k != "path")
+            return self.name + (f"?{settings}" if settings else "") + (f"@{self.kwargs['path']}" if "path" in self.kwargs else "")
         owner = getattr(self.target, "func", self.target)
         owner = owner if self.kind == "factory" else type(owner)
         return f"{getattr(owner, '__module__', '?')}.{getattr(owner, '__qualname__', type(owner).__name__)}"
@@ -181,6 +184,14 @@ def _agent_from_text(text: str, argument: str) -> AgentSpec:
     known = agents.available()  # the factories themselves travel with the jobs: a registration in __main__ too
     if text in known:
         return AgentSpec(text, "factory", agents.registry.factory(text), name=text)
+    if "?" in text:  # a registered name with parameters: checked against every scenario's env before any work
+        try:
+            name, settings = agents.registry.split_settings(text)
+        except ValueError as error:
+            raise ValueError(f"{argument}: {error}") from None
+        if name not in known:
+            raise ValueError(f"{argument}: {text!r}: unknown agent {name!r}; available: {known}")
+        return AgentSpec(text, "factory", agents.registry.factory(name), name=name, kwargs=settings)
     name, at, model = text.partition("@")
     if at:
         if name not in known:

@@ -35,6 +35,7 @@ from agents.evaluation.episodes import _policy, _seed_global_generators
 from agents.evaluation.executors import run_jobs
 from agents.evaluation.run_log import RunLock, run_folder
 from agents.evaluation.statistics import wilson_interval
+from agents.registry import split_settings
 from pathplan_env.scenarios.splits import episode_seeds
 
 LOG_NAME, SUMMARY_NAME = "multi_episodes.jsonl", "multi_summary.json"
@@ -72,27 +73,6 @@ def agent_label(entry) -> str:
     if isinstance(entry, str):
         return entry
     return "+".join(f"{k}={v}" for k, v in sorted(entry.items()))
-
-
-def split_settings(name: str) -> tuple[str, dict]:
-    """``"astar-spacetime?robot_margin=0.4"`` -> ``("astar-spacetime", {"robot_margin": 0.4})``: an agent
-    name with settings over its own (Python literals), so a variant runs and is labelled by name.
-
-    :raises ValueError: naming the entry when a setting is not ``key=literal``.
-    """
-    import ast
-
-    base, _, query = name.partition("?")
-    settings = {}
-    for part in filter(None, query.split("&")):
-        key, equals, value = part.partition("=")
-        try:
-            if not (equals and key.isidentifier()):
-                raise ValueError
-            settings[key] = ast.literal_eval(value)
-        except (ValueError, SyntaxError):
-            raise ValueError(f"agent {name!r}: settings after '?' are key=value pairs joined by '&' (values Python literals), got {part!r}") from None
-    return base, settings
 
 
 def _build(name: str, robot_env, seed: int):
@@ -274,4 +254,7 @@ def table(rows: list[dict]) -> str:
     return "\n".join(lines)
 
 
-__all__ = ["MULTI_AGENTS", "MultiEpisodeResult", "RobotResult", "agents_for", "evaluate_multi", "run_multi_episode", "summarize_multi", "table"]
+__all__ = [
+    "MULTI_AGENTS", "MultiEpisodeResult", "RobotResult", "agents_for", "evaluate_multi", "run_multi_episode", "split_settings",
+    "summarize_multi", "table",
+]  # fmt: skip

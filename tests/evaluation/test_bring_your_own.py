@@ -187,6 +187,9 @@ class NoPredict:
     (NoPredict, "agent 'NoPredict': built a NoPredict, which has no predict"),
     ("ppo@no/such/model.zip", "'ppo@no/such/model.zip': no model file"),
     ("nope@agents/models/ppo.zip", "unknown agent 'nope'"),
+    ("nope?iterations=20", "unknown agent 'nope'"),
+    ("pso?iterations", "settings after '.' are key=value pairs"),
+    ("pso?no_such_parameter=1", "no_such_parameter"),
     (("oracle-clairvoyant", PredictOnly), "the physical limit's"),
 ])  # fmt: skip
 def test_a_bad_agent_is_named_before_a_recorded_run_is_touched(tmp_path, entry, named):
@@ -194,6 +197,18 @@ def test_a_bad_agent_is_named_before_a_recorded_run_is_touched(tmp_path, entry, 
     with pytest.raises(ValueError, match=named.replace("(", r"\(").replace(")", r"\)")):
         evaluate_library(["straight", entry], [TINY], [0.5], 1, tmp_path)
     assert (tmp_path / "episodes.jsonl").read_text() == "a finished run\n"
+
+
+def test_a_name_with_parameters_runs_that_variant_under_its_own_label(tmp_path):
+    """``"pso?iterations=5"`` is ``agents.make("pso", env, iterations=5)``: its episodes are the variant's, not pso's."""
+    run = {"scenarios": [Scenario.from_dict(TINY)], "deltas": [0.5], "episodes": 2, "limit": False, "plots": False}
+    rows = evaluate_library(["pso", "pso?iterations=5&population=8"], out=tmp_path, workers=1, **run)
+    by_agent = {r["agent"]: r for r in rows}
+    assert set(by_agent) == {"pso", "pso?iterations=5&population=8"}
+    assert _summary(tmp_path)["config"]["agent_sources"]["pso?iterations=5&population=8"] == "pso?iterations=5&population=8"
+    episodes = [json.loads(line)["result"] for line in (tmp_path / "episodes.jsonl").read_text().splitlines()]
+    paths = {(e["agent"], e["episode"]): e["path_length"] for e in episodes}
+    assert any(paths[("pso", i)] != paths[("pso?iterations=5&population=8", i)] for i in range(2))
 
 
 def test_what_cannot_reach_the_workers_is_named_before_any_work(tmp_path):

@@ -80,8 +80,11 @@ def test_ctrl_c_prints_one_line_that_says_resume_continues(tmp_path):
     out = tmp_path / "run"
     command = [sys.executable, str(ROOT / "scripts" / "evaluate.py"), "--agents", "straight,velocity-obstacle", "--scenarios", "random",
                "--delta-d", "0.5", "--episodes", "200", "--workers", "2", "--no-plots", "--out", str(out)]  # fmt: skip
+    # Ctrl-C as a terminal delivers it: the child starts with SIGINT's default action, whatever the test
+    # process's disposition (an ignored SIGINT is inherited across exec, and the run would finish with 0)
     process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT,
-                               env={**os.environ, "PYTHONPATH": str(ROOT)})  # fmt: skip
+                               env={**os.environ, "PYTHONPATH": str(ROOT)},
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))  # fmt: skip
     log = out / "episodes.jsonl"
     while process.poll() is None and not (log.exists() and log.read_text().count("\n") >= 2):
         time.sleep(0.2)  # until episodes are on record (not a timed assertion: the test waits for the run)

@@ -37,6 +37,7 @@ from agents.evaluation.entrants import resolve_agents
 from agents.evaluation.executors import run_jobs
 from agents.evaluation.jobs import Job, result_id
 from agents.evaluation.progress import interleaved
+from agents.evaluation.ray_backend import require_ray
 from agents.evaluation.recording import open_run_records
 from agents.evaluation.records import LIMIT_AGENT, EpisodeResult, delta_order
 from agents.evaluation.report import write_report
@@ -106,10 +107,7 @@ def evaluate(
         raise ValueError(f"settings must be an EvaluationSettings, got {type(settings).__name__}")
     settings = (settings or EvaluationSettings()).with_options(**options)
     if settings.backend == "ray":
-        try:
-            import ray  # noqa: F401  (checked before any work)
-        except ImportError:
-            raise ValueError('--backend ray needs Ray: pip install -e ".[ray]"') from None
+        require_ray()  # before any work
     seed, split, n_obstacles, workers = settings.seed, settings.split, settings.n_obstacles, settings.workers
     run = check_run(agent_names, scenarios, deltas, episodes, seed=seed, split=split, n_obstacles=n_obstacles,
                     workers=workers, agent_kwargs=settings.agent_kwargs, transport=settings.transport,

@@ -33,7 +33,9 @@ import numpy as np
 
 from agents.evaluation.episodes import _policy, _seed_global_generators
 from agents.evaluation.executors import run_jobs
+from agents.evaluation.ray_backend import require_ray
 from agents.evaluation.run_log import RunLock, run_folder
+from agents.evaluation.settings import BACKENDS
 from agents.evaluation.statistics import wilson_interval
 from agents.registry import split_settings
 from pathplan_env.scenarios.splits import episode_seeds
@@ -202,13 +204,10 @@ def evaluate_multi(entries: list, scenarios: list, deltas: list[float | None], e
     """Run every (entry, scenario, Δd) cell on the split's episodes; write them to ``out`` (if given)
     and return :func:`summarize_multi`'s rows. ``backend``: ``"process"`` (a local pool of ``workers``)
     or ``"ray"`` (a local Ray of ``workers`` CPUs, or the cluster at ``address``), as ``evaluate``'s."""
-    if backend not in ("process", "ray"):
+    if backend not in BACKENDS:
         raise ValueError(f"backend must be 'process' or 'ray', got {backend!r}")
     if backend == "ray":
-        try:
-            import ray  # noqa: F401  (checked before any work)
-        except ImportError:
-            raise ValueError('--backend ray needs Ray: pip install -e ".[ray]"') from None
+        require_ray()  # before any work
     if split == "crowdnav":
         raise ValueError("split: the multi-robot scenes are drawn from the seeds: use 'test' or 'validation'")
     seeds = episode_seeds(split, seed, episodes)

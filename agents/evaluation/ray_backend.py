@@ -16,6 +16,15 @@ from dataclasses import asdict
 MAX_RETRIES = 3
 
 
+def require_ray():
+    """The ``ray`` module, or the one-line ``ValueError`` naming the extra (checked before any work)."""
+    try:
+        import ray
+    except ImportError:
+        raise ValueError('--backend ray needs Ray: pip install -e ".[ray]"') from None
+    return ray
+
+
 def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, num_cpus: int | None = None, runner=None,
                     decode=None) -> None:  # fmt: skip
     """Run ``jobs`` on Ray, calling ``on_result`` with each finished episode as it arrives.
@@ -23,10 +32,7 @@ def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, nu
     ``runner(job)`` runs one job and returns a dataclass (default: ``run_episode(*job)``; tests pass
     one whose worker dies); it travels back as ``asdict`` and ``decode(row)`` rebuilds it (default:
     ``EpisodeResult(**row)``), as :func:`agents.evaluation.executors.run_jobs` takes a ``runner``."""
-    try:
-        import ray
-    except ImportError:
-        raise ValueError('--backend ray needs Ray: pip install -e ".[ray]"') from None
+    ray = require_ray()
     from agents.evaluation.episodes import run_episode
     from agents.evaluation.progress import Progress
     from agents.evaluation.records import EpisodeResult

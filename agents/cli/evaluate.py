@@ -32,6 +32,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import sys
 import time
 from pathlib import Path
 
@@ -165,8 +166,9 @@ def main(argv=None, prog: str | None = None) -> list[dict]:
         rows = evaluate(agent_specs, scenarios, deltas, args.episodes, args.out, settings)
     except ValueError as error:  # named by the harness before any episode ran or anything was written
         raise SystemExit(f"{prog or 'evaluate.py'}: {error}") from None
-    except KeyboardInterrupt:  # the harness has said what is on record and that --resume continues
-        raise SystemExit(130) from None
+    except KeyboardInterrupt:  # the harness has said what is on record (closed) and that --resume continues
+        sys.stdout.flush(), sys.stderr.flush()
+        os._exit(130)  # not SystemExit: exit would join the pool's manager thread, which workers killed mid-write can hang
     print(summary_tables(rows, [s.label for s in scenarios]))
     social = social_table(rows)  # a recorded run's (--record)
     if social:

@@ -63,6 +63,7 @@ def _run_pool(jobs: list, workers: int, on_result, runner, bar) -> list:
     """Run ``jobs`` on one pool; the jobs left unfinished if the pool broke."""
     pool = ProcessPoolExecutor(min(workers, len(jobs)), mp_context=get_context("spawn"), initializer=_init_worker)
     pending = {pool.submit(runner, job): job for job in jobs}
+    interrupted = False
     try:
         while pending:
             done, _ = wait(pending, return_when=FIRST_COMPLETED)
@@ -88,6 +89,7 @@ def _run_pool(jobs: list, workers: int, on_result, runner, bar) -> list:
         # (ProcessPoolExecutor has no public way before Python 3.14's terminate_workers)
         for process in list(getattr(pool, "_processes", {}).values()):
             process.terminate()
+        interrupted = True
         raise
-    finally:
-        pool.shutdown(wait=True, cancel_futures=True)
+    finally:  # not waiting for killed workers: one killed mid-write leaves the pool's queues locked
+        pool.shutdown(wait=not interrupted, cancel_futures=True)

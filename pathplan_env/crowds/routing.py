@@ -288,6 +288,14 @@ def path_lengths(scenario, starts: np.ndarray, goals: np.ndarray, clearance: flo
     return out
 
 
+def path_length_table(scenario, clearance: float, cell: float = 0.25) -> tuple:
+    """What :func:`path_lengths` reads, for a compiled copy of its lookup: ``(x0, y0, cell, rows, cols,
+    nearest, dist)``, the grid, each cell's nearest free cell and the all-pairs distances."""
+    grid, dist = _all_pairs(_geometry_key(scenario), float(clearance), float(cell))
+    resolve_nearest(grid.nearest, grid.free, grid.rows, grid.cols)
+    return grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.nearest, dist
+
+
 def drivers_statics(scenario, drivers: list) -> HumanStatics:
     """:func:`human_statics` for a world's drivers (``(behaviour, idx, goals, preferred)`` each, the
     goals array shared): every goal-directed obstacle routed, free cells sized for the largest."""
@@ -493,6 +501,7 @@ __all__ = [
     "Routes",
     "drivers_statics",
     "human_statics",
+    "path_length_table",
     "path_lengths",
     "orca_obstacles",
     "resolve_nearest",

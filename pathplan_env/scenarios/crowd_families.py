@@ -28,12 +28,13 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from functools import cache
+from typing import NamedTuple
 
 import numba
 import numpy as np
 
 from pathplan_env.arguments import check_count
-from pathplan_env.crowds.routing import path_lengths
+from pathplan_env.crowds.routing import path_length_table, path_lengths
 from pathplan_env.geometry.walls import polygon_shapes
 from pathplan_env.scenarios import wall_families as families
 from pathplan_env.scenarios.crowdnav import DISCOMFORT_DISTANCE, HUMAN_ORCA, HUMAN_RADIUS
@@ -50,34 +51,47 @@ _CANDIDATES = 64
 _MORE_BATCHES = 32
 
 
-def _humans(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | None = None) -> tuple[Obstacle, ...]:
+def _humans(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | None = None, trips: tuple | None = None) -> tuple[Obstacle, ...]:
     """``n`` humans whose (start, goal) pairs come from ``draw(rng, k) -> (starts (k, 2), goals (k, 2))``:
     each takes the first of its candidates that keeps the rules of the module docstring. A human
     whose first ``_CANDIDATES`` all break them draws more batches (only then: a scene that fitted
-    the first time is drawn exactly as before). ``grid``: the layout's :func:`clearance_grid`, if kept.
+    the first time is drawn exactly as before). ``grid``: the layout's :func:`clearance_grid`, if kept;
+    ``trips``: ``(clearance, limit)``, a candidate whose trip along the layout (``routing.path_lengths`` for
+    a disc of ``clearance``) is longer than ``limit`` is refused.
 
     :raises ValueError: naming ``n_obstacles`` when one finds no place.
     """
     starts, goals = draw(rng, n * _CANDIDATES)
     rules = _rules(layout)
-    if polygon_shapes(layout):  # shapely's test up front; else each candidate is checked when reached
-        ok = _fitting(starts, goals, layout, grid).astype(np.int8)
-    else:
+    # with a clearance grid that decides the polygons (_grid_decides), each candidate is checked when
+    # reached, the grid deciding what shapely did; else shapely's test up front where there are polygons
+    lazy = grid is not None and _grid_decides(grid)
+    if lazy or not polygon_shapes(layout):
         ok = np.full(n * _CANDIDATES, -1, np.int8)
+    else:
+        ok = _fitting(starts, _trip_goals(starts, goals, layout, trips), layout, grid).astype(np.int8)
     starts, goals, ok = starts.reshape(n, _CANDIDATES, 2), goals.reshape(n, _CANDIDATES, 2), ok.reshape(n, _CANDIDATES)
     centers, ends = np.empty((n, 2)), np.empty((n, 2))
-    i = _place_spaced(starts, goals, ok, centers, ends, 0, SPACING, rules)
+    if lazy:
+        limit = _NO_TRIPS if trips is None else TripLimit(*path_length_table(layout, trips[0]), float(trips[1]))
+        checks = (grid[0], grid[1], *limit)
+        i = _place_spaced_checked(starts, goals, ok, centers, ends, 0, SPACING, rules, checks)
+    else:
+        i = _place_spaced(starts, goals, ok, centers, ends, 0, SPACING, rules)
     while i < n:  # human i found no place among its first candidates: more batches
         for _ in range(_MORE_BATCHES):
             mine_s, mine_g = draw(rng, _CANDIDATES)
-            fits = _fitting(mine_s, mine_g, layout, grid) & _spaced(mine_s, mine_g, centers[:i], ends[:i])
+            fits = _fitting(mine_s, _trip_goals(mine_s, mine_g, layout, trips), layout, grid) & _spaced(mine_s, mine_g, centers[:i], ends[:i])
             if fits.any():
                 break
         if not fits.any():
             raise ValueError(f"n_obstacles: could not place {n} humans in the {layout.name!r} layout (placed {i})")
         k = int(np.argmax(fits))
         centers[i], ends[i] = mine_s[k], mine_g[k]
-        i = _place_spaced(starts, goals, ok, centers, ends, i + 1, SPACING, rules)
+        if lazy:
+            i = _place_spaced_checked(starts, goals, ok, centers, ends, i + 1, SPACING, rules, checks)
+        else:
+            i = _place_spaced(starts, goals, ok, centers, ends, i + 1, SPACING, rules)
     # valid by construction (inside the arena, clear of the walls, the robot and each other): not validated again
     return tuple(Obstacle._from_checked(tuple(c), HUMAN_RADIUS, (0.0, 0.0), tuple(g), HUMAN_SPEED) for c, g in zip(centers.tolist(), ends.tolist()))
 
@@ -91,13 +105,67 @@ def _place_spaced(starts, goals, ok, centers, ends, first, spacing, rules):
     was most of a 20-human reset; the same ``hypot`` comparisons as :func:`_spaced`, so the same choices.
     Checking a candidate only when it is reached (most humans take one of their first few) gives the
     choices checking all of them first gave."""
+    return _place(starts, goals, ok, centers, ends, first, spacing, rules, (_NO_GRID, _NO_ORIGIN, 0.0, 0.0, 1.0, 1, 1, _NO_NEAREST, _NO_DIST, np.inf))
+
+
+class TripLimit(NamedTuple):
+    """A longest trip along a layout (m): ``routing.path_lengths``' table (its all-pairs grid distances
+    and each cell's nearest free cell) and the limit. ``_NO_TRIPS``: no limit."""
+
+    x0: float
+    y0: float
+    cell: float
+    rows: int
+    cols: int
+    nearest: np.ndarray  # (rows * cols,) int64
+    dist: np.ndarray  # (rows * cols, rows * cols) m
+    limit: float
+
+
+_NO_NEAREST, _NO_DIST = np.zeros(1, np.int64), np.zeros((1, 1))
+_NO_TRIPS = TripLimit(0.0, 0.0, 1.0, 1, 1, _NO_NEAREST, _NO_DIST, np.inf)
+
+
+@numba.njit(cache=True)
+def _place_spaced_checked(starts, goals, ok, centers, ends, first, spacing, rules, checks):
+    """:func:`_place_spaced` whose candidates are checked with ``checks`` = ``(grid values, grid origin,
+    *TripLimit)``: the clearance grid (:func:`_grid_decides`: it decides the polygons, no shapely) and
+    the trip's limit along the layout (``routing.path_lengths``' arithmetic), when reached: the maze's
+    humans take one of their first few candidates, and checking all 384 first was a fifth of a reset."""
+    return _place(starts, goals, ok, centers, ends, first, spacing, rules, checks)
+
+
+@numba.njit(cache=True, inline="always")
+def _trip_too_long(trips, start, goal):
+    """``routing.path_lengths(...)[k] > trips.limit`` for one finite pair: its cells (truncated toward
+    zero, clamped, as ``_cells_of``), their nearest free cells and the table's distance."""
+    if trips.limit == np.inf:
+        return False
+    a = _trip_cell(trips, start)
+    b = _trip_cell(trips, goal)
+    return trips.dist[trips.nearest[a], trips.nearest[b]] > trips.limit
+
+
+@numba.njit(cache=True, inline="always")
+def _trip_cell(trips, p):
+    j = min(max(int((p[0] - trips.x0) / trips.cell), 0), trips.cols - 1)
+    i = min(max(int((p[1] - trips.y0) / trips.cell), 0), trips.rows - 1)
+    return i * trips.cols + j
+
+
+@numba.njit(cache=True, inline="always")
+def _place(starts, goals, ok, centers, ends, first, spacing, rules, checks):
     box, reach, segments, robot, keep = rules
+    grid, origin = checks[0], checks[1]
+    trips = TripLimit(checks[2], checks[3], checks[4], checks[5], checks[6], checks[7], checks[8], checks[9])
     n, m = ok.shape
     for i in range(first, n):
         chosen = -1
         for k in range(m):
             if ok[i, k] < 0:
-                ok[i, k] = _fits(starts[i, k], goals[i, k], box, reach, segments, robot, keep, _NO_GRID, _NO_ORIGIN) > 0
+                # (with a grid, _grid_decides: _fits never leaves a candidate to shapely)
+                fit = _fits(starts[i, k], goals[i, k], box, reach, segments, robot, keep, grid, origin) > 0
+                ok[i, k] = fit and not _trip_too_long(trips, starts[i, k], goals[i, k])
             if ok[i, k] == 0:
                 continue
             clear = True
@@ -136,6 +204,22 @@ def _fitting(starts: np.ndarray, goals: np.ndarray, layout: Scenario, grid: tupl
             inside |= shapely.contains_xy(shape, s[:, 0], s[:, 1]) | shapely.contains_xy(shape, g[:, 0], g[:, 1])
         ok[fit[inside]] = False
     return ok
+
+
+def _trip_goals(starts: np.ndarray, goals: np.ndarray, layout: Scenario, trips: tuple | None) -> np.ndarray:
+    """``goals``, NaN (never free) where the trip from the start is longer than ``trips`` allows (``_humans``)."""
+    if trips is None:
+        return goals
+    goals = goals.copy()
+    goals[path_lengths(layout, starts, goals, trips[0]) > trips[1]] = np.nan
+    return goals
+
+
+def _grid_decides(grid: tuple) -> bool:
+    """Whether a :func:`clearance_grid` decides the polygons for every point that keeps the humans' reach
+    from the capsules: a point within a cell's half diagonal of the centre whose shapely test the grid
+    holds, no polygon edge within ``reach`` of the point, lies on the centre's side (``_free_point``)."""
+    return grid[1][2] * math.sqrt(0.5) + 1e-6 < HUMAN_RADIUS + WALL_CLEARANCE
 
 
 def _rules(layout: Scenario) -> tuple:
@@ -228,14 +312,15 @@ def _free_point(x, y, box, reach, segments, grid, origin):
     and the point: the point is outside too."""
     if not (x >= box[0] and x <= box[2] and y >= box[1] and y <= box[3]):
         return 0
+    outside, s = -1.0, np.inf  # the cell centre's polygon flag (-1: no grid) and its distance from the point
     if grid.shape[0] > 0:
         rows, cols = grid.shape[0], grid.shape[1]
         j = min(max(int((x - origin[0]) / origin[2]), 0), cols - 1)
         i = min(max(int((y - origin[1]) / origin[2]), 0), rows - 1)
         s = math.hypot(x - (origin[0] + (j + 0.5) * origin[2]), y - (origin[1] + (i + 0.5) * origin[2])) + 1e-9
-        d = grid[i, j, 0]
-        if d - s > reach + 1e-9:
-            return _FITS_SURE if grid[i, j, 1] > 0.0 else _FITS_UNSURE
+        d, outside = grid[i, j, 0], grid[i, j, 1]
+        if d - s > reach + 1e-9:  # no edge within d > s of the centre: the point is inside the polygons it is in
+            return _FITS_SURE if outside > 0.0 else 0
         if d + s < reach - 1e-9:
             return 0
     for i in range(segments.shape[0]):  # statics.point_segment's arithmetic, to the hypot
@@ -246,6 +331,10 @@ def _free_point(x, y, box, reach, segments, grid, origin):
             t = min(max(((x - ax) * ex + (y - ay) * ey) / ee, 0.0), 1.0)
         if not _beyond(x - ax - t * ex, y - ay - t * ey, segments[i, 4], reach):
             return 0
+    if outside >= 0.0 and s < reach:
+        # every polygon edge (a capsule of radius 0) is farther than reach from the point, so none lies
+        # between it and the centre, s away: both are inside the same polygons, the grid's flag says which
+        return _FITS_SURE if outside > 0.0 else 0
     return _FITS_UNSURE
 
 
@@ -270,10 +359,10 @@ def _spaced(starts: np.ndarray, goals: np.ndarray, centers: np.ndarray, ends: np
     return ~(near_start | near_goal).any(axis=1)
 
 
-def _crowd(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | None = None) -> Scenario:
+def _crowd(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | None = None, trips: tuple | None = None) -> Scenario:
     """The layout (validated when it was built) with ``n`` humans (valid by construction), not validated
     again, as the CrowdNav presets' scenes (``tests/scenarios/test_family_scenes.py``: the same scenario as a validated one)."""
-    humans = _humans(rng, n, layout, draw, grid)
+    humans = _humans(rng, n, layout, draw, grid, trips)
     arrays = {"positions": np.array([h.center for h in humans], np.float64).reshape(n, 2), "velocities": np.zeros((n, 2)),
               "radii": np.full(n, HUMAN_RADIUS)}  # fmt: skip
     fields = {name: getattr(layout, name) for name in Scenario.__dataclass_fields__}
@@ -431,11 +520,9 @@ def maze_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:
         picks = cells[rng.integers(len(cells), size=k)]
         starts = (np.column_stack([picks % cols, picks // cols]) + rng.random((k, 2))) * occupancy.resolution + occupancy.origin
         angle, reach = 2.0 * np.pi * rng.random(k), 2.0 + 3.0 * rng.random(k)  # goals 2-5 m away (straight)
-        goals = starts + reach[:, None] * np.column_stack([np.cos(angle), np.sin(angle)])
-        goals[path_lengths(layout, starts, goals, clearance) > MAZE_TRIP] = np.nan
-        return starts, goals
+        return starts, starts + reach[:, None] * np.column_stack([np.cos(angle), np.sin(angle)])
 
-    return _crowd(rng, n, layout, draw, _maze_grid())
+    return _crowd(rng, n, layout, draw, _maze_grid(), (clearance, MAZE_TRIP))  # (trips longer than MAZE_TRIP refused)
 
 
 @cache

@@ -147,7 +147,8 @@ def _search(graph, queue, source, need, reach, dist, pred, settled):
     stop = -1
     while pending:
         slot = b & wrap
-        for q in range(fill[slot]):
+        count = fill[slot]  # (a cell's neighbours queue in later buckets, never in this slot: the ring spans more)
+        for q in range(count):
             v = ring[slot, q]
             if settled[v]:
                 continue  # queued again at a shorter distance, and settled then
@@ -157,19 +158,21 @@ def _search(graph, queue, source, need, reach, dist, pred, settled):
             for e in range(8):
                 if not (bits >> e) & 1:
                     continue
-                j = v + offset[e]
+                j = np.uint64(v + offset[e])  # (a neighbour's index is >= 0: unsigned skips numba's wraparound test)
                 nd = d + weight[e]
-                if nd < dist[j]:
+                dj = dist[j]
+                if nd < dj:
                     dist[j], pred[j] = nd, v
                     s = int(nd * per_metre) & wrap
                     ring[s, fill[s]] = j
                     fill[s] += 1
                     pending += 1
-                elif nd == dist[j]:  # a tie: scipy keeps the first to settle, the nearer, then the higher index
+                elif nd == dj:  # a tie: scipy keeps the first to settle, the nearer, then the higher index
                     p = pred[j]
-                    if d < dist[p] or (d == dist[p] and v > p):
+                    dp = dist[p]
+                    if d < dp or (d == dp and v > p):
                         pred[j] = v
-        pending -= fill[slot]
+        pending -= count
         fill[slot] = 0
         if need >= 0 and stop < 0 and settled[need]:
             stop = int((dist[need] + reach) * per_metre)

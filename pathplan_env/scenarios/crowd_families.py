@@ -308,8 +308,10 @@ def _free_point(x, y, box, reach, segments, grid, origin):
     The distance to the nearest capsule is 1-Lipschitz: ``grid`` holds it at the cell's centre, ``d``, so
     at the point, ``s`` from the centre, it lies in ``[d - s, d + s]``; only where that leaves it within
     1e-9 m of ``reach`` (rounding is ~1e-15 m) are the capsules measured one by one, and the answer is
-    theirs. A centre outside the polygons whose nearest edge is farther than ``s`` sees no edge between it
-    and the point: the point is outside too."""
+    theirs. A centre whose nearest edge is farther than ``s`` sees no edge between it and the point: the
+    point is in the polygons the centre is in (outside: sure; inside: refused). So is a point the capsules
+    let through, when ``s`` is below ``reach`` (no edge within ``reach`` of it): with a grid of cells
+    whose half diagonal is below ``reach`` (:func:`_grid_decides`), nothing is left to shapely."""
     if not (x >= box[0] and x <= box[2] and y >= box[1] and y <= box[3]):
         return 0
     outside, s = -1.0, np.inf  # the cell centre's polygon flag (-1: no grid) and its distance from the point

@@ -128,6 +128,12 @@ def test_render_multi_robot_lists_and_replays_a_record(tmp_path, capsys):
     assert "1  straight  multi-swap-2  None  1" in capsys.readouterr().out
     render_multi_robot.main(["--record", str(tmp_path), "--episode", "1", "--out", str(tmp_path / "e.gif"), "--size", "120"])
     assert (tmp_path / "e.gif").stat().st_size > 0 and "robot_0" in capsys.readouterr().out
+    import render_episode  # the single-robot command lists a multi-robot file and says where to draw one
+
+    render_episode.main(["--record", str(tmp_path), "--list"])
+    assert "1  straight  multi-swap-2  0.5  1" not in (listed := capsys.readouterr().out) and "multi-robot: " in listed
+    with pytest.raises(ValueError, match="episode 0 is a multi-robot episode: .*render_multi_robot.py --record"):
+        render_episode.main(["--record", str(tmp_path), "--episode", "0", "--out", str(tmp_path / "y.gif")])
     with pytest.raises(SystemExit, match="render_multi_robot.py: .*no episode 5"):
         render_multi_robot.main(["--record", str(tmp_path), "--episode", "5", "--out", str(tmp_path / "x.gif")])
 

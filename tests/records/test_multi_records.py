@@ -157,6 +157,14 @@ def test_bad_record_input_is_a_value_error_before_any_work(tmp_path):
     with pytest.raises(ValueError, match="format version 99; this version of pathplan-env reads versions 2 and 3"):
         evaluate_multi(["straight"], ["multi-swap-2"], [None], 1, other, record=True, resume=True)
     assert (other / LOG_NAME).read_text() == ""
+    import evaluate_multi as command  # scripts/evaluate_multi.py: one line, before any work
+
+    for argv, said in ((["--record"], "needs an out folder"), (["--record", "--out", str(blocker / "run")], "out: cannot make the run folder")):
+        with pytest.raises(SystemExit, match=f"^evaluate_multi.py: .*{said}"):
+            command.main(["--agents", "straight", "--scenarios", "multi-swap-2", "--episodes", "1", *argv])
+    command.main(["--agents", "straight", "--scenarios", "multi-swap-2", "--episodes", "1", "--record", "--out", str(tmp_path / "cli")])
+    with open_records(tmp_path / "cli" / "own") as records:
+        assert len(records) == 1 and records.multi_episode(0).agent_names == ["straight", "straight"]
     out = render_multi_robot_cli(["--record", str(tmp_path / "nowhere"), "--episode", "0"])
     assert out == "render_multi_robot.py: " + f"{tmp_path / 'nowhere'}: no such record file or run folder"
 

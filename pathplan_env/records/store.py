@@ -16,7 +16,7 @@ index's last two columns, and still reads)::
     /command    (R x A,) float64: each row's action (a multi-robot episode: R x K x A)
     /plan       (P, 2) float64: every step's plan, end to end
     /beams      (R x B, 2) float64, /hidden (R x N,) uint8: a sensor's drawing, when it has one
-    /text       (bytes,) uint8: UTF-8 JSON: each distinct scene (the Scenario) once, as the run's agents
+    /text       (bytes,) uint8: UTF-8 JSON: each distinct scene (the Scenario, or MultiScenario) once, as the run's agents
                 share their episodes' scenes; each episode's header (meta: who, what, the outcome; job key; humans)
     /index      (E, 20) int64: an episode's sizes and where its rows, scene and header are (:data:`INDEX`)
 
@@ -65,7 +65,7 @@ from pathplan_env.records.layout import (  # noqa: F401  (RECORDS_NAME, MULTI_RE
     _open,
     records_path,
 )
-from pathplan_env.records.multi import MultiEpisode, pack_multi, unpack_multi
+from pathplan_env.records.multi import MultiEpisode, pack_multi, scene_dict, unpack_multi
 from pathplan_env.records.trajectory import Episode
 from pathplan_env.scenarios.scenario import Scenario
 
@@ -84,8 +84,6 @@ def scene_text(scenario: Scenario | None, multi: MultiEpisode | None = None) -> 
     """The scene as JSON: ``json.dumps(dataclasses.asdict(scenario))``, the form ``Scenario.from_dict`` reads;
     a multi-robot episode's its ``MultiScenario`` (``pathplan_env.records.multi.scene_dict``)."""
     if multi is not None:
-        from pathplan_env.records.multi import scene_dict
-
         return json.dumps(scene_dict(multi.scene))
     return json.dumps(scenario, default=_plain)
 

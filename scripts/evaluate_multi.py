@@ -7,6 +7,8 @@
 Every robot is driven by its own instance of the agent (seeded ``seed + robot``); ``--scenarios`` run at
 their own speeds (no obstacles on the circle), ``--bouncing`` at ``--delta-d`` (default 0.25). Episodes
 use the test split's seeds (``--split validation`` the validation seeds), as ``scripts/evaluate.py`` does.
+``--record`` keeps every episode in ``<out>/own/multi_episodes.h5`` (and ``bouncing/``), replayed by
+``scripts/render_multi_robot.py --record``.
 """
 
 from __future__ import annotations
@@ -36,6 +38,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--address", help="with --backend ray: a running cluster's address (default: a local Ray)")
     parser.add_argument("--out", type=Path, default=None, help="folder for multi_episodes.jsonl and multi_summary.json")
     parser.add_argument("--resume", action="store_true", help="keep the episodes on record in --out and run the rest")
+    parser.add_argument("--record", action="store_true",
+                        help="keep every episode in --out's multi_episodes.h5 (replay: render_multi_robot.py --record; docs/records.md)")  # fmt: skip
     return parser
 
 
@@ -47,7 +51,8 @@ def main(argv=None) -> None:
             out = None if args.out is None else args.out / label
             try:
                 rows += evaluate_multi(args.agents, scenarios, [delta], args.episodes, out, seed=args.seed, split=args.split,
-                                       workers=args.workers, resume=args.resume, backend=args.backend, address=args.address)  # fmt: skip
+                                       workers=args.workers, resume=args.resume, backend=args.backend, address=args.address,
+                                       record=args.record)  # fmt: skip
             except ValueError as error:  # bad input, named by the harness: one line, as scripts/evaluate.py
                 raise SystemExit(f"evaluate_multi.py: {error}") from None
     print(table(rows))

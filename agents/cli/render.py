@@ -137,8 +137,13 @@ def list_records(run) -> None:
         print("record  agent  scenario  Δd  episode  seed  outcome  steps")
         for number in records.numbers():
             m = records.meta(number)
-            outcome = "success" if m["success"] else "collision" if m["collision"] else "timeout"
-            print(f"{number}  {m['agent']}  {m['scenario']}  {delta_text(m['delta_d'])}  {m['episode']}  {m['seed']}  {outcome}  {m['steps']}")
+            if records.is_multi(number):  # (a multi-robot run's file: scripts/render_multi_robot.py --record draws them)
+                outcome = "multi-robot: " + ("all arrived" if m["all_arrived"] else "not all arrived")
+                steps = max(r["steps"] for r in m["robots"])
+            else:
+                outcome = "success" if m["success"] else "collision" if m["collision"] else "timeout"
+                steps = m["steps"]
+            print(f"{number}  {m['agent']}  {m['scenario']}  {delta_text(m['delta_d'])}  {m['episode']}  {m['seed']}  {outcome}  {steps}")
 
 
 def write_frames(frames: list[np.ndarray], out: Path, fps: int) -> None:

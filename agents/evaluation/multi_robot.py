@@ -34,6 +34,7 @@ import numpy as np
 from agents.evaluation.episodes import _policy, _seed_global_generators
 from agents.evaluation.executors import run_jobs
 from agents.evaluation.ray_backend import require_ray
+from agents.evaluation.recording import open_multi_records
 from agents.evaluation.run_log import RunLock, run_folder
 from agents.evaluation.settings import BACKENDS
 from agents.evaluation.statistics import wilson_interval
@@ -114,20 +115,31 @@ def agents_for(entry, possible_agents: list[str]) -> dict[str, str]:
     return out
 
 
-def run_multi_episode(entry, scenario, delta_d: float | None, episode: int, seed: int, env_options: dict | None = None) -> MultiEpisodeResult:
-    """One episode: every robot driven by its own agent (built for its robot env, seeded ``seed + i``)."""
+def run_multi_episode(entry, scenario, delta_d: float | None, episode: int, seed: int, env_options: dict | None = None,
+                      record: bool = False, watch=None) -> MultiEpisodeResult:  # fmt: skip
+    """One episode: every robot driven by its own agent (built for its robot env, seeded ``seed + i``).
+
+    ``record``: the result carries the episode as ``result.trajectory`` (a
+    :class:`pathplan_env.records.multi.MultiEpisode`; not a field, so the row is the same either way).
+    ``watch(env, plans)``, if given, is called before each step with each live robot's plan (its agent's
+    ``last_plan``) and once at the end with ``None`` (``scripts/render_multi_robot.py`` draws frames so)."""
     from pathplan_env.multi_robot import parallel_env
 
     env = parallel_env(scenario=scenario, delta_d=delta_d, **(env_options or {}))
-    observations, _ = env.reset(seed=seed)
+    observations, reset_infos = env.reset(seed=seed)
     names = agents_for(entry, env.possible_agents)
     _seed_global_generators(seed)
-    policies = {}
+    policies, built = {}, {}
     for i, robot in enumerate(env.possible_agents):
-        policy = _build(names[robot], env.robot_env(robot), seed + i)
+        policy = built[robot] = _build(names[robot], env.robot_env(robot), seed + i)
         if callable(getattr(policy, "reset", None)):
             policy.reset()
         policies[robot] = [_policy(policy), None, np.ones(1, dtype=bool)]
+    recorder = None
+    if record:
+        from pathplan_env.records.multi import MultiEpisodeRecorder
+
+        recorder = MultiEpisodeRecorder(env, reset_infos, names)
     results: dict[str, RobotResult] = {}
     plan_seconds, plan_calls = 0.0, 0
     steps = 0
@@ -140,17 +152,43 @@ def run_multi_episode(entry, scenario, delta_d: float | None, episode: int, seed
             plan_seconds += time.perf_counter() - begin
             plan_calls += 1
             policies[robot][2] = np.zeros(1, dtype=bool)
+        if recorder is not None or watch is not None:
+            plans = {robot: getattr(built[robot], "last_plan", None) for robot in env.agents}
+            if watch is not None:
+                watch(env, plans)
+            if recorder is not None:
+                recorder.before_step(actions, plans)
         observations, _, terminations, truncations, infos = env.step(actions)
+        if recorder is not None:
+            recorder.after_step(terminations, truncations, infos)
         steps += 1
         for robot, info in infos.items():
             if terminations[robot] or truncations[robot]:
                 results[robot] = RobotResult(robot, names[robot], bool(info["is_success"]), bool(info["collision"]), info["collision_with"],
                                              float(info["time"]), float(info["path_length"]), steps)  # fmt: skip
+    if watch is not None:
+        watch(env, None)
     robots = [results[robot] for robot in env.possible_agents]
     arrived = all(r.success for r in robots)
-    return MultiEpisodeResult(agent_label(entry), str(scenario) if isinstance(scenario, str) else getattr(scenario, "name", "custom"), delta_d,
-                              episode, seed, arrived, max(r.time for r in robots) if arrived else None, sum(r.time for r in robots), robots,
-                              1000.0 * plan_seconds / max(plan_calls, 1))  # fmt: skip
+    result = MultiEpisodeResult(agent_label(entry), scenario_label(scenario), delta_d, episode, seed, arrived,
+                                max(r.time for r in robots) if arrived else None, sum(r.time for r in robots), robots,
+                                1000.0 * plan_seconds / max(plan_calls, 1))  # fmt: skip
+    if recorder is not None:
+        row = asdict(result)
+        row.pop("plan_ms")  # (the record's bytes are the same on every run: its checksum too)
+        result.trajectory = recorder.finish(row)
+    return result
+
+
+def scenario_label(scenario) -> str:
+    return str(scenario) if isinstance(scenario, str) else getattr(scenario, "name", "custom")
+
+
+def job_key(job) -> tuple:
+    """A job's (or its result's) identity in the log and the record file: agent label, scenario, Δd, episode."""
+    if isinstance(job, MultiEpisodeResult):
+        return (job.agent, job.scenario, job.delta_d, job.episode)
+    return (agent_label(job[0]), scenario_label(job[1]), job[2], job[3])
 
 
 def _run_job(job) -> MultiEpisodeResult:
@@ -200,10 +238,15 @@ def summarize_multi(results: list[MultiEpisodeResult]) -> list[dict]:
 
 def evaluate_multi(entries: list, scenarios: list, deltas: list[float | None], episodes: int, out: str | Path | None = None, *,
                    seed: int = 0, split: str = "test", workers: int = 1, resume: bool = False,
-                   env_options: dict | None = None, backend: str = "process", address: str | None = None) -> list[dict]:  # fmt: skip
+                   env_options: dict | None = None, backend: str = "process", address: str | None = None,
+                   record: bool = False) -> list[dict]:  # fmt: skip
     """Run every (entry, scenario, Δd) cell on the split's episodes; write them to ``out`` (if given)
     and return :func:`summarize_multi`'s rows. ``backend``: ``"process"`` (a local pool of ``workers``)
-    or ``"ray"`` (a local Ray of ``workers`` CPUs, or the cluster at ``address``), as ``evaluate``'s."""
+    or ``"ray"`` (a local Ray of ``workers`` CPUs, or the cluster at ``address``), as ``evaluate``'s.
+    ``record``: every episode is kept in ``out/multi_episodes.h5`` as it finishes (``pathplan_env.records``,
+    as ``evaluate``'s ``record``; with ``resume`` an episode on the log but not in the file runs again)."""
+    if record and out is None:
+        raise ValueError("record=True (--record) needs an out folder (--out) to keep the records in")
     if backend not in BACKENDS:
         raise ValueError(f"backend must be 'process' or 'ray', got {backend!r}")
     if backend == "ray":
@@ -211,29 +254,42 @@ def evaluate_multi(entries: list, scenarios: list, deltas: list[float | None], e
     if split == "crowdnav":
         raise ValueError("split: the multi-robot scenes are drawn from the seeds: use 'test' or 'validation'")
     seeds = episode_seeds(split, seed, episodes)
-    jobs = [(entry, scenario, delta_d, i, s, env_options) for entry in entries for scenario in scenarios for delta_d in deltas
+    jobs = [(entry, scenario, delta_d, i, s, env_options, record) for entry in entries for scenario in scenarios for delta_d in deltas
             for i, s in enumerate(seeds)]  # fmt: skip
     results: list[MultiEpisodeResult] = []
     if out is None:
         _execute(jobs, results.append, workers, backend, address)
         return summarize_multi(results)
-    folder = run_folder(out)
+    try:
+        folder = run_folder(out)
+    except OSError as error:  # (a folder that cannot be made: before any work, as other bad input)
+        raise ValueError(f"out: cannot make the run folder {out} ({error.strerror})") from None
     log = folder / LOG_NAME
     with RunLock(folder):
-        if resume and log.exists():
-            results = [_from_json(json.loads(line)) for line in log.read_text().splitlines() if line.strip()]
-        elif log.exists():
-            log.rename(folder / f"multi_episodes.previous-{time.strftime('%Y%m%dT%H%M%SZ', time.gmtime())}.jsonl")
-        done = {(r.agent, r.scenario, r.delta_d, r.episode) for r in results}
-        left = [j for j in jobs if (agent_label(j[0]), j[1] if isinstance(j[1], str) else getattr(j[1], "name", "custom"), j[2], j[3]) not in done]
-        with log.open("a") as stream:
+        records = open_multi_records(folder, resume and log.exists(), record)  # a bad or unwritable file is refused here, before any episode
+        try:
+            if resume and log.exists():
+                logged = {}  # by key, the last line kept (an episode run again for its record is logged again)
+                for line in log.read_text().splitlines():
+                    if line.strip():
+                        result = _from_json(json.loads(line))
+                        logged[job_key(result)] = result
+                results = [r for r in logged.values() if records.has(job_key(r))]
+            elif log.exists():
+                log.rename(folder / f"multi_episodes.previous-{time.strftime('%Y%m%dT%H%M%SZ', time.gmtime())}.jsonl")
+            done = {job_key(r) for r in results}
+            left = [j for j in jobs if job_key(j) not in done]
+            with log.open("a") as stream:
 
-            def keep(result: MultiEpisodeResult) -> None:
-                results.append(result)
-                stream.write(json.dumps(asdict(result)) + "\n")
-                stream.flush()
+                def keep(result: MultiEpisodeResult) -> None:
+                    records.write(result, job_key(result))  # (takes the trajectory off the result)
+                    results.append(result)
+                    stream.write(json.dumps(asdict(result)) + "\n")
+                    stream.flush()
 
-            _execute(left, keep, workers, backend, address)
+                _execute(left, keep, workers, backend, address)
+        finally:
+            records.close()
         rows = summarize_multi(results)
         (folder / SUMMARY_NAME).write_text(json.dumps({"split": split, "seed": seed, "episodes": episodes, "rows": rows}, indent=1, default=str))
     return rows

@@ -25,6 +25,24 @@ def require_ray():
     return ray
 
 
+def pack(result) -> tuple[dict, dict | None]:
+    """A finished episode as what a Ray task returns: its row and (``record=True``) its trajectory as plain
+    values, which travel without our classes' pickles."""
+    trajectory = result.__dict__.pop("trajectory", None)
+    return asdict(result), None if trajectory is None else trajectory.to_plain()
+
+
+def unpack(packed: tuple[dict, dict | None], rebuild):
+    """:func:`pack`'s inverse on the driver: ``rebuild(row)`` makes the result, a single- or multi-robot trajectory goes back on it."""
+    from pathplan_env.records.multi import from_plain
+
+    row, trajectory = packed
+    result = rebuild(row)
+    if trajectory is not None:
+        result.trajectory = from_plain(trajectory)
+    return result
+
+
 def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, num_cpus: int | None = None, runner=None,
                     decode=None) -> None:  # fmt: skip
     """Run ``jobs`` on Ray, calling ``on_result`` with each finished episode as it arrives.
@@ -36,7 +54,6 @@ def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, nu
     from agents.evaluation.episodes import run_episode
     from agents.evaluation.progress import Progress
     from agents.evaluation.records import EpisodeResult
-    from pathplan_env.records import Episode
 
     run = runner if runner is not None else (lambda job: run_episode(*job))
     rebuild = decode if decode is not None else (lambda row: EpisodeResult(**row))
@@ -47,9 +64,7 @@ def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, nu
 
     @ray.remote(max_retries=MAX_RETRIES)
     def episode(job):
-        result = run(job)
-        trajectory = result.__dict__.pop("trajectory", None)  # (record=True)
-        return asdict(result), None if trajectory is None else trajectory.to_plain()  # plain values travel without our classes' pickles
+        return pack(run(job))
 
     try:
         pending = [episode.remote(job) for job in jobs]
@@ -57,10 +72,7 @@ def run_jobs_on_ray(jobs: list[tuple], on_result, address: str | None = None, nu
             while pending:
                 done, pending = ray.wait(pending, num_returns=min(len(pending), 16), timeout=1.0)
                 for ref in done:
-                    row, trajectory = ray.get(ref)
-                    result = rebuild(row)
-                    if trajectory is not None:
-                        result.trajectory = Episode.from_plain(trajectory)
+                    result = unpack(ray.get(ref), rebuild)
                     on_result(result)
                     bar.update(result)
     finally:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import sys
 from typing import NamedTuple
 
@@ -15,7 +16,7 @@ import numpy as np
 
 from pathplan_env.records.compact import pack, scene_of
 from pathplan_env.records.social import METRICS, social_metrics
-from pathplan_env.records.store import RECORDS_NAME, RecordReader, RecordWriter, salvage, set_aside
+from pathplan_env.records.store import MULTI_RECORDS_NAME, RECORDS_NAME, RecordReader, RecordWriter, salvage, set_aside
 
 #: The summary rows' columns of the social metrics: ``social_<metric>``, a cell's mean over its episodes
 #: (``ttc_min``: the median, ``min_human_distance``: the smallest).
@@ -40,10 +41,14 @@ def _key_text(key) -> str:
 
 
 class RunRecords:
-    """The record file of a run folder, open for appending."""
+    """The record file of a run folder, open for appending. ``digests``: whether the end of the run needs
+    each episode's :class:`Digest` (a multi-robot run's does not: no social metrics, no report page)."""
 
-    def __init__(self, out, resume: bool):
-        path = out / RECORDS_NAME
+    def __init__(self, out, resume: bool, name: str = RECORDS_NAME, digests: bool = True):
+        path = out / name
+        if not os.access(out, os.W_OK) or (path.exists() and not (path.is_file() and os.access(path, os.W_OK))):
+            raise ValueError(f"{path}: cannot write the episode records there (not a writable file in a writable folder)")
+        self._digesting = digests
         torn = 0
         if not resume:
             set_aside(path)
@@ -70,7 +75,8 @@ class RunRecords:
             self._writer.append(trajectory, text)
             self._order.append(text)
             self._kept.add(text)
-            self._digests[text] = digest(trajectory)
+            if self._digesting:
+                self._digests[text] = digest(trajectory)
 
     def close(self) -> None:
         """Closes the file and says what it holds and what an episode cost."""
@@ -133,12 +139,24 @@ def add_social_metrics(rows: list[dict], digests: list[Digest]) -> list[dict]:
     return rows
 
 
-def open_run_records(out, resume: bool, record: bool) -> RunRecords | NoRecords:
-    """``out``'s record file when ``record`` (continued when ``resume``, else a previous one set aside), else nothing."""
-    if not record:
-        return NoRecords()
+def _require_h5py() -> None:
     try:
         import h5py  # noqa: F401  (checked before any work)
     except ImportError:
         raise ValueError('record=True (--record) needs h5py: pip install -e ".[records]"') from None
+
+
+def open_run_records(out, resume: bool, record: bool) -> RunRecords | NoRecords:
+    """``out``'s record file when ``record`` (continued when ``resume``, else a previous one set aside), else nothing."""
+    if not record:
+        return NoRecords()
+    _require_h5py()
     return RunRecords(out, resume)
+
+
+def open_multi_records(out, resume: bool, record: bool) -> RunRecords | NoRecords:
+    """A multi-robot run's record file, ``out/multi_episodes.h5`` (``agents.evaluation.multi_robot``), as :func:`open_run_records`."""
+    if not record:
+        return NoRecords()
+    _require_h5py()
+    return RunRecords(out, resume, MULTI_RECORDS_NAME, digests=False)

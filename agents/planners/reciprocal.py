@@ -33,7 +33,8 @@ ROBOT_PREDICTIONS = ("reciprocal", "obstacles")
 #: picked on 60 validation episodes of the 10-robot circle among 8 bouncing obstacles, where 0.25
 #: brought every robot home in 46 (astar-spacetime) and 53 (pso-spacetime), 0.6 in 57 and 60 (0.4 and
 #: 0.8 tried too), then checked on the other circles' validation episodes (docs/results/multi_robot.md
-#: has the commands). ROBOT_DEPTH (kept) was picked beside the earlier margin of 0.25 on test episodes.
+#: has the commands). ROBOT_DEPTH, first picked beside the earlier margin on test episodes, was swept
+#: on the same validation episodes (0.1 to 0.6 m): none did better than 0.3, kept (docs/results/multi_robot.md).
 ROBOT_MARGIN = 0.6
 #: How far the disc of another robot reaches past the midpoint (m): a disc of half the contact distance
 #: at the midpoint lets both robots slip round it on the same side.

@@ -2,6 +2,8 @@
 
 Robots in colour with their trails, goals (crosses) and plans (``env.planned_paths``: agent -> points,
 dashed) when set; obstacles grey; walls black. A robot out of the episode is drawn faint where it ended.
+:func:`draw_state` draws from plain numbers (what a record holds, ``pathplan_env.records.multi``),
+:func:`draw` from a live env through it: the same calls, so a replay is the same pixels.
 """
 
 from __future__ import annotations
@@ -9,7 +11,10 @@ from __future__ import annotations
 import numpy as np
 
 
-def draw(env, size_px: int = 480) -> np.ndarray:
+def draw_state(scene, obstacle_state, robot_xy, gone, trails, plans, caption: str | None = None, size_px: int = 480) -> np.ndarray:
+    """A frame of ``scene`` (a ``MultiScenario``): obstacles at ``obstacle_state`` (N, 4), robot ``i`` at
+    ``robot_xy[i]``, faint if ``gone[i]``, its path so far ``trails[i]`` ((k, 2) points) and its plan
+    ``plans[i]`` (points, or None)."""
     import matplotlib
 
     matplotlib.use("Agg", force=False)
@@ -17,7 +22,7 @@ def draw(env, size_px: int = 480) -> np.ndarray:
     from matplotlib.figure import Figure
     from matplotlib.patches import Circle
 
-    multi, scene = env.multi, env.scene
+    world = scene.robot_scenario(0)  # the shared world as the env's MultiWorld builds it
     xmin, ymin, xmax, ymax = scene.world.bounds
     fig = Figure(figsize=(size_px / 100, size_px / 100 * (ymax - ymin) / (xmax - xmin)), dpi=100)
     canvas = FigureCanvasAgg(fig)
@@ -26,28 +31,34 @@ def draw(env, size_px: int = 480) -> np.ndarray:
     ax.set_ylim(ymin, ymax)
     ax.set_aspect("equal")
     ax.axis("off")
-    for x0, y0, x1, y1, half in multi.world.static_segments:
+    for x0, y0, x1, y1, half in world.static_segments:
         ax.plot([x0, x1], [y0, y1], color="black", linewidth=max(1.0, 2 * half * size_px / (xmax - xmin)), solid_capstyle="round")
-    for (x, y, _, _), r in zip(multi.obstacle_state, multi.world.radii):
+    for (x, y, _, _), r in zip(obstacle_state, world.arrays()["radii"]):
         ax.add_patch(Circle((x, y), r, color="0.6"))
     colours = matplotlib.colormaps["tab10" if scene.n_robots <= 10 else "tab20"]
-    plans = getattr(env, "planned_paths", None) or {}
-    for i, (agent, robot) in enumerate(zip(env.possible_agents, multi.robots)):
+    for i in range(scene.n_robots):
+        robot = scene.robot_scenario(i)
         colour = colours(i % colours.N)
-        gone = agent not in env.agents
-        trail = np.array(env._trails[i])
+        trail = np.asarray(trails[i])
         ax.plot(trail[:, 0], trail[:, 1], color=colour, linewidth=1.0, alpha=0.5)
-        gx, gy = scene.robot_scenario(i).goal
+        gx, gy = robot.goal
         ax.plot([gx], [gy], marker="x", color=colour, markersize=6)
-        ax.add_patch(Circle(robot.xy, multi.radii[i], color=colour, alpha=0.35 if gone else 1.0))
-        if agent in plans and plans[agent] is not None and not gone:
-            path = np.asarray(plans[agent])
+        ax.add_patch(Circle(tuple(robot_xy[i]), robot.robot_radius, color=colour, alpha=0.35 if gone[i] else 1.0))
+        if plans[i] is not None and not gone[i]:
+            path = np.asarray(plans[i])
             ax.plot(path[:, 0], path[:, 1], color=colour, linewidth=1.0, linestyle="--")
-    caption = getattr(env, "caption", None)
     if caption:
         ax.text(xmin + 0.02 * (xmax - xmin), ymax - 0.05 * (ymax - ymin), caption, fontsize=9)
     canvas.draw()
     return np.asarray(canvas.buffer_rgba())[:, :, :3].copy()
 
 
-__all__ = ["draw"]
+def draw(env, size_px: int = 480) -> np.ndarray:
+    """The env's current state (its robots' trails, ``env.planned_paths`` and ``env.caption`` if set)."""
+    multi = env.multi
+    plans = getattr(env, "planned_paths", None) or {}
+    return draw_state(env.scene, multi.obstacle_state, [r.xy for r in multi.robots], [a not in env.agents for a in env.possible_agents],
+                      env._trails, [plans.get(a) for a in env.possible_agents], getattr(env, "caption", None), size_px)  # fmt: skip
+
+
+__all__ = ["draw", "draw_state"]

@@ -5,7 +5,10 @@ without simulating.
   obstacle's state, the agent's plan, the waypoint and command, the step's clearance and outcome),
   and :class:`EpisodeRecorder`, which fills one from a live env;
 - :mod:`.store`: :class:`RecordWriter` appends episodes to ``episodes.h5`` as they finish;
-  :class:`RecordReader` (:func:`open_records`) reads them back, a bad file named in a ``ValueError``;
+  :class:`RecordReader` (:func:`open_records`) reads them back, a bad file named in a ``ValueError``
+  (:mod:`.layout`: the file's format, version 3, which both share);
+- :mod:`.multi`: a multi-robot episode (:class:`~.multi.MultiEpisode`: every robot's pose, status,
+  commands and plans a step), its recorder, and its frames drawn as the live env draws them;
 - :mod:`.replay`: :func:`frames`, the episode drawn by the env's own renderer, frame for frame what
   a live run draws;
 - :mod:`.social`: the social-navigation metrics computed from a record (jerk, path irregularity,

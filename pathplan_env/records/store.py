@@ -3,18 +3,22 @@ episode is appended to, and an index table saying where each episode's rows are.
 flushed as it finishes, so a run that dies keeps every episode written before.
 
 HDF5 through h5py (the ``records`` extra): chunked arrays a reader slices one episode out of without
-loading the run. Layout (version 2)::
+loading the run. Layout (version 3; version 2, single-robot episodes only, lacks ``/robots`` and the
+index's last two columns, and still reads)::
 
     /           attrs format, version
     /steps      (R, 9) float64: robot x, y, heading, waypoint x, y, clearance, collision, success,
-                how many plan points the step's plan has (row 0 of an episode: none)
+                how many plan points the step's plan has (row 0 of an episode: none); a multi-robot
+                episode's: the world's time, then zeros
+    /robots     (R x K, 12) float64: a multi-robot episode's robots a row (:mod:`.multi`): x, y, heading,
+                vx, vy, status, hit, other robot, waypoint x, y, clearance, plan points
     /obstacles  (R x N, 4) float64: each row's obstacles' x, y, vx, vy
-    /command    (R x A,) float64: each row's action
+    /command    (R x A,) float64: each row's action (a multi-robot episode: R x K x A)
     /plan       (P, 2) float64: every step's plan, end to end
     /beams      (R x B, 2) float64, /hidden (R x N,) uint8: a sensor's drawing, when it has one
-    /text       (bytes,) uint8: UTF-8 JSON: each distinct scene (the Scenario) once, as the run's agents
+    /text       (bytes,) uint8: UTF-8 JSON: each distinct scene (the Scenario, or MultiScenario) once, as the run's agents
                 share their episodes' scenes; each episode's header (meta: who, what, the outcome; job key; humans)
-    /index      (E, 18) int64: an episode's sizes and where its rows, scene and header are (:data:`INDEX`)
+    /index      (E, 20) int64: an episode's sizes and where its rows, scene and header are (:data:`INDEX`)
 
 A dataset per field for the run, not a group per episode: making a group and its datasets cost
 several times what appending to datasets does. Every write is an append in place
@@ -25,7 +29,8 @@ so the torn ones run again. The format is HDF5 1.8's: 1.10's marks a file open f
 refuses to open one whose writer was killed.
 
 A file of another format or version, a truncated one and a run folder without records are refused
-with a ``ValueError`` naming the file.
+with a ``ValueError`` naming the file. The constants and what the writer and the reader share of the
+layout are in :mod:`.layout`; a multi-robot episode's rows are packed by :mod:`.multi`.
 """
 
 from __future__ import annotations
@@ -41,68 +46,28 @@ from pathlib import Path
 
 import numpy as np
 
+from pathplan_env.records.layout import (  # noqa: F401  (RECORDS_NAME, MULTI_RECORDS_NAME, FORMAT, INDEX, READS: this module's names too)
+    _ARRAYS,
+    _AT,
+    _COL,
+    _COMPRESSION,
+    _DATASETS,
+    _V2_COLUMNS,
+    FORMAT,
+    INDEX,
+    MULTI_RECORDS_NAME,
+    READS,
+    RECORDS_NAME,
+    VERSION,
+    _check_header,
+    _checksum,
+    _lengths,
+    _open,
+    records_path,
+)
+from pathplan_env.records.multi import MultiEpisode, pack_multi, scene_dict, unpack_multi
 from pathplan_env.records.trajectory import Episode
 from pathplan_env.scenarios.scenario import Scenario
-
-RECORDS_NAME = "episodes.h5"
-FORMAT = "pathplan-env episode records"
-VERSION = 2
-#: The index table's columns: sizes (rows, obstacles N, command width A, plan points, beams B or -1
-#: for none, hidden 0/1, turns 0/1), the episode's first row in each dataset, where its scene's and
-#: header's bytes are in ``text``, and a checksum of its rows and header (BLAKE2b, 8 bytes), by which
-#: what a killed run tore is found.
-INDEX = ("rows", "obstacles", "command_width", "plan_points", "beams", "hidden", "turns",
-         "steps_at", "obstacles_at", "command_at", "plan_at", "beams_at", "hidden_at",
-         "scene_at", "scene_bytes", "header_at", "header_bytes", "checksum")  # fmt: skip
-_ARRAYS = ("steps", "obstacles", "command", "plan", "beams", "hidden")
-_AT = {name: INDEX.index(f"{name}_at") for name in _ARRAYS}
-_COL = {name: i for i, name in enumerate(INDEX)}
-# name: (dtype, a row's shape, rows a chunk): chunks of 2 to 9 KiB
-_DATASETS = {"steps": ("f8", (9,), 128), "obstacles": ("f8", (4,), 256), "command": ("f8", (), 512), "plan": ("f8", (2,), 512),
-             "beams": ("f8", (2,), 512), "hidden": ("u1", (), 2048), "text": ("u1", (), 8192)}  # fmt: skip
-# Not compressed: a flush (each episode) would compress every dataset's last chunk again, doubling the cost of a
-# write, for files only somewhat smaller (float64 positions compress poorly)
-_COMPRESSION: dict = {}
-_V1_HINT = ("version 1 kept a group an episode (a development version of 0.2.0); version 2 appends to one dataset a field: "
-            "record the run again (evaluate --record)")  # fmt: skip
-
-
-def _h5py(path: Path):
-    try:
-        import h5py
-    except ImportError:
-        raise ValueError(f'{path}: episode records need h5py: pip install -e ".[records]"') from None
-    return h5py
-
-
-def records_path(run) -> Path:
-    """A run folder's record file, or the file itself."""
-    run = Path(run)
-    return run / RECORDS_NAME if run.is_dir() else run
-
-
-def _check_header(handle, path: Path) -> None:
-    found = handle.attrs.get("format")
-    if found != FORMAT:
-        raise ValueError(f"{path}: not an episode record file (format attribute {found!r}, expected {FORMAT!r})")
-    version = int(handle.attrs.get("version", -1))
-    if version != VERSION:
-        hint = f" ({_V1_HINT})" if version == 1 else ""
-        raise ValueError(f"{path}: episode records of format version {version}; this version of pathplan-env reads version {VERSION}{hint}")
-    missing = [name for name in (*_DATASETS, "index") if name not in handle]
-    if missing:
-        raise ValueError(f"{path}: the episode record file lacks {', '.join(missing)} (truncated?)")
-    if handle["index"].shape[1:] != (len(INDEX),):
-        raise ValueError(f"{path}: the index has {handle['index'].shape[1:]} columns, expected {len(INDEX)}")
-
-
-def _open(path: Path, mode: str):
-    h5py = _h5py(path)
-    try:
-        return h5py.File(path, mode, libver=("v108", "v108"))  # (1.10's would refuse a killed writer's file: see the module doc)
-    except OSError as error:  # h5py's word for a truncated file, a file of another kind, a lock held
-        raise ValueError(f"{path}: not a readable episode record file ({error}); a run killed while writing it can leave it so: "
-                         "move it aside and record anew") from None  # fmt: skip
 
 
 @functools.cache
@@ -115,8 +80,11 @@ def _plain(value):
     return {name: getattr(value, name) for name in _field_names(type(value))}
 
 
-def scene_text(scenario: Scenario) -> str:
-    """The scene as JSON: ``json.dumps(dataclasses.asdict(scenario))``, the form ``Scenario.from_dict`` reads."""
+def scene_text(scenario: Scenario | None, multi: MultiEpisode | None = None) -> str:
+    """The scene as JSON: ``json.dumps(dataclasses.asdict(scenario))``, the form ``Scenario.from_dict`` reads;
+    a multi-robot episode's its ``MultiScenario`` (``pathplan_env.records.multi.scene_dict``)."""
+    if multi is not None:
+        return json.dumps(scene_dict(multi.scene))
     return json.dumps(scenario, default=_plain)
 
 
@@ -125,9 +93,9 @@ def set_aside(path: Path) -> Path | None:
     if not path.exists():
         return None
     stamp = time.strftime("%Y%m%dT%H%M%SZ", time.gmtime())
-    kept, n = path.with_name(f"episodes.previous-{stamp}.h5"), 1
+    kept, n = path.with_name(f"{path.stem}.previous-{stamp}.h5"), 1
     while kept.exists():
-        kept, n = path.with_name(f"episodes.previous-{stamp}-{n}.h5"), n + 1
+        kept, n = path.with_name(f"{path.stem}.previous-{stamp}-{n}.h5"), n + 1
     path.rename(kept)
     print(f"{path}: the previous run's records are kept as {kept.name}", file=sys.stderr)
     return kept
@@ -146,9 +114,10 @@ class RecordWriter:
         existed = self.path.exists()
         self._file = _open(self.path, "a")
         try:
-            if existed:
-                _check_header(self._file, self.path)
-            else:
+            if existed and _check_header(self._file, self.path) != VERSION:
+                raise ValueError(f"{self.path}: episode records of format version {self._file.attrs['version']} are read, not appended to; "
+                                 f"evaluate --resume copies them into a file of version {VERSION} first")  # fmt: skip
+            if not existed:
                 self._create()
             self._resume()
         except (ValueError, OSError, KeyError, UnicodeDecodeError) as error:
@@ -211,16 +180,20 @@ class RecordWriter:
     def _text(self, text: bytes) -> tuple[int, int]:
         return self._append("text", np.frombuffer(text, np.uint8)), len(text)
 
-    def _scene(self, scenario: Scenario) -> tuple[int, int]:
+    def _scene(self, text: str) -> tuple[int, int]:
         """Where the scene's JSON is, written the first time it comes (a run's agents share their episodes' scenes)."""
-        text = scene_text(scenario).encode()
+        text = text.encode()
         found = self._scenes.get(_fingerprint(text))
         if found is None:
             found = self._scenes[_fingerprint(text)] = self._text(text)
         return found
 
-    def append(self, episode: Episode, key: str = "", flush: bool = True) -> int:
-        """Write one episode (flushed to disk before returning, unless ``flush`` is False); its record number."""
+    def append(self, episode: Episode | MultiEpisode, key: str = "", flush: bool = True) -> int:
+        """Write one episode, single- or multi-robot (flushed to disk before returning, unless ``flush`` is
+        False); its record number."""
+        if isinstance(episode, MultiEpisode):
+            parts, head, sizes = pack_multi(episode, key)
+            return self._write(parts, head.encode(), sizes, scene_text(None, episode), flush, key)
         rows, n = episode.steps + 1, len(episode.radii)
         width = episode.command.shape[1]
         steps = np.empty((rows, 9))
@@ -231,15 +204,20 @@ class RecordWriter:
                  "command": np.ascontiguousarray(episode.command, np.float64).reshape(rows * width),
                  "plan": np.ascontiguousarray(episode.plan_points, np.float64).reshape(-1, 2),
                  "beams": np.empty((0, 2)) if beams is None else np.ascontiguousarray(beams, np.float64).reshape(-1, 2),
-                 "hidden": np.empty(0, np.uint8) if hidden is None else np.ascontiguousarray(hidden, np.uint8).reshape(-1)}  # fmt: skip
-        at = {name: self._append(name, data) for name, data in parts.items()}
+                 "hidden": np.empty(0, np.uint8) if hidden is None else np.ascontiguousarray(hidden, np.uint8).reshape(-1),
+                 "robots": np.empty((0, 12))}  # fmt: skip
         header = json.dumps({"meta": episode.meta, "key": key, "humans": episode.humans.astype(int).tolist()}).encode()
-        scene = self._scene(episode.scenario)
-        head = self._text(header)
         sizes = {"rows": rows, "obstacles": n, "command_width": width, "plan_points": len(episode.plan_points),
                  "beams": -1 if beams is None else beams.shape[1], "hidden": int(hidden is not None), "turns": int(episode.turns),
-                 "scene_at": scene[0], "scene_bytes": scene[1], "header_at": head[0], "header_bytes": head[1],
-                 "checksum": _checksum(header, parts)} | {f"{name}_at": start for name, start in at.items()}  # fmt: skip
+                 "robots": 0}  # fmt: skip
+        return self._write(parts, header, sizes, scene_text(episode.scenario), flush, key)
+
+    def _write(self, parts: dict, header: bytes, sizes: dict, scene: str, flush: bool, key: str) -> int:
+        at = {name: self._append(name, data) for name, data in parts.items()}
+        scene = self._scene(scene)
+        head = self._text(header)
+        sizes = sizes | {"scene_at": scene[0], "scene_bytes": scene[1], "header_at": head[0], "header_bytes": head[1],
+                         "checksum": _checksum(header, parts)} | {f"{name}_at": start for name, start in at.items()}  # fmt: skip
         number = self._append("index", np.array([[sizes[c] for c in INDEX]], np.int64))  # last: it points at the rest
         if flush:
             self._file.flush()
@@ -258,22 +236,9 @@ class RecordWriter:
         self.close()
 
 
-def _checksum(header: bytes, parts: dict[str, np.ndarray]) -> int:
-    digest = hashlib.blake2b(header, digest_size=8)
-    for name in _ARRAYS:
-        digest.update(parts[name].tobytes())
-    return int.from_bytes(digest.digest(), "little", signed=True)
-
-
-def _lengths(row) -> dict[str, int]:
-    """How many rows of each array dataset an episode's index row covers."""
-    rows, n, beams = int(row[_COL["rows"]]), int(row[_COL["obstacles"]]), int(row[_COL["beams"]])
-    return {"steps": rows, "obstacles": rows * n, "command": rows * int(row[_COL["command_width"]]), "plan": int(row[_COL["plan_points"]]),
-            "beams": rows * max(beams, 0), "hidden": rows * n * int(row[_COL["hidden"]])}  # fmt: skip
-
-
 class RecordReader:
-    """A run's records, read an episode at a time: ``numbers()``, ``meta(n)``, ``episode(n)``, ``header_keys()``."""
+    """A run's records, read an episode at a time: ``numbers()``, ``meta(n)``, ``episode(n)`` (single-robot),
+    ``multi_episode(n)`` (multi-robot; ``is_multi(n)`` says which), ``read(n)`` (either), ``header_keys()``."""
 
     def __init__(self, run):
         self.path = path = records_path(run)
@@ -283,8 +248,10 @@ class RecordReader:
             raise ValueError(f"{path}: no such record file or run folder")
         self._file = _open(path, "r")
         try:
-            _check_header(self._file, path)
+            self.version = _check_header(self._file, path)
             self._index = self._read(lambda: self._file["index"][()])
+            if self.version == 2:  # no multi-robot episodes: their columns 0
+                self._index = np.hstack([self._index, np.zeros((len(self._index), len(INDEX) - _V2_COLUMNS), np.int64)])
             self._text: bytes | None = None  # the whole text dataset, read when a header is first asked for
             self._scenes: dict[int, Scenario] = {}
         except ValueError:
@@ -339,20 +306,51 @@ class RecordReader:
                 raise ValueError(f"{self.path}: episode {number}'s scene is not readable ({error}; torn by a killed run?)") from None
         return self._scenes[at]
 
-    def episode(self, number: int) -> Episode:
-        row, header = self._row(number), self._header(number)
+    def is_multi(self, number: int) -> bool:
+        """Whether episode ``number`` is a multi-robot one."""
+        return int(self._row(number)[_COL["robots"]]) > 0
+
+    def _parts(self, number: int) -> dict[str, np.ndarray]:
+        """The episode's rows in each array dataset, checked against its checksum."""
+        row = self._row(number)
         lengths = _lengths(row)
 
         def part(name):
-            at = int(row[_AT[name]])
-            return self._read(lambda: self._file[name][at : at + lengths[name]])
+            at, size = int(row[_AT[name]]), lengths[name]
+            if not size:  # (and version 2 has no robots dataset)
+                dtype, shape, _ = _DATASETS[name]
+                return np.empty((0, *shape), dtype)
+            return self._read(lambda: self._file[name][at : at + size])
 
-        rows, n, width, beams = (int(row[_COL[c]]) for c in ("rows", "obstacles", "command_width", "beams"))
         parts = {name: part(name) for name in _ARRAYS}
-        steps = parts["steps"]
-        if len(steps) != rows or _checksum(self._bytes(number, "header"), parts) != row[_COL["checksum"]]:
+        if len(parts["steps"]) != int(row[_COL["rows"]]) or _checksum(self._bytes(number, "header"), parts) != row[_COL["checksum"]]:
             raise ValueError(f"{self.path}: episode {number} is torn (its rows do not match its checksum: written when the run was killed?); "
                              "evaluate --resume --record runs it again")  # fmt: skip
+        return parts
+
+    def read(self, number: int) -> Episode | MultiEpisode:
+        """Episode ``number``, single- or multi-robot."""
+        return self.multi_episode(number) if self.is_multi(number) else self.episode(number)
+
+    def multi_episode(self, number: int) -> MultiEpisode:
+        """Multi-robot episode ``number`` (:class:`~pathplan_env.records.multi.MultiEpisode`)."""
+        if not self.is_multi(number):
+            raise ValueError(f"{self.path}: episode {number} is a single-robot episode: read it with episode({number})")
+        row, header, parts = self._row(number), self._header(number), self._parts(number)
+        try:
+            scene = json.loads(self._bytes(number, "scene"))
+        except (json.JSONDecodeError, UnicodeDecodeError) as error:
+            raise ValueError(f"{self.path}: episode {number}'s scene is not readable ({error}; torn by a killed run?)") from None
+        return unpack_multi(parts, header, scene, int(row[_COL["obstacles"]]), int(row[_COL["command_width"]]), int(row[_COL["robots"]]))
+
+    def episode(self, number: int) -> Episode:
+        """Single-robot episode ``number`` (:class:`~pathplan_env.records.trajectory.Episode`)."""
+        if self.is_multi(number):
+            raise ValueError(f"{self.path}: episode {number} is a multi-robot episode: read it with multi_episode({number}) "
+                             "(scripts/render_multi_robot.py --record draws it)")  # fmt: skip
+        row, header, parts = self._row(number), self._header(number), self._parts(number)
+        rows, n, width, beams = (int(row[_COL[c]]) for c in ("rows", "obstacles", "command_width", "beams"))
+        steps = parts["steps"]
         return Episode(
             meta=header["meta"], scenario=self._scene(number), turns=bool(row[_COL["turns"]]),
             humans=np.asarray(header["humans"], bool), robot=steps[:, 0:3], waypoint=steps[:, 3:5], clearance=steps[:, 5],
@@ -381,7 +379,8 @@ def open_records(run) -> RecordReader:
 def salvage(path) -> tuple[int, int]:
     """Copy the episodes of record file ``path`` that read back whole into a fresh file that then replaces it
     (the episodes a killed writer tore are left out, to be run again); how many were kept and left out.
-    What ``--resume`` does first: HDF5 promises nothing of a file whose writer was killed mid-flush."""
+    What ``--resume`` does first: HDF5 promises nothing of a file whose writer was killed mid-flush.
+    The fresh file is of this version's format (a version 2 file comes out as version 3)."""
     path = Path(path)
     fresh = path.with_name(f"{path.name}.salvaging")
     fresh.unlink(missing_ok=True)
@@ -389,7 +388,7 @@ def salvage(path) -> tuple[int, int]:
     with RecordReader(path) as reader, RecordWriter(fresh) as writer:
         for number in reader.numbers():
             try:
-                writer.append(reader.episode(number), reader._header(number)["key"], flush=False)
+                writer.append(reader.read(number), reader._header(number)["key"], flush=False)
                 kept += 1
             except ValueError:
                 torn += 1

@@ -6,6 +6,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 pytest.importorskip("pettingzoo")
@@ -46,3 +47,18 @@ def test_ray_backend_without_ray_is_one_line_naming_the_extra_before_any_work(tm
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert out.returncode != 0 and '--backend ray needs Ray: pip install -e ".[ray]"' in out.stderr.strip().splitlines()[-1]
     assert "Traceback" not in out.stderr and not any(tmp_path.iterdir())
+
+
+@pytest.mark.slow  # starts a local Ray (15-30 s)
+@needs_ray
+def test_ray_records_the_process_pools_episodes(tmp_path):
+    from pathplan_env.records.store import open_records
+
+    evaluate_multi(*RUN, 2, tmp_path / "pool", workers=2, record=True)
+    evaluate_multi(*RUN, 2, tmp_path / "ray", workers=2, backend="ray", record=True)  # trajectories back through ray_backend.pack/unpack
+    with open_records(tmp_path / "pool") as pool, open_records(tmp_path / "ray") as ray:
+        by_key = {key: pool.multi_episode(n) for n, key in enumerate(pool.header_keys())}
+        assert sorted(ray.header_keys()) == sorted(by_key)
+        for n, key in enumerate(ray.header_keys()):
+            a, b = by_key[key], ray.multi_episode(n)
+            assert a.meta == b.meta and np.array_equal(a.pose, b.pose) and np.array_equal(a.command, b.command, equal_nan=True)

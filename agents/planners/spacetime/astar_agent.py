@@ -59,13 +59,15 @@ class SpacetimeModel:
     horizon, the contact radii with the margin, and the env's action mapping from the static facts."""
 
     def __init__(self, facts: EnvFacts, horizon_steps: int, margin: float, prediction: str = "physics", cone_degrees: float = 20.0,
-                 robots: str = "reciprocal", robot_margin: float = ROBOT_MARGIN):  # fmt: skip
+                 robots: str = "reciprocal", robot_margin: float = ROBOT_MARGIN, robot_depth: float = ROBOT_DEPTH):  # fmt: skip
         if robots not in ROBOT_PREDICTIONS:
             raise ValueError(f"robots must be one of {ROBOT_PREDICTIONS}, got {robots!r}")
         if not (0.0 <= robot_margin < 1.0):
             raise ValueError(f"robot_margin must be in [0, 1), got {robot_margin!r}")
         self.robots, self.robot_margin = robots, float(robot_margin)
-        self.robot_depth = ROBOT_DEPTH
+        if not (isinstance(robot_depth, (int, float, np.number)) and 0.0 <= robot_depth < 10.0):
+            raise ValueError(f"robot_depth must be a number of metres in [0, 10), got {robot_depth!r}")
+        self.robot_depth = float(robot_depth)
         if prediction not in PREDICTIONS:
             raise ValueError(f"prediction must be one of {PREDICTIONS}, got {prediction!r}")
         if not (0.0 <= cone_degrees < 90.0):
@@ -208,10 +210,11 @@ class SpacetimeAStarAgent(Agent):
         fly the :meth:`escape` move instead of the plan that survives longest (always done when no
         move at all is free).
     :param escape_steps: the escape's lookahead (steps).
-    :param robots, robot_margin: how the other robots of a multi-robot env (robot-flagged rows) are
+    :param robots, robot_margin, robot_depth: how the other robots of a multi-robot env (robot-flagged rows) are
         predicted (:data:`agents.planners.reciprocal.ROBOT_PREDICTIONS`: ``"reciprocal"``, each takes half
-        of the avoidance, or ``"obstacles"``) and the margin on a contact between two robots; an
-        observation without robots is predicted the same either way.
+        of the avoidance, or ``"obstacles"``), the margin on a contact between two robots and how far
+        the reciprocal disc reaches past the midpoint (m); an observation without robots is predicted
+        the same either way.
     :param steering: ``"adapt"``: once :class:`~agents.planners.steering.SteeringCheck` sees the obstacles
         steer, plan with :data:`CROWD_SETTINGS` (the cone, and the wider margin, escape and lookahead
         where they ask more than the configured ones); among bodies that bounce the check never fires
@@ -224,14 +227,14 @@ class SpacetimeAStarAgent(Agent):
                  partial_min_steps: int = 5, coarse_cell: float | None = 0.1, coarse_headings: int = 16, fine_share: float = 0.5,
                  keep_plan_steps: int = 10, prediction: str = "physics",
                  cone_degrees: float = 20.0, escape_trapped: bool = False, escape_steps: int = 4, steering: str = "adapt",
-                 robots: str = "reciprocal", robot_margin: float = ROBOT_MARGIN):  # fmt: skip
+                 robots: str = "reciprocal", robot_margin: float = ROBOT_MARGIN, robot_depth: float = ROBOT_DEPTH):  # fmt: skip
         super().__init__(env, seed)
         if steering not in STEERING_RULES:
             raise ValueError(f"steering must be one of {STEERING_RULES}, got {steering!r}")
         self.steering = steering
-        self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees, robots, robot_margin)
+        self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees, robots, robot_margin, robot_depth)
         self.crowd_model = SpacetimeModel(self.facts, horizon_steps, max(margin, CROWD_SETTINGS["margin"]), CROWD_SETTINGS["prediction"], cone_degrees,
-                                          robots, robot_margin)  # fmt: skip
+                                          robots, robot_margin, robot_depth)  # fmt: skip
         self.steering_check = SteeringCheck(self.facts.robot_speed)
         if int(escape_steps) != escape_steps or escape_steps < 1:
             raise ValueError(f"escape_steps must be a positive integer, got {escape_steps!r}")

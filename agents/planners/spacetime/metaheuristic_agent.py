@@ -20,7 +20,7 @@ from agents.planners.costtogo import around_obstacles, route, route_bends, waypo
 from agents.planners.metaheuristic import MetaheuristicAgent
 from agents.planners.objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, TimedScene, walk_along
 from agents.planners.passable import guided_by_passable, passable_around
-from agents.planners.reciprocal import ROBOT_MARGIN
+from agents.planners.reciprocal import ROBOT_DEPTH, ROBOT_MARGIN
 from agents.planners.resting_discs import resting_set
 from agents.planners.spacetime.astar_agent import SpacetimeModel
 from agents.planners.spacetime.seeds import SearchSeed, search_seeds
@@ -64,7 +64,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         where the prediction leaves them (:func:`agents.planners.costtogo.around_obstacles`, recomputed every
         replan: ~7 ms on the maze). On in ``pso-crowd`` / ``abc-crowd``: with the static field alone a plan
         that waits behind a human standing in a maze doorway cost as little as one that walks round it.
-    :param robots, robot_margin: :class:`SpacetimeModel`'s prediction of the other robots of a
+    :param robots, robot_margin, robot_depth: :class:`SpacetimeModel`'s prediction of the other robots of a
         multi-robot env (:mod:`agents.planners.reciprocal`).
     :param steering: ``"adapt"``: once :class:`~agents.planners.steering.SteeringCheck` sees the obstacles
         steer (an obstacle's speed changes, which the bounce physics never does), plan with
@@ -92,7 +92,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
                  n_dodges: int = 8, dodge_steps: float = 2.0, prediction: str = "physics", violation: str = "first-contact",
                  search_expansions: int = 0, dense_budget: float = 0.0, cone_degrees: float = 20.0,
                  rest_obstacles: bool = True, progress_weight: float = 0.0, obstacle_field: bool = False, steering: str = "adapt",
-                 robots: str = "reciprocal", robot_margin: float = ROBOT_MARGIN, **kwargs):  # fmt: skip
+                 robots: str = "reciprocal", robot_margin: float = ROBOT_MARGIN, robot_depth: float = ROBOT_DEPTH, **kwargs):  # fmt: skip
         if steering not in STEERING_RULES:
             raise ValueError(f"steering must be one of {STEERING_RULES}, got {steering!r}")
         self.steering = steering
@@ -121,9 +121,10 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         kwargs.setdefault("stall", 5)
         self.n_dodges, self.dodge_steps = int(n_dodges), float(dodge_steps)
         super().__init__(env, seed, optimizer=optimizer, variant="paper", predictive=True, **kwargs)
-        self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees, robots, robot_margin)
+        self.model = SpacetimeModel(self.facts, horizon_steps, margin, prediction, cone_degrees, robots, robot_margin, robot_depth)
         # among obstacles that steer: the crowd settings' margin, or the configured one if wider
-        self.crowd_model = SpacetimeModel(self.facts, horizon_steps, max(margin, CROWD_SETTINGS["margin"]), prediction, cone_degrees, robots, robot_margin)
+        self.crowd_model = SpacetimeModel(self.facts, horizon_steps, max(margin, CROWD_SETTINGS["margin"]), prediction, cone_degrees, robots, robot_margin,
+                                        robot_depth)  # fmt: skip
         self.steering_check = SteeringCheck(self.facts.robot_speed)
         speeds = self.n_waypoints + 1
         self._timed_lo = np.concatenate([self.search_lo, np.zeros(speeds)])

@@ -89,6 +89,10 @@ def test_bad_robot_settings_are_value_errors_naming_them():
         agents.make("astar-spacetime", env.robot_env("robot_0"), robots="bouncing")
     with pytest.raises(ValueError, match="robot_margin"):
         agents.make("pso-spacetime", env.robot_env("robot_0"), robot_margin=1.5)
+    with pytest.raises(ValueError, match="robot_depth"):
+        agents.make("abc-spacetime", env.robot_env("robot_0"), robot_depth=-0.1)
+    deeper = agents.make("astar-spacetime", env.robot_env("robot_0"), robot_depth=0.45)
+    assert deeper.model.robot_depth == deeper.crowd_model.robot_depth == 0.45
 
 
 def test_two_robots_swapping_head_on_both_arrive():

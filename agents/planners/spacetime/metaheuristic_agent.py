@@ -37,6 +37,12 @@ CROWD_SETTINGS = MappingProxyType({"margin": 0.05, "rest_obstacles": False, "obs
 VIOLATIONS = {"contacts": CONTACTS, "first-contact": FIRST_CONTACT}
 
 
+def _scene_bytes(obs) -> tuple:
+    """Every entry of an observation but the robot's own position and velocity, as bytes."""
+    return tuple((key, np.asarray(value).tobytes()) for key, value in Observation.of(obs).raw.items()
+                 if key not in ("robot_position", "robot_velocity"))  # fmt: skip
+
+
 class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     """``pso-spacetime`` / ``abc-spacetime``: the paper's optimisers on a timed path.
 
@@ -141,6 +147,13 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         else:
             model, rest_obstacles, obstacle_field = self.model, self.rest_obstacles, self.obstacle_field
         segments, ctg = model.statics(obs, {} if memory is None else memory)
+        # where nothing moves, every field but the robot's position is a function of the observation's other
+        # entries, the guide and the settings: the last such problem is handed back while they stay
+        # (the prediction and the broad phase among hundreds of resting discs are not built again)
+        kept = None if memory is None else memory.get("still_problem")
+        if kept is not None and kept[1] is ctg and kept[0] == (_scene_bytes(obs), steering, guided_by_passable(memory)):
+            return kept[2]._replace(robot=np.asarray(obs["robot_position"], np.float64))
+        static_ctg = ctg
         trajectory, n, radii, robot, goal = model.predict_scene(obs)
         resting = model.in_row_order(obs, (Observation.of(obs).obstacles.velocities == 0.0).all(axis=1), len(radii))
         if guided_by_passable(memory or {}):  # among dense static geometry the rest goes round the movers too (a disc bouncing in a gap)
@@ -159,10 +172,15 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         broad = resting_set(trajectory, radii, memory)
         # every disc of the broad phase's grid exempt: the rest visits the moving ones alone (the same costs)
         skips = broad is not None and exempt.size > 0 and bool(exempt[broad.grid.items].all())
-        return TimedScene(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.step_length,
-                          self.model.horizon_steps, self.penalty_weight, travel, segments, ctg, self.violation,
-                          0.0 if self.constraint == "adaptive" else INFEASIBLE, rest_obstacles, self.progress_weight, exempt,
-                          broad, skips)  # fmt: skip
+        problem = TimedScene(trajectory, n, f.robot_radius, radii, robot, goal, f.goal_radius, self.step_length,
+                             self.model.horizon_steps, self.penalty_weight, travel, segments, ctg, self.violation,
+                             0.0 if self.constraint == "adaptive" else INFEASIBLE, rest_obstacles, self.progress_weight, exempt,
+                             broad, skips)  # fmt: skip
+        if memory is not None and broad is not None and not travel.any():  # kept only where nothing moves (no robot's either)
+            memory["still_problem"] = ((_scene_bytes(obs), steering, guided_by_passable(memory)), static_ctg, problem)
+        elif memory is not None:
+            memory.pop("still_problem", None)
+        return problem
 
     def seed_paths(self, robot: np.ndarray, goal: np.ndarray, problem: TimedScene | None = None) -> np.ndarray:
         """Warm-start candidates at top speed: the straight line, then a first waypoint

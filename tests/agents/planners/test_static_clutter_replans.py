@@ -143,3 +143,32 @@ def test_a_path_s_steps_visit_the_obstacles_a_fresh_query_lists():
         assert count == obstacles_near(resting, 200, x, y, 0.41, fresh) and np.array_equal(again[:count], fresh[:count])
         x, y = x + 0.08 * np.cos(0.02 * i), y + 0.08 * np.sin(0.02 * i) * 0.5
     assert 50 < reused < 300  # both ways taken
+
+
+def _same_record(a, b) -> bool:
+    """Records (nested named tuples of arrays and numbers) equal field by field, bit for bit."""
+    if isinstance(a, tuple):
+        return type(a) is type(b) and all(_same_record(x, y) for x, y in zip(a, b))
+    if isinstance(a, np.ndarray):
+        return a.dtype == b.dtype and np.array_equal(a, b) and np.array_equal(np.signbit(a), np.signbit(b))
+    return a == b
+
+
+@pytest.mark.parametrize("name, seed", [("pso-spacetime", 3), ("abc-spacetime", 1)])
+def test_a_kept_static_problem_is_the_one_built_afresh(name, seed):
+    """Where nothing moves, ``timed_problem`` hands back the last problem with the robot moved: every
+    field is the one building it afresh gives (the still problem dropped from a copy of the memory)."""
+    env = _clutter_env(seed, 0)
+    agent = agents.make(name, env, seed=0)
+    obs, _ = env.reset(seed=seed)
+    handed_back = 0
+    for _ in range(12):
+        memory = agent._memory[0] if agent._memory else {}
+        if memory.get("still_problem") is not None:
+            fresh_memory = {key: value for key, value in memory.items() if key != "still_problem"}
+            kept, fresh = agent.timed_problem(obs, dict(memory)), agent.timed_problem(obs, fresh_memory)
+            assert _same_record(kept, fresh)
+            handed_back += kept.trajectory is memory["still_problem"][2].trajectory  # handed back, not built
+        action, _ = agent.predict(obs, deterministic=True)
+        obs, *_ = env.step(action)
+    assert handed_back >= 8

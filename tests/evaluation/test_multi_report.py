@@ -40,9 +40,14 @@ def test_a_multi_robot_run_writes_its_page_with_every_episode_and_robot(run, tmp
     assert "all arrived (95% CI)" in page and "robot 1.00, obstacle 0.00, wall 0.00" in page  # the harness's table, as printed
     bouncing = _data((run / "bouncing" / "report.html").read_text(), "report-data")
     assert len(bouncing["scenes"][0]["robots"]) == 4 and len(bouncing["scenes"][0]["radii"]) == 8
-    evaluate_multi(["straight"], ["multi-swap-2"], [None], 1, tmp_path)  # not recorded: the page still lists the episode
-    unrecorded = _data((tmp_path / "report.html").read_text(), "report-data")
+    evaluate_multi(["straight"], ["multi-swap-2"], [None], 1, tmp_path / "plain")  # not recorded: the page still lists the episode
+    unrecorded = _data((tmp_path / "plain" / "report.html").read_text(), "report-data")
     assert not unrecorded["recorded"] and [row[-1] for row in unrecorded["episodes"]] == [-1]
+    evaluate_multi(["straight"], ["multi-swap-2"], [None], 1, tmp_path / "resumed", record=True)
+    evaluate_multi(["straight"], ["multi-swap-2"], [None], 3, tmp_path / "resumed", record=True, resume=True)  # the first read back from the file
+    resumed = (tmp_path / "resumed" / "report.html").read_text()
+    assert len(_data(resumed, "report-data")["episodes"]) == len(_data(resumed, "report-trajectories")) == 3
+    assert _data(resumed, "report-trajectories")[0] == _data(page, "report-trajectories")[0]  # the same episode, the same bytes
 
 
 COLOUR_PIXELS = """const c = arguments[0].getContext('2d'), d = c.getImageData(0, 0, arguments[0].width, arguments[0].height).data;

@@ -8,7 +8,8 @@ Every robot is driven by its own instance of the agent (seeded ``seed + robot``)
 their own speeds (no obstacles on the circle), ``--bouncing`` at ``--delta-d`` (default 0.25). Episodes
 use the test split's seeds (``--split validation`` the validation seeds), as ``scripts/evaluate.py`` does.
 ``--record`` keeps every episode in ``<out>/own/multi_episodes.h5`` (and ``bouncing/``), replayed by
-``scripts/render_multi_robot.py --record``.
+``scripts/render_multi_robot.py --record``. Each out folder has ``report.html``: the table, the episode
+list and, with ``--record``, a player of every robot (docs/records.md).
 """
 
 from __future__ import annotations
@@ -36,7 +37,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--backend", choices=("process", "ray"), default="process",
                         help='where episodes run: a local process pool (--workers) or Ray (pip install -e ".[ray]")')  # fmt: skip
     parser.add_argument("--address", help="with --backend ray: a running cluster's address (default: a local Ray)")
-    parser.add_argument("--out", type=Path, default=None, help="folder for multi_episodes.jsonl and multi_summary.json")
+    parser.add_argument("--out", type=Path, default=None, help="folder for multi_episodes.jsonl, multi_summary.json and report.html")
     parser.add_argument("--resume", action="store_true", help="keep the episodes on record in --out and run the rest")
     parser.add_argument("--record", action="store_true",
                         help="keep every episode in --out's multi_episodes.h5 (replay: render_multi_robot.py --record; docs/records.md)")  # fmt: skip

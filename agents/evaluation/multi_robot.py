@@ -18,7 +18,8 @@ episode: all arrived, makespan (the last arrival's time, when all arrived), sum 
 robot's time to its goal, its contact, or the episode's end). Rates carry Wilson intervals. Episodes are appended to
 ``multi_episodes.jsonl`` as they finish (``resume=True`` skips those on record; ``workers`` run them
 on the single harness's process pool, ``agents.evaluation.executors``, or ``backend="ray"`` on its Ray
-executor, ``agents.evaluation.ray_backend``); ``multi_summary.json`` at the end.
+executor, ``agents.evaluation.ray_backend``); ``multi_summary.json`` and ``report.html``
+(``agents.evaluation.report.multi_page``: the table, the episode list and, recorded, a player of every robot) at the end.
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ from agents.evaluation.episodes import _policy, _seed_global_generators
 from agents.evaluation.executors import run_jobs
 from agents.evaluation.ray_backend import require_ray
 from agents.evaluation.recording import open_multi_records
+from agents.evaluation.report.multi_page import write_multi_report
 from agents.evaluation.run_log import RunLock, run_folder
 from agents.evaluation.settings import BACKENDS
 from agents.evaluation.statistics import wilson_interval
@@ -265,6 +267,7 @@ def evaluate_multi(entries: list, scenarios: list, deltas: list[float | None], e
     except OSError as error:  # (a folder that cannot be made: before any work, as other bad input)
         raise ValueError(f"out: cannot make the run folder {out} ({error.strerror})") from None
     log = folder / LOG_NAME
+    began = time.perf_counter()
     with RunLock(folder):
         records = open_multi_records(folder, resume and log.exists(), record)  # a bad or unwritable file is refused here, before any episode
         try:
@@ -292,6 +295,9 @@ def evaluate_multi(entries: list, scenarios: list, deltas: list[float | None], e
             records.close()
         rows = summarize_multi(results)
         (folder / SUMMARY_NAME).write_text(json.dumps({"split": split, "seed": seed, "episodes": episodes, "rows": rows}, indent=1, default=str))
+        config = {"agents": [agent_label(e) for e in entries], "scenarios": [scenario_label(s) for s in scenarios], "delta_d": list(deltas),
+                  "episodes": episodes, "seed": seed, "split": split, "wall_seconds": round(time.perf_counter() - began, 1)}  # fmt: skip
+        write_multi_report(folder, table(rows), results, config, records.replays())
     return rows
 
 

@@ -14,7 +14,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from pathplan_env.records.compact import pack, scene_of
+from pathplan_env.records.compact import multi_scene_of, pack, pack_multi_episode, scene_of
+from pathplan_env.records.multi import MultiEpisode
 from pathplan_env.records.social import METRICS, social_metrics
 from pathplan_env.records.store import MULTI_RECORDS_NAME, RECORDS_NAME, RecordReader, RecordWriter, salvage, set_aside
 
@@ -33,6 +34,8 @@ class Digest(NamedTuple):
 
 
 def digest(episode) -> Digest:
+    if isinstance(episode, MultiEpisode):  # (the social metrics are a single robot's among humans: none here)
+        return Digest(episode.meta, {}, multi_scene_of(episode), pack_multi_episode(episode))
     return Digest(episode.meta, social_metrics(episode), scene_of(episode), pack(episode))
 
 
@@ -41,14 +44,12 @@ def _key_text(key) -> str:
 
 
 class RunRecords:
-    """The record file of a run folder, open for appending. ``digests``: whether the end of the run needs
-    each episode's :class:`Digest` (a multi-robot run's does not: no social metrics, no report page)."""
+    """The record file of a run folder, open for appending (a single- or a multi-robot run's)."""
 
-    def __init__(self, out, resume: bool, name: str = RECORDS_NAME, digests: bool = True):
+    def __init__(self, out, resume: bool, name: str = RECORDS_NAME):
         path = out / name
         if not os.access(out, os.W_OK) or (path.exists() and not (path.is_file() and os.access(path, os.W_OK))):
             raise ValueError(f"{path}: cannot write the episode records there (not a writable file in a writable folder)")
-        self._digesting = digests
         torn = 0
         if not resume:
             set_aside(path)
@@ -75,8 +76,7 @@ class RunRecords:
             self._writer.append(trajectory, text)
             self._order.append(text)
             self._kept.add(text)
-            if self._digesting:
-                self._digests[text] = digest(trajectory)
+            self._digests[text] = digest(trajectory)
 
     def close(self) -> None:
         """Closes the file and says what it holds and what an episode cost."""
@@ -89,7 +89,7 @@ class RunRecords:
         if all(key in self._digests for key in self._order):
             return [self._digests[key] for key in self._order]
         with RecordReader(self.path) as reader:
-            return [self._digests.get(key) or digest(reader.episode(number)) for number, key in enumerate(reader.header_keys())]
+            return [self._digests.get(key) or digest(reader.read(number)) for number, key in enumerate(reader.header_keys())]
 
     def add_social_metrics(self, rows: list[dict]) -> list[dict]:
         return add_social_metrics(rows, self.replays())
@@ -159,4 +159,4 @@ def open_multi_records(out, resume: bool, record: bool) -> RunRecords | NoRecord
     if not record:
         return NoRecords()
     _require_h5py()
-    return RunRecords(out, resume, MULTI_RECORDS_NAME, digests=False)
+    return RunRecords(out, resume, MULTI_RECORDS_NAME)

@@ -22,13 +22,32 @@ def _quantise(values: np.ndarray, low, high) -> np.ndarray:
     return np.where(np.isnan(q), MISSING, q).astype("<u2")
 
 
+def _round(values) -> list[float]:
+    return [round(float(x), 4) for x in values]
+
+
+def _arena(s) -> dict:
+    """A scenario's static world: the arena's bounds, its walls and polygons, the clock's step."""
+    return {"bounds": _round(s.bounds), "walls": [[_round(a), _round(b)] for a, b in s.walls], "wall_thickness": s.wall_thickness,
+            "polygons": [[_round(v) for v in poly] for poly in s.polygons], "dt": s.dt}  # fmt: skip
+
+
 def scene_of(episode: Episode) -> dict:
     s = episode.scenario
-    round_ = lambda v: [round(float(x), 4) for x in v]
-    return {"bounds": round_(s.bounds), "walls": [[round_(a), round_(b)] for a, b in s.walls], "wall_thickness": s.wall_thickness,
-            "polygons": [[round_(v) for v in poly] for poly in s.polygons], "goal": round_(s.goal), "goal_radius": s.goal_radius,
-            "robot_radius": s.robot_radius, "start": round_(s.start), "radii": round_(episode.radii), "humans": episode.humans.astype(int).tolist(),
-            "dt": s.dt, "turns": episode.turns}  # fmt: skip
+    return _arena(s) | {"goal": _round(s.goal), "goal_radius": s.goal_radius, "robot_radius": s.robot_radius, "start": _round(s.start),
+                        "radii": _round(episode.radii), "humans": episode.humans.astype(int).tolist(), "turns": episode.turns}  # fmt: skip
+
+
+def multi_scene_of(episode) -> dict:
+    """A multi-robot episode's (``pathplan_env.records.multi.MultiEpisode``) scene: the arena, the
+    obstacles' radii, and each robot's name, agent, start, goal, radii and whether it turns."""
+    scene = episode.scene
+    robots = []
+    for i, name in enumerate(episode.agents):
+        s = scene.robot_scenario(i)
+        robots.append({"name": name, "agent": episode.agent_names[i], "start": _round(s.start), "goal": _round(s.goal),
+                       "radius": s.robot_radius, "goal_radius": s.goal_radius, "turns": bool(episode.turns[i])})  # fmt: skip
+    return _arena(scene.world) | {"radii": _round(episode.radii), "humans": episode.humans.astype(int).tolist(), "robots": robots, "multi": True}
 
 
 def pack(episode: Episode) -> str:
@@ -46,5 +65,27 @@ def pack(episode: Episode) -> str:
     heading = np.arctan2(np.sin(episode.robot[:, 2]), np.cos(episode.robot[:, 2]))
     clearance = np.minimum(np.rint(np.maximum(episode.clearance, 0.0) * 1000), TOP).astype("<u2")
     parts = [head, episode.plan_offsets.astype("<u4"), xy[0], _quantise(heading, -math.pi, math.pi), xy[1], xy[2], clearance, xy[3], xy[4]]
+    return _encode(parts)
+
+
+def _encode(parts: list[np.ndarray]) -> str:
     data = b"".join(np.ascontiguousarray(p).tobytes() for p in parts)
     return base64.b64encode(zlib.compress(data, 6)).decode("ascii")
+
+
+def pack_multi_episode(episode) -> str:
+    """A multi-robot episode's per-step arrays as :func:`pack`'s string: uint32 [rows, robots K, obstacles
+    N, plan points P], uint32 plan offsets (rows x K + 1: row k robot i's plan, the one that led to row
+    k), then uint16 robots' x, y (rows x K x 2), headings (rows x K), statuses (rows x K:
+    ``pathplan_env.records.multi.STATUS``'s index), what each touched (rows x K: ``HITS``' index),
+    obstacles x, y (rows x N x 2), plan points (P x 2)."""
+    (xmin, ymin, xmax, ymax) = episode.scene.world.bounds
+    low, high = np.array([xmin, ymin]), np.array([xmax, ymax])
+    rows, k = episode.steps + 1, episode.n_robots
+    head = np.array([rows, k, episode.obstacles.shape[1], len(episode.plan_points)], "<u4")
+    points = [episode.pose[..., :2].reshape(-1, 2), episode.obstacles[..., :2].reshape(-1, 2), episode.plan_points]
+    xy = np.split(_quantise(np.concatenate(points), low, high), np.cumsum([len(p) for p in points])[:-1])
+    heading = np.arctan2(np.sin(episode.pose[..., 2]), np.cos(episode.pose[..., 2])).reshape(-1)
+    parts = [head, episode.plan_offsets.astype("<u4"), xy[0], _quantise(heading, -math.pi, math.pi), episode.status.astype("<u2").reshape(-1),
+             episode.hit.astype("<u2").reshape(-1), xy[1], xy[2]]  # fmt: skip
+    return _encode(parts)

@@ -67,11 +67,24 @@ def render_page(title: str, rows: list[dict], config: dict, columns: list[str], 
     ``trajectories`` by record number (:func:`.payload.scene_of`, :func:`.payload.pack`), ``plots`` as (name, base64 PNG)."""
     data = {"title": title, "config": {k: config.get(k) for k in ("agents", "scenarios", "delta_d", "episodes", "seed", "split", "wall_seconds")},
             "columns": columns, "episodes": episode_list, "scenes": scenes, "recorded": recorded}  # fmt: skip
-    tables = "".join(f"<h3>{html.escape(title)}</h3>{markdown_to_html(table)}" for title, table in _tables(rows))
+    return assemble(title, _tables(rows), data, trajectories, plots, LEGEND)
+
+
+#: The player's legend of a single-robot episode.
+LEGEND = ("""<span class="k robot"></span>robot (its heading) <span class="k obstacle"></span>obstacle <span class="k human"></span>human
+      <span class="k goal"></span>goal <span class="k plan"></span>the agent's plan <span class="k waypoint"></span>waypoint"""
+          """ <span class="k trail"></span>path so far <span class="k beam"></span>lidar beams (a lidar agent's)""")  # fmt: skip
+
+
+def assemble(title: str, tables: list[tuple[str, str]], data: dict, trajectories: list[str], plots: list[tuple[str, str]], legend: str,
+             no_plots: str = "No plots (--no-plots).") -> str:  # fmt: skip
+    """The page from its parts: ``tables`` as (title, pipe table), ``data`` (what report.js reads: the
+    config, the episode list, the scenes), ``trajectories`` (packed), ``plots`` as (name, base64 PNG)."""
+    tables_html = "".join(f"<h3>{html.escape(name)}</h3>{markdown_to_html(table)}" for name, table in tables)
     figures = "".join(f'<figure><img alt="{html.escape(name)}" src="data:image/png;base64,{b64}"><figcaption>{html.escape(name)}</figcaption></figure>'
                       for name, b64 in plots)  # fmt: skip
     return (_asset("report.html").replace("{{title}}", html.escape(title)).replace("{{style}}", _asset("report.css"))
-            .replace("{{tables}}", tables).replace("{{plots}}", figures or "<p>No plots (--no-plots).</p>")
+            .replace("{{tables}}", tables_html).replace("{{plots}}", figures or f"<p>{html.escape(no_plots)}</p>").replace("{{legend}}", legend)
             .replace("{{data}}", _json_script("report-data", _clean(data)))
             .replace("{{trajectories}}", _json_script("report-trajectories", trajectories))
             .replace("{{script}}", _asset("report.js")))  # fmt: skip

@@ -11,6 +11,9 @@
   const COLOURS = { background: "rgb(250,250,247)", wall: "rgb(60,60,60)", static: "rgb(110,110,118)", obstacle: "rgb(214,96,77)",
     human: "rgb(197,27,125)", robot: "rgb(52,101,164)", heading: "rgb(250,250,247)", trail: "rgb(120,160,210)", goal: "rgb(46,160,67)",
     waypoint: "rgb(240,170,20)", plan: "rgb(150,90,190)", beam: "rgb(170,205,235)" };
+  // a multi-robot episode's robots by their status (pathplan_env.records.multi.STATUS: active, arrived, left, collided, timeout)
+  const STATUS_COLOURS = [COLOURS.robot, COLOURS.goal, "rgb(170,170,170)", "rgb(120,20,20)", COLOURS.waypoint];
+  const STATUS_NAMES = ["active", "arrived", "left", "collided", "out of time"];
   const $ = (id) => document.getElementById(id);
   const state = { shown: PAGE, matching: [], views: [], step: 0, playing: false, speed: 1, last: 0, carry: 0, opened: -1 };
   window.report = state; // for tests and the curious: the player's state
@@ -23,7 +26,7 @@
 
   // -- the episode list and its filters -------------------------------------------------------
   const FILTERS = { agent: "f-agent", scenario: "f-scenario", delta_d: "f-delta", outcome: "f-outcome" };
-  const OUTCOMES = ["success", "collision", "timeout", "limit: lost", "limit: undetermined"];
+  const OUTCOMES = data.multi ? ["success", "collision", "timeout"] : ["success", "collision", "timeout", "limit: lost", "limit: undetermined"];
   function fillSelect(select, values) {
     select.innerHTML = "";
     for (const v of ["all", ...values]) {
@@ -37,7 +40,7 @@
     fillSelect($(id), values);
     $(id).addEventListener("change", () => { state.shown = PAGE; renderList(); });
   }
-  const SHOWN = ["agent", "scenario", "delta_d", "episode", "seed", "outcome", "limit", "steps", "path_length", "min_clearance"];
+  const SHOWN = data.shown || ["agent", "scenario", "delta_d", "episode", "seed", "outcome", "limit", "steps", "path_length", "min_clearance"];
   $("episode-table").tHead.innerHTML = "<tr>" + SHOWN.map((n) => `<th>${n === "delta_d" ? "Δd" : n.replace("_", " ")}</th>`).join("") + "</tr>";
 
   function matches(e) {
@@ -92,6 +95,7 @@
     const offsets = new Uint32Array(buffer, at, rows + 1); at += 4 * (rows + 1);
     const u16 = (count) => { const a = new Uint16Array(buffer, at, count); at += 2 * count; return a; };
     const scene = data.scenes[record];
+    if (scene.multi) return decodeMulti(record, scene, buffer);
     const [xmin, ymin, xmax, ymax] = scene.bounds;
     const X = (q) => (q === 65535 ? NaN : xmin + (q / 65534) * (xmax - xmin));
     const Y = (q) => (q === 65535 ? NaN : ymin + (q / 65534) * (ymax - ymin));
@@ -108,8 +112,28 @@
     return episode;
   }
 
+  function decodeMulti(record, scene, buffer) { // pathplan_env.records.compact.pack_multi_episode's layout
+    const [rows, robots, n, p] = new Uint32Array(buffer, 0, 4);
+    let at = 16;
+    const offsets = new Uint32Array(buffer, at, rows * robots + 1); at += 4 * (rows * robots + 1);
+    const u16 = (count) => { const a = new Uint16Array(buffer, at, count); at += 2 * count; return a; };
+    const [xmin, ymin, xmax, ymax] = scene.bounds;
+    const points = (a) => { const out = new Float64Array(a.length); for (let i = 0; i < a.length; i += 2) {
+      out[i] = a[i] === 65535 ? NaN : xmin + (a[i] / 65534) * (xmax - xmin); out[i + 1] = a[i + 1] === 65535 ? NaN : ymin + (a[i + 1] / 65534) * (ymax - ymin); } return out; };
+    const pose = points(u16(rows * robots * 2));
+    const heading = Float64Array.from(u16(rows * robots), (q) => -Math.PI + (q / 65534) * 2 * Math.PI);
+    const status = u16(rows * robots), hit = u16(rows * robots);
+    const obstacles = points(u16(rows * n * 2));
+    const plan = points(u16(p * 2));
+    const episode = { record, scene, rows, robots, n, offsets, pose, heading, status, hit, obstacles, plan };
+    decoded.set(record, episode);
+    return episode;
+  }
+
   // -- drawing one frame ----------------------------------------------------------------------------
-  function draw(view, k) {
+  // the canvas sized to its box, the arena, its walls and polygons and the obstacles at step k drawn
+  // (``under`` first, given ``line``); returns the drawing helpers in the world's metres
+  function surface(view, k, under) {
     const { canvas, episode: ep } = view;
     const s = ep.scene;
     const [xmin, ymin, xmax, ymax] = s.bounds;
@@ -126,22 +150,32 @@
       for (const [x, y] of pts) { if (Number.isNaN(x)) continue; if (started) g.lineTo(sx(x), sy(y)); else { g.moveTo(sx(x), sy(y)); started = true; } }
       g.strokeStyle = colour; g.lineWidth = w; g.stroke();
     };
-    k = Math.min(k, ep.rows - 1);
     g.fillStyle = COLOURS.background; g.fillRect(0, 0, width, height);
     g.strokeStyle = COLOURS.wall; g.lineWidth = 3 * ratio; g.strokeRect(0, 0, width, height);
     g.lineCap = "round"; g.lineJoin = "round";
-    const [x, y] = [ep.robot[2 * k], ep.robot[2 * k + 1]];
-    for (let j = 0; j < ep.beamCount; j++) {
-      const at = (k * ep.beamCount + j) * 2;
-      line([[x, y], [ep.beams[at], ep.beams[at + 1]]], COLOURS.beam, 1);
-    }
-    for (const [a, b] of s.walls) { line([a, b], COLOURS.static, Math.max(2 * ratio, s.wall_thickness * scale)); }
+    if (under) under(line);
+    for (const [a, b] of s.walls) line([a, b], COLOURS.static, Math.max(2 * ratio, s.wall_thickness * scale));
     for (const poly of s.polygons) {
       g.beginPath(); poly.forEach(([x, y], i) => (i ? g.lineTo(sx(x), sy(y)) : g.moveTo(sx(x), sy(y)))); g.closePath();
       g.fillStyle = COLOURS.static; g.fill();
     }
     const base = k * ep.n * 2;
     for (let i = 0; i < ep.n; i++) circle(ep.obstacles[base + 2 * i], ep.obstacles[base + 2 * i + 1], s.radii[i], s.humans[i] ? COLOURS.human : COLOURS.obstacle);
+    return { g, sx, sy, scale, ratio, circle, line };
+  }
+
+  function draw(view, k) {
+    const { episode: ep } = view;
+    const s = ep.scene;
+    if (s.multi) return drawMulti(view, k);
+    k = Math.min(k, ep.rows - 1);
+    const [x, y] = [ep.robot[2 * k], ep.robot[2 * k + 1]];
+    const { g, sx, sy, scale, ratio, circle, line } = surface(view, k, (line) => { // a lidar's beams, under the world
+      for (let j = 0; j < ep.beamCount; j++) {
+        const at = (k * ep.beamCount + j) * 2;
+        line([[x, y], [ep.beams[at], ep.beams[at + 1]]], COLOURS.beam, 1);
+      }
+    });
     const [gx, gy] = s.goal;
     g.beginPath(); g.arc(sx(gx), sy(gy), Math.max(3, s.goal_radius * scale), 0, 2 * Math.PI); g.strokeStyle = COLOURS.goal; g.lineWidth = 2 * ratio; g.stroke();
     line([[gx - 6 / scale * ratio, gy], [gx + 6 / scale * ratio, gy]], COLOURS.goal, 2 * ratio);
@@ -167,8 +201,45 @@
       (k === ep.rows - 1 ? ` · ${e[col.outcome]}` : "");
   }
 
+  function drawMulti(view, k) {
+    const { episode: ep } = view;
+    const s = ep.scene, K = ep.robots;
+    k = Math.min(k, ep.rows - 1);
+    const { g, sx, sy, scale, ratio, circle, line } = surface(view, k);
+    const label = (x, y, text, colour) => { g.fillStyle = colour; g.font = `${Math.round(11 * ratio)}px sans-serif`; g.textAlign = "center";
+      g.textBaseline = "middle"; g.fillText(text, sx(x), sy(y)); };
+    const at = (j, i) => 2 * (j * K + i);
+    const counts = [0, 0, 0, 0, 0];
+    for (let i = 0; i < K; i++) {
+      const r = s.robots[i], [gx, gy] = r.goal;
+      g.beginPath(); g.arc(sx(gx), sy(gy), Math.max(3, r.goal_radius * scale), 0, 2 * Math.PI); g.strokeStyle = COLOURS.goal; g.lineWidth = 2 * ratio; g.stroke();
+      label(gx, gy, String(i), COLOURS.goal);
+      const trail = [];
+      for (let j = 0; j <= k; j++) trail.push([ep.pose[at(j, i)], ep.pose[at(j, i) + 1]]);
+      if (trail.length > 1) line(trail, COLOURS.trail, 2 * ratio);
+      if (k + 1 < ep.rows) { // the plan the robot flies next (the one that leads to row k + 1), as the command line's frames
+        const a = ep.offsets[(k + 1) * K + i], b = ep.offsets[(k + 1) * K + i + 1];
+        if (b - a > 1) { const pts = []; for (let j = a; j < b; j++) pts.push([ep.plan[2 * j], ep.plan[2 * j + 1]]); line(pts, COLOURS.plan, 1.5 * ratio); }
+      }
+    }
+    for (let i = 0; i < K; i++) {
+      const r = s.robots[i], status = ep.status[k * K + i];
+      counts[status] += 1;
+      if (status === 2) continue; // it left the world
+      const [x, y] = [ep.pose[at(k, i)], ep.pose[at(k, i) + 1]];
+      circle(x, y, r.radius, STATUS_COLOURS[status]);
+      if (r.turns) line([[x, y], [x + r.radius * Math.cos(ep.heading[k * K + i]), y + r.radius * Math.sin(ep.heading[k * K + i])]], COLOURS.heading, Math.max(2, 0.2 * r.radius * scale));
+      else label(x, y, String(i), COLOURS.heading);
+    }
+    const e = episodes[view.index];
+    view.caption.textContent = `${e[col.agent]} · ${e[col.scenario]} · Δd ${e[col.delta_d]} · episode ${e[col.episode]} (seed ${e[col.seed]}) · ` +
+      `step ${k} of ${ep.rows - 1}, t = ${(k * s.dt).toFixed(2)} s · ` + counts.map((c, j) => (c ? `${c} ${STATUS_NAMES[j]}` : "")).filter(Boolean).join(", ") +
+      (k === ep.rows - 1 ? ` · ${e[col.outcome]}` : "");
+  }
+
   // -- CSV of a view's episode, built here -------------------------------------------------------
   function csvOf(ep) {
+    if (ep.scene.multi) return csvOfMulti(ep);
     const head = ["step", "time", "robot_x", "robot_y", "robot_heading", "waypoint_x", "waypoint_y", "clearance"];
     for (let i = 0; i < ep.n; i++) head.push(`${ep.scene.humans[i] ? "human" : "obstacle"}${i}_x`, `${ep.scene.humans[i] ? "human" : "obstacle"}${i}_y`);
     const lines = [head.join(",")];
@@ -176,6 +247,20 @@
     for (let k = 0; k < ep.rows; k++) {
       const row = [k, (k * ep.scene.dt).toFixed(3), f(ep.robot[2 * k]), f(ep.robot[2 * k + 1]), f(ep.heading[k]), f(ep.waypoint[2 * k]), f(ep.waypoint[2 * k + 1]), f(ep.clearance[k])];
       for (let i = 0; i < ep.n; i++) row.push(f(ep.obstacles[(k * ep.n + i) * 2]), f(ep.obstacles[(k * ep.n + i) * 2 + 1]));
+      lines.push(row.join(","));
+    }
+    return lines.join("\n") + "\n";
+  }
+
+  function csvOfMulti(ep) {
+    const K = ep.robots, head = ["step", "time"];
+    ep.scene.robots.forEach((r) => head.push(`${r.name}_x`, `${r.name}_y`, `${r.name}_status`));
+    for (let i = 0; i < ep.n; i++) head.push(`${ep.scene.humans[i] ? "human" : "obstacle"}${i}_x`, `${ep.scene.humans[i] ? "human" : "obstacle"}${i}_y`);
+    const lines = [head.join(",")];
+    for (let k = 0; k < ep.rows; k++) {
+      const row = [k, (k * ep.scene.dt).toFixed(3)];
+      for (let i = 0; i < K; i++) row.push(ep.pose[2 * (k * K + i)].toFixed(4), ep.pose[2 * (k * K + i) + 1].toFixed(4), STATUS_NAMES[ep.status[k * K + i]]);
+      for (let i = 0; i < ep.n; i++) row.push(ep.obstacles[(k * ep.n + i) * 2].toFixed(4), ep.obstacles[(k * ep.n + i) * 2 + 1].toFixed(4));
       lines.push(row.join(","));
     }
     return lines.join("\n") + "\n";

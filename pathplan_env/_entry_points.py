@@ -1,8 +1,8 @@
 """A numba function's compiled entry point for one signature, called without its dispatcher.
 
-A dispatcher call types every argument in Python before it runs the machine code (0.15–0.2 µs for
-a handful of arrays and floats, a fiftieth of a crowd env's step); the entry point of a known
-signature skips that. It unboxes the arguments as that signature's types without checking them,
+A dispatcher call types every argument before it runs the machine code, a visible part of a small
+crowd env's step (``scripts/bench_crowds.py --env-split``); the entry point of a known signature
+skips that. It unboxes the arguments as that signature's types without checking them,
 so a caller passes it only arguments of exactly those types (else the dispatcher).
 """
 

@@ -15,6 +15,7 @@ import numba
 import numpy as np
 from gymnasium import spaces
 
+from pathplan_env._entry_points import entry_point
 from pathplan_env.arena import Arena, ArenaBox
 from pathplan_env.robots.holonomic import move_and_goal
 
@@ -105,27 +106,52 @@ class WaypointAction(ActionType):
 
     def reset(self, world, arena: Arena) -> None:
         super().reset(world, arena)
+        _compile_moves()
         scenario = world.scenario
         self._box = np.array(arena.box, np.float64)  # an ArenaBox's values (see _move_toward)
         self._reach = scenario.robot_speed * scenario.dt
         (self._gx, self._gy), self._goal_radius = scenario.goal, scenario.goal_radius
+        # the box's values, then the reach, the goal and its radius: _move_toward's one array (float64, as its floats were)
+        self._move_params = np.array([*arena.box, self._reach, self._gx, self._gy, self._goal_radius], np.float64)
 
     def act(self, action, robot_xy: tuple[float, float]) -> Move:
-        if type(action) is not np.ndarray or action.shape != (2,) or action.dtype.char not in "fd":
-            action = parse_action(action)  # (a float array, the common case, skips this)
+        move = None
+        if type(action) is np.ndarray and action.shape == (2,):  # (a float array, the common case, skips parse_action)
+            dtype = action.dtype
+            move = _MOVE_FLOAT32 if dtype is _FLOAT32 else _MOVE_FLOAT64 if dtype is _FLOAT64 else None
+        if move is None:
+            action = parse_action(action)
+            move = _MOVE_FLOAT64
         px, py = robot_xy
-        finite, wx, wy, dx, dy, goal_fraction = _move_toward(action, self._box, px, py, self._reach, self._gx, self._gy, self._goal_radius)
+        finite, wx, wy, dx, dy, goal_fraction = move(action, self._move_params, px, py)
         if not finite:
             raise ValueError(f"action must be finite, got {action!r} (NaN or infinite)")
         return dx, dy, goal_fraction, (wx, wy)
 
 
 @numba.njit(cache=True)
-def _move_toward(action, box, px, py, reach, gx, gy, goal_radius):
-    """``kinematics.move_and_goal`` with the :class:`ArenaBox` passed as its values: numba types a
-    NamedTuple argument in Python on every call (a microsecond, a tenth of a step), an array in C."""
-    arena_box = ArenaBox(box[0], box[1], box[2], box[3], box[4], box[5], box[6], box[7])
-    return move_and_goal(action, arena_box, px, py, reach, gx, gy, goal_radius)
+def _move_toward(action, params, px, py):
+    """``kinematics.move_and_goal`` with the :class:`ArenaBox`, the reach, the goal and its radius
+    passed as one array's values (``WaypointAction._move_params``): numba types a NamedTuple argument
+    in Python on every call (a microsecond, a tenth of a step), an array in C, and one array is
+    unboxed faster than five floats."""
+    p = params
+    arena_box = ArenaBox(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7])
+    return move_and_goal(action, arena_box, px, py, p[8], p[9], p[10], p[11])
+
+
+# _move_toward's entry points (pathplan_env._entry_points) for an action of native float32 or float64
+# (any strides), compiled by the first reset rather than at import
+_FLOAT32, _FLOAT64 = np.dtype(np.float32), np.dtype(np.float64)
+_MOVE_FLOAT32 = _MOVE_FLOAT64 = None
+
+
+def _compile_moves() -> None:
+    global _MOVE_FLOAT32, _MOVE_FLOAT64
+    if _MOVE_FLOAT64 is None:
+        rest = (numba.types.float64[::1], numba.types.float64, numba.types.float64)
+        _MOVE_FLOAT32 = entry_point(_move_toward, (numba.types.Array(numba.types.float32, 1, "A"), *rest))
+        _MOVE_FLOAT64 = entry_point(_move_toward, (numba.types.Array(numba.types.float64, 1, "A"), *rest))
 
 
 def parse_action(action) -> np.ndarray:

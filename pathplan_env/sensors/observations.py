@@ -19,6 +19,7 @@ import numba
 import numpy as np
 from gymnasium import spaces
 
+from pathplan_env._entry_points import entry_point
 from pathplan_env.arena import Arena
 
 
@@ -130,6 +131,8 @@ class StateObservation(ObservationType):
     #: fifth of a unicycle's step). A row is never written twice; a used-up block stays alive as
     #: long as observations hold its rows.
     BLOCK_ROWS = 256
+    #: The last ``obstacle_state`` seen that :data:`_ROW` may take (``None``: none yet).
+    _state_checked = None
 
     def __init__(self, arena: Arena, dt: float, max_obstacles: int):
         super().__init__(arena, dt, max_obstacles)
@@ -198,6 +201,7 @@ class StateObservation(ObservationType):
 
     def reset(self, world, rng: np.random.Generator | None) -> None:
         """The episode's template: its goal and radii, padding rows at the arena's lower corner."""
+        _compile_row()
         gx, gy = world.scenario.goal
         _fill_template(self._template, gx, gy, self.arena.low, world.radii, self.max_obstacles)
         if self.max_static_segments:  # padding rows at the arena's lower corner, as the obstacles'
@@ -221,16 +225,22 @@ class StateObservation(ObservationType):
             _observation_row_carrying(self._block, i, self._template, (x, y, vx, vy), world.obstacle_state, self.max_obstacles,
                                       (getattr(world, carried[0]), getattr(world, carried[1])))  # fmt: skip
         else:
-            _observation_row(self._block[i], self._template, (x, y, vx, vy), world.obstacle_state, self.max_obstacles)
-        position, velocity, goal, positions, velocities, radii, mask = self._entries
+            state = world.obstacle_state
+            if state is not self._state_checked:  # (a World's is the same array all episode: checked once)
+                self._state_checked = state if _ROW is not None and _plain_state(state) else None
+            if state is self._state_checked:
+                _ROW(self._block, i, self._template, (x, y, vx, vy), state, self.max_obstacles)
+            else:
+                _observation_row(self._block[i], self._template, (x, y, vx, vy), state, self.max_obstacles)
+        position, velocity, goal, positions, velocities, radii, mask = self._rows[i]
         obs = {
-            "robot_position": position[i],
-            "robot_velocity": velocity[i],
-            "goal": goal[i],
-            "obstacle_positions": positions[i],
-            "obstacle_velocities": velocities[i],
-            "obstacle_radii": radii[i],
-            "obstacle_mask": mask[i],
+            "robot_position": position,
+            "robot_velocity": velocity,
+            "goal": goal,
+            "obstacle_positions": positions,
+            "obstacle_velocities": velocities,
+            "obstacle_radii": radii,
+            "obstacle_mask": mask,
         }
         if self.max_static_segments:
             obs.update(self._static_entries())
@@ -250,6 +260,9 @@ class StateObservation(ObservationType):
         self._entries = (block[:, s.robot_position], block[:, s.robot_velocity], block[:, s.goal],
                          block[:, s.obstacle_positions].reshape(n, m, 2), block[:, s.obstacle_velocities].reshape(n, m, 2),
                          block[:, s.obstacle_radii], block[:, s.obstacle_mask])  # fmt: skip
+        # each row's seven entries, its views made here in one pass (numpy's iteration) rather than by
+        # seven indexings a step; a row is written once, before its views are handed out
+        self._rows = list(zip(*self._entries, strict=True))
         self._carried_entries = tuple((name, size + j, block[:, size + j : size + j + 1]) for j, name in enumerate(self._carried))
 
     def __getstate__(self):
@@ -257,6 +270,8 @@ class StateObservation(ObservationType):
         state.pop("_block", None)
         state.pop("_entries", None)
         state.pop("_carried_entries", None)
+        state.pop("_rows", None)
+        state["_state_checked"] = None
         state["_rows_used"] = self.BLOCK_ROWS
         return state
 
@@ -282,6 +297,24 @@ def _fill_template(template, gx, gy, arena_low, radii, n_max):
         template[at.obstacle_mask + i] = 1.0
 
 
+def _plain_state(state) -> bool:
+    """Whether ``state`` is what :data:`_ROW` takes: an (N, 4) native float64 C-contiguous array."""
+    return type(state) is np.ndarray and state.dtype is _FLOAT64 and state.ndim == 2 and state.flags.c_contiguous and state.flags.aligned
+
+
+# _observation_row_at's entry point (pathplan_env._entry_points) for the block, a row, its template,
+# the robot's four floats and a plain obstacle state, compiled by the first reset rather than at import
+_FLOAT64 = np.dtype(np.float64)
+_ROW = None
+
+
+def _compile_row() -> None:
+    global _ROW
+    if _ROW is None:
+        t = numba.types
+        _ROW = entry_point(_observation_row_at, (t.float32[:, ::1], t.int64, t.float32[::1], t.UniTuple(t.float64, 4), t.float64[:, ::1], t.int64))
+
+
 @numba.njit(cache=True)
 def _observation_row(block, template, robot, obstacle_state, n_max):
     """``block`` (an observation's row) := the episode's template with the robot's ``(x, y, vx, vy)``
@@ -297,6 +330,12 @@ def _observation_row(block, template, robot, obstacle_state, n_max):
         block[at.obstacle_positions + 2 * i + 1] = obstacle_state[i, 1]
         block[at.obstacle_velocities + 2 * i] = obstacle_state[i, 2]
         block[at.obstacle_velocities + 2 * i + 1] = obstacle_state[i, 3]
+
+
+@numba.njit(cache=True)
+def _observation_row_at(block, i, template, robot, obstacle_state, n_max):
+    """:func:`_observation_row` into ``block[i]`` (the row's view made here, not in Python)."""
+    _observation_row(block[i], template, robot, obstacle_state, n_max)
 
 
 @numba.njit(cache=True)

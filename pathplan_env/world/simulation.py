@@ -165,6 +165,7 @@ class World(SpaceKeeper):
         self._floats, self._ints, self._mode = floats, np.concatenate([np.array(header, np.int64), idx, order]), mode
         self._sees_robot = mode in (step_kernel.STEER_ORCA, step_kernel.STEER_ROUTED) and scenario.robot_visible
         self._dt = scenario.dt
+        self._plain = mode in (step_kernel.STEER_NONE, step_kernel.STEER_ORCA) and not self._sees_robot and not self._has_statics
 
     def _steer(self) -> None:
         """Goal-directed obstacles choose this step's velocities (all from the same snapshot); the
@@ -208,6 +209,12 @@ class World(SpaceKeeper):
             none), and the fraction of the step at which the first contact began (``NO_CONTACT``,
             > 1, if none before the goal).
         """
+        if self._plain:  # no walls, no steering in Python, the humans blind to the robot: the compiled call alone
+            x0, y0 = self.robot_xy
+            self.robot_xy, self.robot_velocity_xy, min_gap, first_contact = _world_step(self._ints, self._floats, x0, y0, dx, dy, goal_fraction,
+                                                                                        False, self._diagonal)  # fmt: skip
+            self.time += self._dt
+            return min_gap, first_contact
         mode = self._mode
         if mode == _STEER_OUTSIDE:
             self._steer()
@@ -230,12 +237,13 @@ class World(SpaceKeeper):
             while n_missing:  # some human first lost sight of its goal: its route (grid_dijkstra), then the step
                 statics.fill_routes(n_missing)
                 ax, ay, moving, min_gap, first_contact, n_missing = step_kernel.world_step_routed(*args)
+            self.robot_xy = (ax, ay)
+            dt = self._dt
+            self.robot_velocity_xy = (dx / dt, dy / dt) if moving else (0.0, 0.0)
         else:
-            ax, ay, moving, min_gap, first_contact = _world_step(self._ints, self._floats, x0, y0, dx, dy, goal_fraction, static_contact, min_gap)
-        self.robot_xy = (ax, ay)
-        dt = self._dt
-        self.robot_velocity_xy = (dx / dt, dy / dt) if moving else (0.0, 0.0)
-        self.time += dt
+            self.robot_xy, self.robot_velocity_xy, min_gap, first_contact = _world_step(self._ints, self._floats, x0, y0, dx, dy, goal_fraction,
+                                                                                        static_contact, min_gap)  # fmt: skip
+        self.time += self._dt
         return min_gap, first_contact  # (Python floats from the compiled call)
 
     def begin_step(self) -> None:

@@ -157,19 +157,26 @@ def _views(ints, floats):
 @numba.njit(cache=True)
 def world_step(ints, floats, x0, y0, dx, dy, goal_fraction, static_contact, min_gap):
     """One step of ``World.step`` from the static stop on (``goal_fraction``, ``static_contact`` and
-    ``min_gap`` as the walls left them); returns ``(x, y, moving, min_gap, first_contact)``."""
+    ``min_gap`` as the walls left them); returns ``((x, y), (vx, vy), min_gap, first_contact)``: the
+    robot's new position and velocity as the tuples ``World.robot_xy`` and ``robot_velocity_xy`` hold
+    (``(dx / dt, dy / dt)`` while it moves, else zero: ``World.step``'s arithmetic, boxed here rather
+    than rebuilt in Python)."""
     header, body, state, speeds, radii, c = _views(ints, floats)
+    dt = floats[c + DT]
     if ints[MODE] == STEER_ORCA:
-        _steer_orca(ints, floats, ints[COUNT], c, state, body, speeds, radii, floats[c + DT])
+        _steer_orca(ints, floats, ints[COUNT], c, state, body, speeds, radii, dt)
         _write_bodies(ints, header)
-    return _substeps(ints, floats[c + DT], floats[c + ROBOT_RADIUS], Bodies(header, body, state, speeds, radii),
-                     RobotMove(x0, y0, dx, dy, goal_fraction, static_contact, min_gap))  # fmt: skip
+    x, y, moving, min_gap, first_contact = _substeps(ints, dt, floats[c + ROBOT_RADIUS], Bodies(header, body, state, speeds, radii),
+                                                     RobotMove(x0, y0, dx, dy, goal_fraction, static_contact, min_gap))  # fmt: skip
+    velocity = (dx / dt, dy / dt) if moving else (0.0, 0.0)
+    return (x, y), velocity, min_gap, first_contact
 
 
 @numba.njit(cache=True)
 def world_step_routed(ints, floats, routes_fields, obstacle_fields, targets, missing, move):
     """:func:`world_step` for one ORCA group among walls (``ORCA.steer``'s routed call: the humans head
-    for their route targets, RVO2's obstacles ``obstacle_fields``); returns its tuple and the count of
+    for their route targets, RVO2's obstacles ``obstacle_fields``); returns ``(x, y, moving, min_gap,
+    first_contact)`` and the count of
     humans in ``missing`` whose route is not computed yet: when not 0, nothing moved (the caller runs
     their Dijkstra and calls again). ``move``: the plain tuple of a :class:`RobotMove`'s fields."""
     move = RobotMove(move[0], move[1], move[2], move[3], move[4], move[5], move[6])

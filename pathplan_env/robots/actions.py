@@ -116,7 +116,8 @@ class WaypointAction(ActionType):
 
     def act(self, action, robot_xy: tuple[float, float]) -> Move:
         move = None
-        if type(action) is np.ndarray and action.shape == (2,):  # (a float array, the common case, skips parse_action)
+        # a native float array, the common case, skips parse_action (the entry points are typed for aligned arrays)
+        if type(action) is np.ndarray and action.shape == (2,) and action.flags.aligned:
             dtype = action.dtype
             move = _MOVE_FLOAT32 if dtype is _FLOAT32 else _MOVE_FLOAT64 if dtype is _FLOAT64 else None
         if move is None:

@@ -15,6 +15,8 @@ def _actions():
     base = np.array([0.3, -0.7])
     readonly = base.copy()
     readonly.flags.writeable = False
+    unaligned = np.zeros(17, np.uint8)[1:].view(np.float64)  # (an array a buffer's offset leaves unaligned)
+    unaligned[:] = base
     return {
         "float64": base,
         "float32": base.astype(np.float32),
@@ -23,6 +25,7 @@ def _actions():
         "read-only": readonly,
         "byte-swapped": base.astype(">f8"),
         "list": [0.3, -0.7],
+        "unaligned": unaligned,
     }
 
 

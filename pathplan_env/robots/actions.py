@@ -108,11 +108,13 @@ class WaypointAction(ActionType):
         super().reset(world, arena)
         _compile_moves()
         scenario = world.scenario
-        self._box = np.array(arena.box, np.float64)  # an ArenaBox's values (see _move_toward)
-        self._reach = scenario.robot_speed * scenario.dt
-        (self._gx, self._gy), self._goal_radius = scenario.goal, scenario.goal_radius
         # the box's values, then the reach, the goal and its radius: _move_toward's one array (float64, as its floats were)
-        self._move_params = np.array([*arena.box, self._reach, self._gx, self._gy, self._goal_radius], np.float64)
+        self._move_params = np.array([*arena.box, scenario.robot_speed * scenario.dt, *scenario.goal, scenario.goal_radius], np.float64)
+
+    def __setstate__(self, state: dict) -> None:
+        # an action type unpickled in a fresh process steps before any reset compiles the moves there
+        self.__dict__.update(state)
+        _compile_moves()
 
     def act(self, action, robot_xy: tuple[float, float]) -> Move:
         move = None

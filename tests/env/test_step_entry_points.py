@@ -3,6 +3,10 @@ what the dispatcher gives, and the observations they fill stay the user's to kee
 
 from __future__ import annotations
 
+import pickle
+import subprocess
+import sys
+
 import gymnasium as gym
 import numpy as np
 import pytest
@@ -60,3 +64,15 @@ def test_observations_kept_across_blocks_keep_their_values():
             np.testing.assert_array_equal(value, copy[name])
             assert value.dtype == np.float32 and value.shape == env.observation_space[name].shape
     assert not np.shares_memory(kept[-1]["obstacle_positions"], kept[-2]["obstacle_positions"])
+
+
+def test_an_action_type_unpickled_in_a_fresh_process_moves_before_any_reset(tmp_path):
+    env = gym.make("DynamicObstacle-v0").unwrapped
+    env.reset(seed=3)
+    action = np.array([0.3, -0.7])
+    expected = env.action_type.act(action, (1.0, 2.0))
+    (tmp_path / "act.pkl").write_bytes(pickle.dumps(env.action_type))
+    script = ("import pickle, sys, numpy as np; move = pickle.load(open(sys.argv[1], 'rb'))"
+              "; print(repr(move.act(np.array([0.3, -0.7]), (1.0, 2.0))))")  # fmt: skip
+    out = subprocess.run([sys.executable, "-c", script, str(tmp_path / "act.pkl")], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == repr(expected)

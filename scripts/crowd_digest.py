@@ -20,7 +20,9 @@ import numpy as np
 
 import pathplan_env  # noqa: F401  (registers DynamicObstacle-v0)
 
-FAMILIES = (("maze-crowd", None), ("corridor-crowd", 20), ("doorway-crowd", None))
+# the wall crowds, then open ones (the world's plain compiled call, and humans who see the robot)
+FAMILIES = (("maze-crowd", None), ("corridor-crowd", 20), ("doorway-crowd", None), ("crowdnav-circle-crossing", None),
+            ("crowdnav-square-crossing-visible", None))
 
 
 def episode_digest(scenario: str, n_obstacles: int | None, seed: int, random_steps: int, still_steps: int) -> str:

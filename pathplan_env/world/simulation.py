@@ -209,42 +209,43 @@ class World(SpaceKeeper):
             none), and the fraction of the step at which the first contact began (``NO_CONTACT``,
             > 1, if none before the goal).
         """
-        if self._plain:  # no walls, no steering in Python, the humans blind to the robot: the compiled call alone
-            x0, y0 = self.robot_xy
-            self.robot_xy, self.robot_velocity_xy, min_gap, first_contact = _world_step(self._ints, self._floats, x0, y0, dx, dy, goal_fraction,
-                                                                                        False, self._diagonal)  # fmt: skip
-            self.time += self._dt
-            return min_gap, first_contact
-        mode = self._mode
-        if mode == _STEER_OUTSIDE:
-            self._steer()
-        elif self._sees_robot:  # the compiled step steers; the humans see the robot here
-            (x, y), (vx, vy) = self.robot_xy, self.robot_velocity_xy
-            robot = self._robot_row
-            robot[0], robot[1], robot[2], robot[3] = x, y, vx, vy
         x0, y0 = self.robot_xy
         min_gap = self._diagonal  # no gap is wider: finite with no obstacles
         static_contact = False
-        if self._has_statics:
-            # the substeps stop at the walls' first contact as at the goal (an obstacle touched earlier still comes first)
-            goal_fraction, static_contact, gap = static_stop(x0, y0, dx, dy, goal_fraction, self.scenario.robot_radius, self.static_segments)
-            min_gap = min(min_gap, gap)
-        if mode == _STEER_ROUTED:
-            statics = self._human_statics
-            args = (self._ints, self._floats, statics.routes_fields, statics.obstacle_fields, statics.scratch_targets, statics.missing,
-                    (x0, y0, dx, dy, goal_fraction, static_contact, min_gap))  # fmt: skip
-            ax, ay, moving, min_gap, first_contact, n_missing = step_kernel.world_step_routed(*args)
-            while n_missing:  # some human first lost sight of its goal: its route (grid_dijkstra), then the step
-                statics.fill_routes(n_missing)
-                ax, ay, moving, min_gap, first_contact, n_missing = step_kernel.world_step_routed(*args)
-            self.robot_xy = (ax, ay)
-            dt = self._dt
-            self.robot_velocity_xy = (dx / dt, dy / dt) if moving else (0.0, 0.0)
-        else:
-            self.robot_xy, self.robot_velocity_xy, min_gap, first_contact = _world_step(self._ints, self._floats, x0, y0, dx, dy, goal_fraction,
-                                                                                        static_contact, min_gap)  # fmt: skip
+        if not self._plain:  # (plain: no walls, no steering in Python, the humans blind to the robot: the compiled call alone)
+            mode = self._mode
+            if mode == _STEER_OUTSIDE:
+                self._steer()
+            elif self._sees_robot:  # the compiled step steers; the humans see the robot here
+                vx, vy = self.robot_velocity_xy
+                robot = self._robot_row
+                robot[0], robot[1], robot[2], robot[3] = x0, y0, vx, vy
+            if self._has_statics:
+                # the substeps stop at the walls' first contact as at the goal (an obstacle touched earlier still comes first)
+                goal_fraction, static_contact, gap = static_stop(x0, y0, dx, dy, goal_fraction, self.scenario.robot_radius, self.static_segments)
+                min_gap = min(min_gap, gap)
+            if mode == _STEER_ROUTED:
+                min_gap, first_contact = self._step_routed(x0, y0, dx, dy, goal_fraction, static_contact, min_gap)
+                self.time += self._dt
+                return min_gap, first_contact
+        self.robot_xy, self.robot_velocity_xy, min_gap, first_contact = _world_step(self._ints, self._floats, x0, y0, dx, dy, goal_fraction,
+                                                                                    static_contact, min_gap)  # fmt: skip
         self.time += self._dt
         return min_gap, first_contact  # (Python floats from the compiled call)
+
+    def _step_routed(self, x0, y0, dx, dy, goal_fraction, static_contact, min_gap) -> tuple[float, float]:
+        """:meth:`step`'s compiled call for one ORCA group among walls (their routes computed as the humans need them)."""
+        statics = self._human_statics
+        args = (self._ints, self._floats, statics.routes_fields, statics.obstacle_fields, statics.scratch_targets, statics.missing,
+                (x0, y0, dx, dy, goal_fraction, static_contact, min_gap))  # fmt: skip
+        ax, ay, moving, min_gap, first_contact, n_missing = step_kernel.world_step_routed(*args)
+        while n_missing:  # some human first lost sight of its goal: its route (grid_dijkstra), then the step
+            statics.fill_routes(n_missing)
+            ax, ay, moving, min_gap, first_contact, n_missing = step_kernel.world_step_routed(*args)
+        self.robot_xy = (ax, ay)
+        dt = self._dt
+        self.robot_velocity_xy = (dx / dt, dy / dt) if moving else (0.0, 0.0)
+        return min_gap, first_contact
 
     def begin_step(self) -> None:
         """The start of a step driven from outside :meth:`step` (a robot flying arcs): goal-directed

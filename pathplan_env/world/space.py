@@ -172,6 +172,8 @@ class SpaceKeeper:
     def _same_statics(self, segments: np.ndarray) -> bool:
         """Whether ``segments`` are this world's static segments (both empty included)."""
         statics = self.static_segments
+        if statics is segments:  # (a family's shared rows: wall_families._segments)
+            return True
         return (statics.size == 0 and segments.size == 0) or (statics.shape == segments.shape and np.array_equal(statics, segments))
 
     # -- construction helpers ------------------------------------------------------------------

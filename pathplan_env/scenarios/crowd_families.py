@@ -56,7 +56,8 @@ def _humans(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | None = 
     return _placed_humans(rng, n, layout, draw, grid, trips)[0]
 
 
-def _placed_humans(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | None = None, trips: tuple | None = None) -> tuple[tuple[Obstacle, ...], np.ndarray]:
+def _placed_humans(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | None = None,
+                   trips: tuple | None = None) -> tuple[tuple[Obstacle, ...], np.ndarray]:  # fmt: skip
     """``(humans, their starts (n, 2))``: ``n`` humans whose (start, goal) pairs come from ``draw(rng, k) -> (starts (k, 2), goals (k, 2))``:
     each takes the first of its candidates that keeps the rules of the module docstring. A human
     whose first ``_CANDIDATES`` all break them draws more batches (only then: a scene that fitted

@@ -399,7 +399,8 @@ class Scenario:
         dt = self.dt
         for ob in self.obstacles:
             speed = delta_d * ob.radius / dt
-            if type(ob.preferred_speed) is not float or ob.preferred_speed != speed or (speed == 0.0 and math.copysign(1.0, ob.preferred_speed) != math.copysign(1.0, speed)):
+            kept = ob.preferred_speed
+            if type(kept) is not float or kept != speed or (speed == 0.0 and math.copysign(1.0, kept) != math.copysign(1.0, speed)):
                 return False
         return True
 

@@ -302,8 +302,9 @@ def path_length_table(scenario, clearance: float, cell: float = 0.25) -> tuple:
 def drivers_statics(scenario, drivers: list) -> HumanStatics:
     """:func:`human_statics` for a world's drivers (``(behaviour, idx, goals, preferred)`` each, the
     goals array shared): every goal-directed obstacle routed, free cells sized for the largest."""
-    routed = np.sort(np.concatenate([idx for _, idx, _, _ in drivers]))
-    radii = scenario.arrays()["radii"]
+    # (a group's indices are ascending: one group's are the sorted ones)
+    routed = drivers[0][1] if len(drivers) == 1 else np.sort(np.concatenate([idx for _, idx, _, _ in drivers]))
+    radii = scenario._arrays["radii"]  # (read only: arrays()'s copy of the dict not needed)
     return human_statics(scenario, drivers[0][2], routed, float(radii[routed].max()))
 
 

@@ -52,7 +52,13 @@ _MORE_BATCHES = 32
 
 
 def _humans(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | None = None, trips: tuple | None = None) -> tuple[Obstacle, ...]:
-    """``n`` humans whose (start, goal) pairs come from ``draw(rng, k) -> (starts (k, 2), goals (k, 2))``:
+    """:func:`_placed_humans`' humans."""
+    return _placed_humans(rng, n, layout, draw, grid, trips)[0]
+
+
+def _placed_humans(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | None = None,
+                   trips: tuple | None = None) -> tuple[tuple[Obstacle, ...], np.ndarray]:  # fmt: skip
+    """``(humans, their starts (n, 2))``: ``n`` humans whose (start, goal) pairs come from ``draw(rng, k) -> (starts (k, 2), goals (k, 2))``:
     each takes the first of its candidates that keeps the rules of the module docstring. A human
     whose first ``_CANDIDATES`` all break them draws more batches (only then: a scene that fitted
     the first time is drawn exactly as before). ``grid``: the layout's :func:`clearance_grid`, if kept;
@@ -93,7 +99,13 @@ def _humans(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | None = 
         else:
             i = _place_spaced(starts, goals, ok, centers, ends, i + 1, SPACING, rules)
     # valid by construction (inside the arena, clear of the walls, the robot and each other): not validated again
-    return tuple(Obstacle._from_checked(tuple(c), HUMAN_RADIUS, (0.0, 0.0), tuple(g), HUMAN_SPEED) for c, g in zip(centers.tolist(), ends.tolist()))
+    new, radius, rest = object.__new__, HUMAN_RADIUS, (0.0, 0.0)
+    humans = []
+    for (cx, cy), (gx, gy) in zip(centers.tolist(), ends.tolist()):  # Obstacle._from_checked's, inlined
+        human = new(Obstacle)
+        human.__dict__.update(center=(cx, cy), radius=radius, velocity=rest, goal=(gx, gy), preferred_speed=HUMAN_SPEED)
+        humans.append(human)
+    return tuple(humans), centers
 
 
 @numba.njit(cache=True)
@@ -169,9 +181,9 @@ def _place(starts, goals, ok, centers, ends, first, spacing, rules, checks):
             if ok[i, k] == 0:
                 continue
             clear = True
-            for j in range(i):
-                if (math.hypot(starts[i, k, 0] - centers[j, 0], starts[i, k, 1] - centers[j, 1]) < spacing
-                        or math.hypot(goals[i, k, 0] - ends[j, 0], goals[i, k, 1] - ends[j, 1]) < spacing):  # fmt: skip
+            for j in range(i):  # (math.hypot(...) < spacing for the start and the goal: _nearer's shortcut)
+                if (_nearer(starts[i, k, 0] - centers[j, 0], starts[i, k, 1] - centers[j, 1], spacing)
+                        or _nearer(goals[i, k, 0] - ends[j, 0], goals[i, k, 1] - ends[j, 1], spacing)):  # fmt: skip
                     clear = False
                     break
             if clear:
@@ -341,6 +353,19 @@ def _free_point(x, y, box, reach, segments, grid, origin):
 
 
 @numba.njit(cache=True, inline="always")
+def _nearer(dx, dy, limit):
+    """``math.hypot(dx, dy) < limit``, bit for bit: libm's hypot (most of the spacing test's time) only
+    when the squared distance is within a relative 1e-9 of the squared limit, as :func:`_beyond`."""
+    if limit > 0.0:
+        q = dx * dx + dy * dy
+        if q > limit * limit * (1.0 + 1e-9):
+            return False
+        if q < limit * limit * (1.0 - 1e-9):
+            return True
+    return math.hypot(dx, dy) < limit
+
+
+@numba.njit(cache=True, inline="always")
 def _beyond(dx, dy, minus, limit):
     """``math.hypot(dx, dy) - minus > limit``, bit for bit, with libm's hypot (most of the check's time)
     only when the squared distance is within a relative 1e-9 of the limit (their rounding is ~1e-16)."""
@@ -364,8 +389,8 @@ def _spaced(starts: np.ndarray, goals: np.ndarray, centers: np.ndarray, ends: np
 def _crowd(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | None = None, trips: tuple | None = None) -> Scenario:
     """The layout (validated when it was built) with ``n`` humans (valid by construction), not validated
     again, as the CrowdNav presets' scenes (``tests/scenarios/test_family_scenes.py``: the same scenario as a validated one)."""
-    humans = _humans(rng, n, layout, draw, grid, trips)
-    arrays = {"positions": np.array([h.center for h in humans], np.float64).reshape(n, 2), "velocities": np.zeros((n, 2)),
+    humans, centers = _placed_humans(rng, n, layout, draw, grid, trips)
+    arrays = {"positions": centers, "velocities": np.zeros((n, 2)),  # (the humans' centres, the same floats)
               "radii": np.full(n, HUMAN_RADIUS)}  # fmt: skip
     fields = {name: getattr(layout, name) for name in Scenario.__dataclass_fields__}
     fields.update(obstacles=humans, behaviour=HUMAN_ORCA, name=layout.name + "-crowd")
@@ -384,8 +409,9 @@ def corridor_crowd(rng: np.random.Generator, n: int | None = None) -> Scenario:
     n = 10 if n is None else check_count(n, "n_obstacles")
     layout = families.corridor(rng, 0)
 
-    def draw(rng, k):
-        return _corridor_trips(rng.random(k), rng.random((k, 2)), rng.random(k))
+    def draw(rng, k):  # (rng.random(k), rng.random((k, 2)), rng.random(k)): one call draws the same floats in turn
+        u = rng.random(4 * k)
+        return _corridor_trips(u[:k], u[k : 3 * k].reshape(k, 2), u[3 * k :])
 
     return _crowd(rng, n, layout, draw)
 

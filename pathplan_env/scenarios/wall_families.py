@@ -15,11 +15,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from functools import lru_cache
 
 import numpy as np
 
 from pathplan_env.arguments import check_count
-from pathplan_env.geometry.walls import points_clearance, polygon_shapes
+from pathplan_env.geometry.walls import DEFAULT_WALL_THICKNESS, points_clearance, polygon_shapes, segments_of
 from pathplan_env.scenarios.scenario import Obstacle, Scenario
 
 ROBOT_RADIUS = 0.2
@@ -85,15 +86,23 @@ def _scenario(rng, n: int, regions: list[Box], **fields) -> Scenario:
     docstring), and the obstacles lie inside the regions, clear of everything. ``fields`` are
     normalised already (float tuples). ``tests/scenarios/test_family_scenes.py`` checks every family's scenes
     against validated ones."""
-    layout = Scenario._from_checked(dict(_NO_OBSTACLES), robot_radius=ROBOT_RADIUS, robot_speed=ROBOT_SPEED, dt=DT, goal_radius=ROBOT_RADIUS,
-                                    **fields)  # fmt: skip
+    segments = _segments(fields.get("walls", ()), fields.get("wall_thickness", DEFAULT_WALL_THICKNESS), fields.get("polygons", ()))
+    layout = Scenario._from_checked(dict(_NO_OBSTACLES), segments, robot_radius=ROBOT_RADIUS, robot_speed=ROBOT_SPEED, dt=DT,
+                                    goal_radius=ROBOT_RADIUS, **fields)  # fmt: skip
     if n == 0:  # a crowd family's layout: no obstacles to place (and placing none draws nothing)
         return layout
     centres, radii = _place_obstacles(rng, n, regions, layout)
     obstacles = tuple(Obstacle._from_checked(tuple(c), r, (0.0, 0.0)) for c, r in zip(centres.tolist(), radii.tolist()))
     arrays = {"positions": centres, "velocities": np.zeros((n, 2)), "radii": radii}
     layout_fields = {name: getattr(layout, name) for name in Scenario.__dataclass_fields__}
-    return Scenario._from_checked(arrays, **{**layout_fields, "obstacles": obstacles})
+    return Scenario._from_checked(arrays, layout.static_segments, **{**layout_fields, "obstacles": obstacles})
+
+
+@lru_cache(maxsize=32)
+def _segments(walls: tuple, wall_thickness: float, polygons: tuple) -> np.ndarray:
+    """``segments_of``'s read-only rows, one array per geometry: a family whose walls do not move (the
+    corridor, the intersection) shares them, and a world recycling its space compares them by identity."""
+    return segments_of(walls, wall_thickness, polygons)
 
 
 def _swap(rng, a, b):

@@ -87,7 +87,7 @@ class World(SpaceKeeper):
         self.robot_heading, self.robot_forward_speed, self.robot_angular_velocity = 0.0, 0.0, 0.0
         self.time = 0.0
 
-        top_speeds = self._speeds if not self._drivers else scenario.top_speeds()
+        top_speeds = self._speeds if not self._drivers else self._top_speeds()
         self.substeps = substeps_for(top_speeds, self.radii, scenario.dt)
         min_radius = min(self.radii.tolist()) if self.n_obstacles else 1.0
 
@@ -119,15 +119,26 @@ class World(SpaceKeeper):
         for a scenario of bouncing obstacles (then stepping costs nothing extra)."""
         if not scenario.goal_directed:
             return []
-        groups: dict = {}
-        for i in range(scenario.n_obstacles):
-            behaviour = scenario.behaviour_of(i)
-            if behaviour.goal_directed:
-                groups.setdefault(behaviour, []).append(i)
         n = scenario.n_obstacles
+        if scenario.behaviour.goal_directed and all(ob.behaviour is None for ob in scenario.obstacles):
+            groups = {scenario.behaviour: np.arange(n, dtype=np.int64)} if n else {}  # a crowd of one behaviour: the loop's one group
+        else:
+            groups = {}
+            for i in range(n):
+                behaviour = scenario.behaviour_of(i)
+                if behaviour.goal_directed:
+                    groups.setdefault(behaviour, []).append(i)
         goals = np.array([ob.goal if ob.goal is not None else ob.center for ob in scenario.obstacles], np.float64).reshape(n, 2)
         preferred = np.array([ob.preferred_speed for ob in scenario.obstacles], np.float64)
         return [(behaviour, np.array(idx, np.int64), goals, preferred) for behaviour, idx in groups.items()]
+
+    def _top_speeds(self) -> np.ndarray:
+        """``scenario.top_speeds()`` from the drivers' arrays: a driver's speed is ``max(speed, preferred)``
+        as Python's ``max`` picks (the first unless the second is larger), the others their speed."""
+        speeds = self._speeds.copy()
+        for _, idx, _, preferred in self._drivers:
+            speeds[idx] = np.where(preferred[idx] > speeds[idx], preferred[idx], speeds[idx])
+        return speeds
 
     def _pack(self) -> None:
         """The arrays :func:`~pathplan_env.world.step_kernel.world_step` reads, packed (``step_kernel``):

@@ -55,6 +55,7 @@ class LentSpace(NamedTuple):
     request: object  # the batch read's request struct
     state: np.ndarray  # the numpy view onto the buffer
     inserts: int  # an upper bound on the shapes inserted so far
+    radii: list  # the obstacles' radii (their bodies' masses and shapes' radii as set)
 
 
 class SpaceKeeper:
@@ -125,7 +126,7 @@ class SpaceKeeper:
         set_time_step(c_space, 0.0)  # a new space's: no previous step to scale cached impulses by
         set_shape_counter(c_space, len(self._walls) - 1 + max(len(self._statics) - 1, 0))  # the ids after the static shapes'
         lent = LentSpace(space, self._walls, self._walls_bounds, self._statics, self._objects, self._moving, self._buffer,
-                         self._request, self._pymunk_state, self._inserts + len(shapes))  # fmt: skip
+                         self._request, self._pymunk_state, self._inserts + len(shapes), self.radii.tolist())  # fmt: skip
         self.space, self._objects, self._moving, self._walls, self._statics = None, [], [], (), ()
         self._ints = None  # the compiled step's raw handles: this world steps no more (step_kernel)
         return lent
@@ -138,10 +139,12 @@ class SpaceKeeper:
         self._pymunk_state, self._inserts = lent.state, lent.inserts
         c_space, objects = self.space._space, self._objects
         set_slop(c_space, 1e-4 * min_radius)  # (the collision bias stays 1.0: no overlap correction)
-        for i, (r, dynamic) in enumerate(zip(self.radii.tolist(), self._moving)):
-            if dynamic:
-                set_mass(objects[2 * i]._body, r * r)
-            set_radius(objects[2 * i + 1]._shape, r)
+        radii = self.radii.tolist()
+        if radii != lent.radii:  # (the same radii, set again, would write the same masses and mass infos: a crowd's are)
+            for i, (r, dynamic) in enumerate(zip(radii, self._moving)):
+                if dynamic:
+                    set_mass(objects[2 * i]._body, r * r)
+                set_radius(objects[2 * i + 1]._shape, r)
         add_shapes(self.space, objects[1::2])
 
     def _release_moving_obstacles(self) -> list:
@@ -172,6 +175,8 @@ class SpaceKeeper:
     def _same_statics(self, segments: np.ndarray) -> bool:
         """Whether ``segments`` are this world's static segments (both empty included)."""
         statics = self.static_segments
+        if statics is segments:  # (a family's shared rows: wall_families._segments)
+            return True
         return (statics.size == 0 and segments.size == 0) or (statics.shape == segments.shape and np.array_equal(statics, segments))
 
     # -- construction helpers ------------------------------------------------------------------

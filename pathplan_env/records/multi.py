@@ -217,12 +217,12 @@ def pack_multi(episode: MultiEpisode, key: str) -> tuple[dict[str, np.ndarray], 
     return parts, header, sizes
 
 
-def unpack_multi(parts: dict[str, np.ndarray], header: dict, scene: dict, n: int, width: int, k: int) -> MultiEpisode:
-    """:func:`pack_multi`'s inverse (``parts`` checked by the store)."""
+def unpack_multi(parts: dict[str, np.ndarray], header: dict, scene, n: int, width: int, k: int) -> MultiEpisode:
+    """:func:`pack_multi`'s inverse (``parts`` checked by the store; ``scene``: the ``MultiScenario``, :func:`scene_from_dict`'s)."""
     rows = len(parts["steps"])
     robots = parts["robots"].reshape(rows, k, len(ROBOT_COLUMNS))
     return MultiEpisode(
-        meta=header["meta"], scene=scene_from_dict(scene), agents=header["agents"], agent_names=header["agent_names"],
+        meta=header["meta"], scene=scene, agents=header["agents"], agent_names=header["agent_names"],
         humans=np.asarray(header["humans"], bool), turns=np.asarray(header["turns"], bool), time=parts["steps"][:, 0].copy(),
         pose=robots[..., 0:3].copy(), velocity=robots[..., 3:5].copy(), status=robots[..., 5].astype(np.int64),
         hit=robots[..., 6].astype(np.int64), other=robots[..., 7].astype(np.int64), waypoint=robots[..., 8:10].copy(),

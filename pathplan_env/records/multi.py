@@ -166,7 +166,7 @@ class MultiEpisodeRecorder:
             meta=dict(meta), scene=self._env.scene, agents=self._agents, agent_names=self._agent_names, humans=self._humans,
             turns=self._turns, time=np.array(columns[0], np.float64), pose=np.stack(columns[1]), velocity=np.stack(columns[2]),
             status=np.stack(columns[3]), hit=np.stack(columns[4]), other=np.stack(columns[5]), waypoint=np.stack(columns[6]),
-            clearance=np.stack(columns[7]), command=command, obstacles=np.stack(columns[8]).reshape(rows, -1, 4),
+            clearance=np.stack(columns[7]), command=command, obstacles=np.stack(columns[8]),
             plan_points=np.concatenate([np.empty((0, 2))] + plans),
             plan_offsets=np.concatenate([[0], np.cumsum([len(p) for p in plans])]).astype(np.int64),
         )  # fmt: skip

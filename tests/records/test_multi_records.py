@@ -125,7 +125,8 @@ def test_a_replayed_multi_robot_record_draws_the_live_episodes_frames(tmp_path, 
 def test_render_multi_robot_lists_and_replays_a_record(tmp_path, capsys):
     evaluate_multi(["straight"], ["multi-swap-2"], [None], 2, tmp_path, record=True)
     render_multi_robot.main(["--record", str(tmp_path), "--list"])
-    assert "1  straight  multi-swap-2  None  1" in capsys.readouterr().out
+    listed = capsys.readouterr().out  # agents.cli.render.list_records, as render_episode.py --list
+    assert "1  straight  multi-swap-2  own  1  " in listed and "multi-robot: not all arrived" in listed
     render_multi_robot.main(["--record", str(tmp_path), "--episode", "1", "--out", str(tmp_path / "e.gif"), "--size", "120"])
     assert (tmp_path / "e.gif").stat().st_size > 0 and "robot_0" in capsys.readouterr().out
     import render_episode  # the single-robot command lists a multi-robot file and says where to draw one

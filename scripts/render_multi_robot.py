@@ -22,6 +22,7 @@ from pathlib import Path
 
 import imageio.v2 as imageio
 
+from agents.cli.render import list_records
 from agents.evaluation.multi_robot import run_multi_episode
 from pathplan_env.records.store import open_records
 
@@ -102,11 +103,7 @@ def main(argv=None) -> None:
     else:
         try:
             if args.list:
-                with open_records(args.record) as records:
-                    for number in records.numbers():
-                        m = records.meta(number)
-                        arrived = "all arrived" if m.get("all_arrived") else "not all arrived"
-                        print(f"{number}  {m['agent']}  {m['scenario']}  {m['delta_d']}  {m['episode']}  {m['seed']}  {arrived}")
+                list_records(args.record)  # (render_episode.py --list's table: it lists multi-robot files too)
                 return
             if args.episode is None:
                 raise ValueError(f"--record {args.record}: name the episode with --episode N (--list shows them)")

@@ -42,7 +42,7 @@ from agents.evaluation.recording import open_run_records
 from agents.evaluation.records import LIMIT_AGENT, EpisodeResult, delta_order
 from agents.evaluation.report import write_report
 from agents.evaluation.reporting import markdown_table
-from agents.evaluation.run_log import LOG_NAME, LogWriter, RunLock, read_log, run_folder, set_aside
+from agents.evaluation.run_log import LOG_NAME, LogWriter, RunLock, results_on_record, run_folder
 from agents.evaluation.settings import EvaluationSettings
 from agents.evaluation.statistics import summarize
 from agents.provenance import versions
@@ -57,31 +57,6 @@ def _summarize(results: list[EpisodeResult]) -> list[dict]:
     own = [r for r in results if r.delta_d is None]
     rows = summarize([r for r in results if r.delta_d is not None]) + (summarize(own) if own else [])
     return sorted(rows, key=lambda r: (r["scenario"], r["agent"], delta_order(r["delta_d"])))
-
-
-def _on_record(log: Path, jobs: list[Job], key_of: dict, resume: bool, existed: bool,
-               recorded=lambda key: True) -> tuple[list[EpisodeResult], list[Job]]:  # fmt: skip
-    """The results already in ``log`` and the jobs left (``resume``), or none and every job (the old
-    log set aside); says which, and says so when there was nothing to resume. ``recorded(key)``: whether
-    the episode's trajectory is kept too (with ``record=True`` an episode not in the record file runs again)."""
-    results: list[EpisodeResult] = []
-    if resume and log.exists():
-        wanted = set(key_of.values())
-        for number, record in enumerate(read_log(log), start=1):
-            key = tuple(record["job"])
-            if key in wanted and recorded(key):
-                try:
-                    results.append(EpisodeResult(**record["result"]))
-                except TypeError as error:
-                    raise ValueError(f"{log}: record {number} is not an episode's result ({error})") from None
-                wanted.discard(key)  # a key recorded twice counts once
-        jobs = [job for job in jobs if key_of[job.result_id()] in wanted]
-        print(f"resuming: {len(results)} episodes on record, {len(jobs)} to run", file=sys.stderr)
-        return results, jobs
-    if resume and existed:
-        print(f"resume: {log} does not exist, so there is no run to continue; starting a new run", file=sys.stderr)
-    set_aside(log)
-    return results, jobs
 
 
 def evaluate(
@@ -135,7 +110,8 @@ def evaluate(
     log = out / LOG_NAME
     with RunLock(out):
         records = open_run_records(out, settings.resume and log.exists(), keep)
-        results, jobs = _on_record(log, jobs, key_of, settings.resume, existed, records.has)
+        results, jobs = results_on_record(log, jobs, lambda job: key_of[job.result_id()], lambda record: tuple(record["job"]),
+                                          lambda record: EpisodeResult(**record["result"]), settings.resume, existed, records.has)  # fmt: skip
         on_record = len(results)
         if jobs and not _numba_cache.is_warm():
             print("compiling planners once (numba; later runs load them from its cache): the first episodes wait for it", file=sys.stderr)

@@ -37,7 +37,7 @@ from agents.evaluation.executors import run_jobs
 from agents.evaluation.ray_backend import require_ray
 from agents.evaluation.recording import open_multi_records
 from agents.evaluation.report.multi_page import write_multi_report
-from agents.evaluation.run_log import RunLock, run_folder
+from agents.evaluation.run_log import LogWriter, RunLock, results_on_record, run_folder
 from agents.evaluation.settings import BACKENDS
 from agents.evaluation.statistics import wilson_interval
 from agents.registry import split_settings
@@ -262,6 +262,7 @@ def evaluate_multi(entries: list, scenarios: list, deltas: list[float | None], e
     if out is None:
         _execute(jobs, results.append, workers, backend, address)
         return summarize_multi(results)
+    existed = Path(out).is_dir()
     try:
         folder = run_folder(out)
     except OSError as error:  # (a folder that cannot be made: before any work, as other bad input)
@@ -271,26 +272,21 @@ def evaluate_multi(entries: list, scenarios: list, deltas: list[float | None], e
     with RunLock(folder):
         records = open_multi_records(folder, resume and log.exists(), record)  # a bad or unwritable file is refused here, before any episode
         try:
-            if resume and log.exists():
-                logged = {}  # by key, the last line kept (an episode run again for its record is logged again)
-                for line in log.read_text().splitlines():
-                    if line.strip():
-                        result = _from_json(json.loads(line))
-                        logged[job_key(result)] = result
-                results = [r for r in logged.values() if records.has(job_key(r))]
-            elif log.exists():
-                log.rename(folder / f"multi_episodes.previous-{time.strftime('%Y%m%dT%H%M%SZ', time.gmtime())}.jsonl")
-            done = {job_key(r) for r in results}
-            left = [j for j in jobs if job_key(j) not in done]
-            with log.open("a") as stream:
+            results, left = results_on_record(log, jobs, job_key, lambda line: (line["agent"], line["scenario"], line["delta_d"], line["episode"]),
+                                              _from_json, resume, existed, records.has, fields=("agent", "robots"))  # fmt: skip
+            sink = LogWriter(log, on_record=len(results))
 
-                def keep(result: MultiEpisodeResult) -> None:
-                    records.write(result, job_key(result))  # (takes the trajectory off the result)
-                    results.append(result)
-                    stream.write(json.dumps(asdict(result)) + "\n")
-                    stream.flush()
+            def keep(result: MultiEpisodeResult) -> None:
+                # the log line first, as the single-robot harness: a run killed before the record is written runs
+                # that episode again on --resume; the other order would append its record a second time
+                sink.write(asdict(result))
+                results.append(result)
+                records.write(result, job_key(result))  # (takes the trajectory off the result)
 
+            try:
                 _execute(left, keep, workers, backend, address)
+            finally:
+                sink.close()
         finally:
             records.close()
         rows = summarize_multi(results)

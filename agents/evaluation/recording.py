@@ -71,8 +71,9 @@ class RunRecords:
 
     def write(self, result, key) -> None:
         trajectory = result.__dict__.pop("trajectory", None)  # the results list keeps rows, not trajectories
-        if trajectory is not None:
-            text = _key_text(key)
+        text = _key_text(key)
+        # an episode already on record whose log line was lost runs again on resume: the same episode, kept once
+        if trajectory is not None and text not in self._kept:
             self._writer.append(trajectory, text)
             self._order.append(text)
             self._kept.add(text)

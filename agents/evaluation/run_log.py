@@ -86,8 +86,8 @@ class RunLock:
             self.held = False
 
 
-def read_log(log: Path) -> list[dict]:
-    """The records of ``log``; a cut-short last line is reported, cut off the file and skipped."""
+def read_log(log: Path, fields: tuple[str, ...] = ("job", "result")) -> list[dict]:
+    """The records of ``log`` (each an object with ``fields``); a cut-short last line is reported, cut off the file and skipped."""
     data = log.read_bytes()
     records, offset = [], 0
     lines = data.split(b"\n")
@@ -96,8 +96,8 @@ def read_log(log: Path) -> list[dict]:
         if line.strip():
             try:
                 record = json.loads(line)
-                if not (isinstance(record, dict) and "job" in record and "result" in record):
-                    raise ValueError("not a record of a job and its result")
+                if not (isinstance(record, dict) and all(name in record for name in fields)):
+                    raise ValueError(f"not a record with {', '.join(fields)}")
             except ValueError as error:
                 if not any(rest.strip() for rest in lines[number:]):  # the last line: a write cut short
                     print(f"{log}: line {number} is cut short ({error}); dropped, its episode runs again", file=sys.stderr)
@@ -117,14 +117,42 @@ def set_aside(log: Path) -> Path | None:
     if log.stat().st_size == 0:
         log.unlink()
         return None
-    kept = log.with_name(f"episodes.previous-{time.strftime('%Y%m%dT%H%M%SZ', time.gmtime())}.jsonl")
+    kept = log.with_name(f"{log.stem}.previous-{time.strftime('%Y%m%dT%H%M%SZ', time.gmtime())}.jsonl")
     n = 1
     while kept.exists():
-        kept = log.with_name(f"episodes.previous-{time.strftime('%Y%m%dT%H%M%SZ', time.gmtime())}-{n}.jsonl")
+        kept = log.with_name(f"{log.stem}.previous-{time.strftime('%Y%m%dT%H%M%SZ', time.gmtime())}-{n}.jsonl")
         n += 1
     log.rename(kept)
     print(f"{log}: the previous run's episodes are kept as {kept.name} (resume=True / --resume continues a run instead)", file=sys.stderr)
     return kept
+
+
+def results_on_record(log: Path, jobs: list, job_key, record_key, parse, resume: bool, existed: bool,
+                      recorded=lambda key: True, fields: tuple[str, ...] = ("job", "result")) -> tuple[list, list]:  # fmt: skip
+    """The results already in ``log`` and the jobs left (``resume``), or none and every job (the old
+    log set aside); says which, and says so when there was nothing to resume. ``job_key(job)`` and
+    ``record_key(record)``: a job's and a log record's key; ``parse(record)``: its result (a ``TypeError``
+    or ``KeyError`` if it is not one, raised as a ``ValueError`` naming the log and the record).
+    ``recorded(key)``: whether the episode's trajectory is kept too (with ``record=True`` an episode
+    not in the record file runs again). A key logged twice counts once."""
+    results: list = []
+    if resume and log.exists():
+        wanted = {job_key(job) for job in jobs}
+        for number, record in enumerate(read_log(log, fields), start=1):
+            try:
+                key = record_key(record)
+                if key in wanted and recorded(key):
+                    results.append(parse(record))
+                    wanted.discard(key)
+            except (TypeError, KeyError) as error:
+                raise ValueError(f"{log}: record {number} is not an episode's result ({error})") from None
+        jobs = [job for job in jobs if job_key(job) in wanted]
+        print(f"resuming: {len(results)} episodes on record, {len(jobs)} to run", file=sys.stderr)
+        return results, jobs
+    if resume and existed:
+        print(f"resume: {log} does not exist, so there is no run to continue; starting a new run", file=sys.stderr)
+    set_aside(log)
+    return results, jobs
 
 
 class LogWriter:

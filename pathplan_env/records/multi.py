@@ -166,7 +166,7 @@ class MultiEpisodeRecorder:
             meta=dict(meta), scene=self._env.scene, agents=self._agents, agent_names=self._agent_names, humans=self._humans,
             turns=self._turns, time=np.array(columns[0], np.float64), pose=np.stack(columns[1]), velocity=np.stack(columns[2]),
             status=np.stack(columns[3]), hit=np.stack(columns[4]), other=np.stack(columns[5]), waypoint=np.stack(columns[6]),
-            clearance=np.stack(columns[7]), command=command, obstacles=np.stack(columns[8]).reshape(rows, -1, 4),
+            clearance=np.stack(columns[7]), command=command, obstacles=np.stack(columns[8]),
             plan_points=np.concatenate([np.empty((0, 2))] + plans),
             plan_offsets=np.concatenate([[0], np.cumsum([len(p) for p in plans])]).astype(np.int64),
         )  # fmt: skip
@@ -217,12 +217,12 @@ def pack_multi(episode: MultiEpisode, key: str) -> tuple[dict[str, np.ndarray], 
     return parts, header, sizes
 
 
-def unpack_multi(parts: dict[str, np.ndarray], header: dict, scene: dict, n: int, width: int, k: int) -> MultiEpisode:
-    """:func:`pack_multi`'s inverse (``parts`` checked by the store)."""
+def unpack_multi(parts: dict[str, np.ndarray], header: dict, scene, n: int, width: int, k: int) -> MultiEpisode:
+    """:func:`pack_multi`'s inverse (``parts`` checked by the store; ``scene``: the ``MultiScenario``, :func:`scene_from_dict`'s)."""
     rows = len(parts["steps"])
     robots = parts["robots"].reshape(rows, k, len(ROBOT_COLUMNS))
     return MultiEpisode(
-        meta=header["meta"], scene=scene_from_dict(scene), agents=header["agents"], agent_names=header["agent_names"],
+        meta=header["meta"], scene=scene, agents=header["agents"], agent_names=header["agent_names"],
         humans=np.asarray(header["humans"], bool), turns=np.asarray(header["turns"], bool), time=parts["steps"][:, 0].copy(),
         pose=robots[..., 0:3].copy(), velocity=robots[..., 3:5].copy(), status=robots[..., 5].astype(np.int64),
         hit=robots[..., 6].astype(np.int64), other=robots[..., 7].astype(np.int64), waypoint=robots[..., 8:10].copy(),

@@ -65,7 +65,7 @@ from pathplan_env.records.layout import (  # noqa: F401  (RECORDS_NAME, MULTI_RE
     _open,
     records_path,
 )
-from pathplan_env.records.multi import MultiEpisode, pack_multi, scene_dict, unpack_multi
+from pathplan_env.records.multi import MultiEpisode, pack_multi, scene_dict, scene_from_dict, unpack_multi
 from pathplan_env.records.trajectory import Episode
 from pathplan_env.scenarios.scenario import Scenario
 
@@ -80,11 +80,9 @@ def _plain(value):
     return {name: getattr(value, name) for name in _field_names(type(value))}
 
 
-def scene_text(scenario: Scenario | None, multi: MultiEpisode | None = None) -> str:
-    """The scene as JSON: ``json.dumps(dataclasses.asdict(scenario))``, the form ``Scenario.from_dict`` reads;
-    a multi-robot episode's its ``MultiScenario`` (``pathplan_env.records.multi.scene_dict``)."""
-    if multi is not None:
-        return json.dumps(scene_dict(multi.scene))
+def scene_text(scenario: Scenario) -> str:
+    """The scene as JSON: ``json.dumps(dataclasses.asdict(scenario))``, the form ``Scenario.from_dict`` reads
+    (a multi-robot episode's is ``pathplan_env.records.multi.scene_dict``'s)."""
     return json.dumps(scenario, default=_plain)
 
 
@@ -193,7 +191,7 @@ class RecordWriter:
         False); its record number."""
         if isinstance(episode, MultiEpisode):
             parts, head, sizes = pack_multi(episode, key)
-            return self._write(parts, head.encode(), sizes, scene_text(None, episode), flush, key)
+            return self._write(parts, head.encode(), sizes, json.dumps(scene_dict(episode.scene)), flush, key)
         rows, n = episode.steps + 1, len(episode.radii)
         width = episode.command.shape[1]
         steps = np.empty((rows, 9))
@@ -253,7 +251,7 @@ class RecordReader:
             if self.version == 2:  # no multi-robot episodes: their columns 0
                 self._index = np.hstack([self._index, np.zeros((len(self._index), len(INDEX) - _V2_COLUMNS), np.int64)])
             self._text: bytes | None = None  # the whole text dataset, read when a header is first asked for
-            self._scenes: dict[int, Scenario] = {}
+            self._scenes: dict[tuple, object] = {}  # by (where the scene's JSON is, its parser)
         except ValueError:
             self._file.close()
             raise
@@ -297,12 +295,15 @@ class RecordReader:
         """The harness's job key of each episode, by record number."""
         return [self._header(number)["key"] for number in self.numbers()]
 
-    def _scene(self, number: int) -> Scenario:
-        at = int(self._row(number)[_COL["scene_at"]])
+    def _scene(self, number: int, parse=Scenario.from_dict):
+        """Episode ``number``'s scene, ``parse``d from its JSON once for all the episodes that share it
+        (``Scenario.from_dict``; a multi-robot episode's ``scene_from_dict``)."""
+        at = (int(self._row(number)[_COL["scene_at"]]), parse)
         if at not in self._scenes:
+            text = self._bytes(number, "scene")
             try:
-                self._scenes[at] = Scenario.from_dict(json.loads(self._bytes(number, "scene")))
-            except (json.JSONDecodeError, UnicodeDecodeError, TypeError, KeyError) as error:
+                self._scenes[at] = parse(json.loads(text))
+            except (ValueError, UnicodeDecodeError, TypeError, KeyError, AttributeError) as error:
                 raise ValueError(f"{self.path}: episode {number}'s scene is not readable ({error}; torn by a killed run?)") from None
         return self._scenes[at]
 
@@ -337,10 +338,7 @@ class RecordReader:
         if not self.is_multi(number):
             raise ValueError(f"{self.path}: episode {number} is a single-robot episode: read it with episode({number})")
         row, header, parts = self._row(number), self._header(number), self._parts(number)
-        try:
-            scene = json.loads(self._bytes(number, "scene"))
-        except (json.JSONDecodeError, UnicodeDecodeError) as error:
-            raise ValueError(f"{self.path}: episode {number}'s scene is not readable ({error}; torn by a killed run?)") from None
+        scene = self._scene(number, scene_from_dict)
         return unpack_multi(parts, header, scene, int(row[_COL["obstacles"]]), int(row[_COL["command_width"]]), int(row[_COL["robots"]]))
 
     def episode(self, number: int) -> Episode:

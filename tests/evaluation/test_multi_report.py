@@ -50,6 +50,22 @@ def test_a_multi_robot_run_writes_its_page_with_every_episode_and_robot(run, tmp
     assert _data(resumed, "report-trajectories")[0] == _data(page, "report-trajectories")[0]  # the same episode, the same bytes
 
 
+def test_a_resumed_run_whose_last_log_line_was_lost_holds_each_episode_once(tmp_path, capsys):
+    from pathplan_env.records.store import open_records
+
+    evaluate_multi(["straight"], ["multi-swap-2"], [None], 2, tmp_path, record=True)
+    log = tmp_path / "multi_episodes.jsonl"
+    log.write_text(log.read_text().splitlines()[0] + "\n")  # the second episode recorded, its log line lost
+    evaluate_multi(["straight"], ["multi-swap-2"], [None], 2, tmp_path, record=True, resume=True)
+    said = capsys.readouterr()
+    assert "resuming: 1 episodes on record, 1 to run" in said.err and "2 episodes, 2 trajectories" in said.err
+    with open_records(tmp_path) as records:
+        assert sorted(records.header_keys()) == ['["straight", "multi-swap-2", null, 0]', '["straight", "multi-swap-2", null, 1]']
+    page = (tmp_path / "report.html").read_text()
+    assert len(_data(page, "report-data")["episodes"]) == len(_data(page, "report-trajectories")) == 2
+    assert len(log.read_text().splitlines()) == 2
+
+
 COLOUR_PIXELS = """const c = arguments[0].getContext('2d'), d = c.getImageData(0, 0, arguments[0].width, arguments[0].height).data;
 const [r, g, b] = arguments[1]; let n = 0; for (let i = 0; i < d.length; i += 4) if (d[i] === r && d[i + 1] === g && d[i + 2] === b) n++; return n;"""
 MOVING, ARRIVED, COLLIDED, OBSTACLE = (52, 101, 164), (46, 160, 67), (120, 20, 20), (214, 96, 77)

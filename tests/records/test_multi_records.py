@@ -125,7 +125,8 @@ def test_a_replayed_multi_robot_record_draws_the_live_episodes_frames(tmp_path, 
 def test_render_multi_robot_lists_and_replays_a_record(tmp_path, capsys):
     evaluate_multi(["straight"], ["multi-swap-2"], [None], 2, tmp_path, record=True)
     render_multi_robot.main(["--record", str(tmp_path), "--list"])
-    assert "1  straight  multi-swap-2  None  1" in capsys.readouterr().out
+    listed = capsys.readouterr().out  # agents.cli.render.list_records, as render_episode.py --list
+    assert "1  straight  multi-swap-2  own  1  " in listed and "multi-robot: not all arrived" in listed
     render_multi_robot.main(["--record", str(tmp_path), "--episode", "1", "--out", str(tmp_path / "e.gif"), "--size", "120"])
     assert (tmp_path / "e.gif").stat().st_size > 0 and "robot_0" in capsys.readouterr().out
     import render_episode  # the single-robot command lists a multi-robot file and says where to draw one
@@ -201,3 +202,20 @@ def test_a_format_2_file_still_reads_and_resume_makes_it_format_3(tmp_path):
         assert salvaged.version == 3
         for n in old.numbers():
             assert np.array_equal(salvaged.episode(n).obstacles, old.episode(n).obstacles)
+
+
+def test_a_multi_robot_scene_that_does_not_parse_is_a_value_error_naming_the_file_and_episode(tmp_path, monkeypatch):
+    import pathplan_env.records.store as store
+
+    episodes = [run_multi_episode("straight", "multi-swap-2", None, i, 1_000_000_000 + i, None, True).trajectory for i in range(2)]
+    path = tmp_path / MULTI_RECORDS_NAME
+    with store.RecordWriter(path) as writer:
+        writer.append(episodes[0], "good")
+        with monkeypatch.context() as patch:  # valid JSON, but no world: scene_from_dict's KeyError
+            patch.setattr(store, "scene_dict", lambda scene: {"robots": [], "name": "broken", "arrival": 0.1})
+            writer.append(episodes[1], "bad")
+    with open_records(path) as records:
+        assert records.multi_episode(0).scene == records.multi_episode(0).scene == episodes[0].scene
+        with pytest.raises(ValueError, match=rf"{MULTI_RECORDS_NAME}: episode 1's scene is not readable \('world'"):
+            records.multi_episode(1)
+    assert store.salvage(path) == (1, 1)  # the unreadable episode left out, to run again

@@ -5,11 +5,11 @@ for a recorded run, the player drawing every robot (``pathplan_env.records.compa
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 from agents.evaluation.records import delta_text
-from agents.evaluation.report.page import REPORT_NAME, assemble
+from agents.evaluation.report.page import assemble, record_numbers, write_page
+from pathplan_env.records.multi import STATUS
 
 #: The player's legend of a multi-robot episode (the robots' colours say their status).
 LEGEND = ("""<span class="k robot"></span>robot, moving (its number) <span class="k arrived"></span>arrived <span class="k collided"></span>collided"""
@@ -40,13 +40,9 @@ def write_multi_report(out, table: str, results: list, config: dict, replays: li
     ``results`` (``MultiEpisodeResult``), ``config`` and, when recorded, the episodes' ``replays``
     (``agents.evaluation.recording.Digest``)."""
     out = Path(out)
-    numbers = {(d.meta["agent"], d.meta["scenario"], d.meta["delta_d"], d.meta["episode"]): i for i, d in enumerate(replays or [])}
-    episodes = multi_episode_rows(results, numbers)
+    episodes = multi_episode_rows(results, record_numbers(replays))
     data = {"title": out.name, "config": config, "columns": COLUMNS, "episodes": episodes, "scenes": [d.scene for d in replays or []],
-            "recorded": replays is not None, "multi": True, "shown": COLUMNS[:-1]}  # fmt: skip
+            "recorded": replays is not None, "multi": True, "shown": COLUMNS[:-1], "status_names": list(STATUS)}  # fmt: skip
     title = "Every cell: all arrived with its 95 % interval, robots arrived, robot collisions by kind, makespan (when all arrived), sum of times"
     page = assemble(out.name, [(title, table)], data, [d.packed for d in replays or []], [], LEGEND, no_plots="No plots in a multi-robot run.")
-    path = out / REPORT_NAME
-    path.write_text(page, encoding="utf-8")
-    print(f"wrote {path} ({path.stat().st_size / 1024:,.0f} KiB: {len(episodes)} episodes, {len(replays or [])} trajectories)", file=sys.stderr)
-    return path
+    return write_page(out, page, len(episodes), len(replays or []))

@@ -95,12 +95,21 @@ def write_report(out, rows: list[dict], results: list, config: dict, replays: li
     ``config`` and, when the run was recorded, its episodes' ``replays`` (each with ``meta``, ``scene`` and
     ``packed``: ``agents.evaluation.recording.Digest``), which the page's player replays."""
     out = Path(out)
-    numbers = {(d.meta["agent"], d.meta["scenario"], d.meta["delta_d"], d.meta["episode"]): i for i, d in enumerate(replays or [])}
     scenes, trajectories = [d.scene for d in replays or []], [d.packed for d in replays or []]
-    columns, episode_list = episode_rows(results, numbers)
+    columns, episode_list = episode_rows(results, record_numbers(replays))
     plots = [(p.stem.replace("_", " "), base64.b64encode(p.read_bytes()).decode("ascii")) for p in sorted(out.glob("*.png"))]
     page = render_page(out.name, rows, config, columns, episode_list, scenes, trajectories, plots, recorded=replays is not None)
+    return write_page(out, page, len(episode_list), len(trajectories))
+
+
+def record_numbers(replays: list | None) -> dict:
+    """Each recorded episode's record number by (agent, scenario, Δd, episode)."""
+    return {(d.meta["agent"], d.meta["scenario"], d.meta["delta_d"], d.meta["episode"]): i for i, d in enumerate(replays or [])}
+
+
+def write_page(out: Path, page: str, episodes: int, trajectories: int) -> Path:
+    """Write ``page`` as ``out/report.html`` and say so, with its size and what it holds."""
     path = out / REPORT_NAME
     path.write_text(page, encoding="utf-8")
-    print(f"wrote {path} ({path.stat().st_size / 1024:,.0f} KiB: {len(episode_list)} episodes, {len(trajectories)} trajectories)", file=sys.stderr)
+    print(f"wrote {path} ({path.stat().st_size / 1024:,.0f} KiB: {episodes} episodes, {trajectories} trajectories)", file=sys.stderr)
     return path

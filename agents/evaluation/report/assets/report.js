@@ -11,9 +11,10 @@
   const COLOURS = { background: "rgb(250,250,247)", wall: "rgb(60,60,60)", static: "rgb(110,110,118)", obstacle: "rgb(214,96,77)",
     human: "rgb(197,27,125)", robot: "rgb(52,101,164)", heading: "rgb(250,250,247)", trail: "rgb(120,160,210)", goal: "rgb(46,160,67)",
     waypoint: "rgb(240,170,20)", plan: "rgb(150,90,190)", beam: "rgb(170,205,235)" };
-  // a multi-robot episode's robots by their status (pathplan_env.records.multi.STATUS: active, arrived, left, collided, timeout)
-  const STATUS_COLOURS = [COLOURS.robot, COLOURS.goal, "rgb(170,170,170)", "rgb(120,20,20)", COLOURS.waypoint];
-  const STATUS_NAMES = ["active", "arrived", "left", "collided", "out of time"];
+  // a multi-robot episode's robots by their status: its codes' names come with the page (pathplan_env.records.multi.STATUS)
+  const STATUS_NAMES = data.status_names || [];
+  const STATUS_COLOURS = STATUS_NAMES.map((name) => ({ active: COLOURS.robot, arrived: COLOURS.goal, left: "rgb(170,170,170)",
+    collided: "rgb(120,20,20)", timeout: COLOURS.waypoint })[name] || COLOURS.robot);
   const $ = (id) => document.getElementById(id);
   const state = { shown: PAGE, matching: [], views: [], step: 0, playing: false, speed: 1, last: 0, carry: 0, opened: -1 };
   window.report = state; // for tests and the curious: the player's state
@@ -90,44 +91,41 @@
     const bytes = Uint8Array.from(atob(packed[record]), (ch) => ch.charCodeAt(0));
     const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream("deflate"));
     const buffer = await new Response(stream).arrayBuffer();
-    const [rows, n, p, beamCount] = new Uint32Array(buffer, 0, 4);
-    let at = 16;
-    const offsets = new Uint32Array(buffer, at, rows + 1); at += 4 * (rows + 1);
-    const u16 = (count) => { const a = new Uint16Array(buffer, at, count); at += 2 * count; return a; };
     const scene = data.scenes[record];
-    if (scene.multi) return decodeMulti(record, scene, buffer);
+    let at = 16; // past the four counts
+    const u32 = (count) => { const a = new Uint32Array(buffer, at, count); at += 4 * count; return a; };
+    const u16 = (count) => { const a = new Uint16Array(buffer, at, count); at += 2 * count; return a; };
     const [xmin, ymin, xmax, ymax] = scene.bounds;
     const X = (q) => (q === 65535 ? NaN : xmin + (q / 65534) * (xmax - xmin));
     const Y = (q) => (q === 65535 ? NaN : ymin + (q / 65534) * (ymax - ymin));
     const points = (a) => { const out = new Float64Array(a.length); for (let i = 0; i < a.length; i += 2) { out[i] = X(a[i]); out[i + 1] = Y(a[i + 1]); } return out; };
+    const angles = (a) => Float64Array.from(a, (q) => -Math.PI + (q / 65534) * 2 * Math.PI);
+    const counts = new Uint32Array(buffer, 0, 4);
+    const episode = scene.multi ? decodeMulti(record, scene, counts, u32, u16, points, angles) : decodeSingle(record, scene, counts, u32, u16, points, angles);
+    decoded.set(record, episode);
+    return episode;
+  }
+
+  function decodeSingle(record, scene, [rows, n, p, beamCount], u32, u16, points, angles) { // pathplan_env.records.compact.pack's layout
+    const offsets = u32(rows + 1);
     const robot = points(u16(rows * 2));
-    const heading = Float64Array.from(u16(rows), (q) => -Math.PI + (q / 65534) * 2 * Math.PI);
+    const heading = angles(u16(rows));
     const obstacles = points(u16(rows * n * 2));
     const waypoint = points(u16(rows * 2));
     const clearance = Float64Array.from(u16(rows), (q) => q / 1000);
     const plan = points(u16(p * 2));
     const beams = points(u16(rows * beamCount * 2)); // a lidar's beam ends, where they were recorded
-    const episode = { record, scene, rows, n, offsets, robot, heading, obstacles, waypoint, clearance, plan, beams, beamCount };
-    decoded.set(record, episode);
-    return episode;
+    return { record, scene, rows, n, offsets, robot, heading, obstacles, waypoint, clearance, plan, beams, beamCount };
   }
 
-  function decodeMulti(record, scene, buffer) { // pathplan_env.records.compact.pack_multi_episode's layout
-    const [rows, robots, n, p] = new Uint32Array(buffer, 0, 4);
-    let at = 16;
-    const offsets = new Uint32Array(buffer, at, rows * robots + 1); at += 4 * (rows * robots + 1);
-    const u16 = (count) => { const a = new Uint16Array(buffer, at, count); at += 2 * count; return a; };
-    const [xmin, ymin, xmax, ymax] = scene.bounds;
-    const points = (a) => { const out = new Float64Array(a.length); for (let i = 0; i < a.length; i += 2) {
-      out[i] = a[i] === 65535 ? NaN : xmin + (a[i] / 65534) * (xmax - xmin); out[i + 1] = a[i + 1] === 65535 ? NaN : ymin + (a[i + 1] / 65534) * (ymax - ymin); } return out; };
+  function decodeMulti(record, scene, [rows, robots, n, p], u32, u16, points, angles) { // pathplan_env.records.compact.pack_multi_episode's layout
+    const offsets = u32(rows * robots + 1);
     const pose = points(u16(rows * robots * 2));
-    const heading = Float64Array.from(u16(rows * robots), (q) => -Math.PI + (q / 65534) * 2 * Math.PI);
+    const heading = angles(u16(rows * robots));
     const status = u16(rows * robots), hit = u16(rows * robots);
     const obstacles = points(u16(rows * n * 2));
     const plan = points(u16(p * 2));
-    const episode = { record, scene, rows, robots, n, offsets, pose, heading, status, hit, obstacles, plan };
-    decoded.set(record, episode);
-    return episode;
+    return { record, scene, rows, robots, n, offsets, pose, heading, status, hit, obstacles, plan };
   }
 
   // -- drawing one frame ----------------------------------------------------------------------------
@@ -161,7 +159,17 @@
     }
     const base = k * ep.n * 2;
     for (let i = 0; i < ep.n; i++) circle(ep.obstacles[base + 2 * i], ep.obstacles[base + 2 * i + 1], s.radii[i], s.humans[i] ? COLOURS.human : COLOURS.obstacle);
-    return { g, sx, sy, scale, ratio, circle, line };
+    const ring = ([x, y], r) => { // a goal
+      g.beginPath(); g.arc(sx(x), sy(y), Math.max(3, r * scale), 0, 2 * Math.PI); g.strokeStyle = COLOURS.goal; g.lineWidth = 2 * ratio; g.stroke();
+    };
+    return { g, sx, sy, scale, ratio, circle, line, ring };
+  }
+
+  // the caption's start: which episode, which step
+  function captionHead(view, k) {
+    const e = episodes[view.index], ep = view.episode;
+    return `${e[col.agent]} · ${e[col.scenario]} · Δd ${e[col.delta_d]} · episode ${e[col.episode]} (seed ${e[col.seed]}) · ` +
+      `step ${k} of ${ep.rows - 1}, t = ${(k * ep.scene.dt).toFixed(2)} s`;
   }
 
   function draw(view, k) {
@@ -170,14 +178,14 @@
     if (s.multi) return drawMulti(view, k);
     k = Math.min(k, ep.rows - 1);
     const [x, y] = [ep.robot[2 * k], ep.robot[2 * k + 1]];
-    const { g, sx, sy, scale, ratio, circle, line } = surface(view, k, (line) => { // a lidar's beams, under the world
+    const { scale, ratio, circle, line, ring } = surface(view, k, (line) => { // a lidar's beams, under the world
       for (let j = 0; j < ep.beamCount; j++) {
         const at = (k * ep.beamCount + j) * 2;
         line([[x, y], [ep.beams[at], ep.beams[at + 1]]], COLOURS.beam, 1);
       }
     });
     const [gx, gy] = s.goal;
-    g.beginPath(); g.arc(sx(gx), sy(gy), Math.max(3, s.goal_radius * scale), 0, 2 * Math.PI); g.strokeStyle = COLOURS.goal; g.lineWidth = 2 * ratio; g.stroke();
+    ring(s.goal, s.goal_radius);
     line([[gx - 6 / scale * ratio, gy], [gx + 6 / scale * ratio, gy]], COLOURS.goal, 2 * ratio);
     line([[gx, gy - 6 / scale * ratio], [gx, gy + 6 / scale * ratio]], COLOURS.goal, 2 * ratio);
     const trail = [];
@@ -196,23 +204,21 @@
     if (!Number.isNaN(angle)) line([[x, y], [x + s.robot_radius * Math.cos(angle), y + s.robot_radius * Math.sin(angle)]], COLOURS.heading,
       Math.max(2, 0.25 * s.robot_radius * scale));
     const e = episodes[view.index];
-    view.caption.textContent = `${e[col.agent]} · ${e[col.scenario]} · Δd ${e[col.delta_d]} · episode ${e[col.episode]} (seed ${e[col.seed]}) · ` +
-      `step ${k} of ${ep.rows - 1}, t = ${(k * s.dt).toFixed(2)} s, clearance ${ep.clearance[k].toFixed(3)} m` +
-      (k === ep.rows - 1 ? ` · ${e[col.outcome]}` : "");
+    view.caption.textContent = `${captionHead(view, k)}, clearance ${ep.clearance[k].toFixed(3)} m` + (k === ep.rows - 1 ? ` · ${e[col.outcome]}` : "");
   }
 
   function drawMulti(view, k) {
     const { episode: ep } = view;
     const s = ep.scene, K = ep.robots;
     k = Math.min(k, ep.rows - 1);
-    const { g, sx, sy, scale, ratio, circle, line } = surface(view, k);
+    const { g, sx, sy, scale, ratio, circle, line, ring } = surface(view, k);
     const label = (x, y, text, colour) => { g.fillStyle = colour; g.font = `${Math.round(11 * ratio)}px sans-serif`; g.textAlign = "center";
       g.textBaseline = "middle"; g.fillText(text, sx(x), sy(y)); };
     const at = (j, i) => 2 * (j * K + i);
-    const counts = [0, 0, 0, 0, 0];
+    const counts = STATUS_NAMES.map(() => 0);
     for (let i = 0; i < K; i++) {
       const r = s.robots[i], [gx, gy] = r.goal;
-      g.beginPath(); g.arc(sx(gx), sy(gy), Math.max(3, r.goal_radius * scale), 0, 2 * Math.PI); g.strokeStyle = COLOURS.goal; g.lineWidth = 2 * ratio; g.stroke();
+      ring(r.goal, r.goal_radius);
       label(gx, gy, String(i), COLOURS.goal);
       const trail = [];
       for (let j = 0; j <= k; j++) trail.push([ep.pose[at(j, i)], ep.pose[at(j, i) + 1]]);
@@ -225,28 +231,38 @@
     for (let i = 0; i < K; i++) {
       const r = s.robots[i], status = ep.status[k * K + i];
       counts[status] += 1;
-      if (status === 2) continue; // it left the world
+      if (STATUS_NAMES[status] === "left") continue; // it left the world
       const [x, y] = [ep.pose[at(k, i)], ep.pose[at(k, i) + 1]];
       circle(x, y, r.radius, STATUS_COLOURS[status]);
       if (r.turns) line([[x, y], [x + r.radius * Math.cos(ep.heading[k * K + i]), y + r.radius * Math.sin(ep.heading[k * K + i])]], COLOURS.heading, Math.max(2, 0.2 * r.radius * scale));
       else label(x, y, String(i), COLOURS.heading);
     }
     const e = episodes[view.index];
-    view.caption.textContent = `${e[col.agent]} · ${e[col.scenario]} · Δd ${e[col.delta_d]} · episode ${e[col.episode]} (seed ${e[col.seed]}) · ` +
-      `step ${k} of ${ep.rows - 1}, t = ${(k * s.dt).toFixed(2)} s · ` + counts.map((c, j) => (c ? `${c} ${STATUS_NAMES[j]}` : "")).filter(Boolean).join(", ") +
+    view.caption.textContent = `${captionHead(view, k)} · ` + counts.map((c, j) => (c ? `${c} ${STATUS_NAMES[j]}` : "")).filter(Boolean).join(", ") +
       (k === ep.rows - 1 ? ` · ${e[col.outcome]}` : "");
   }
 
   // -- CSV of a view's episode, built here -------------------------------------------------------
+  const csvNumber = (v) => (Number.isNaN(v) ? "" : v.toFixed(4));
+  function obstacleHead(ep) {
+    const head = [];
+    for (let i = 0; i < ep.n; i++) head.push(`${ep.scene.humans[i] ? "human" : "obstacle"}${i}_x`, `${ep.scene.humans[i] ? "human" : "obstacle"}${i}_y`);
+    return head;
+  }
+  function obstacleCells(ep, k) {
+    const cells = [];
+    for (let i = 0; i < ep.n; i++) cells.push(csvNumber(ep.obstacles[(k * ep.n + i) * 2]), csvNumber(ep.obstacles[(k * ep.n + i) * 2 + 1]));
+    return cells;
+  }
+
   function csvOf(ep) {
     if (ep.scene.multi) return csvOfMulti(ep);
-    const head = ["step", "time", "robot_x", "robot_y", "robot_heading", "waypoint_x", "waypoint_y", "clearance"];
-    for (let i = 0; i < ep.n; i++) head.push(`${ep.scene.humans[i] ? "human" : "obstacle"}${i}_x`, `${ep.scene.humans[i] ? "human" : "obstacle"}${i}_y`);
+    const head = ["step", "time", "robot_x", "robot_y", "robot_heading", "waypoint_x", "waypoint_y", "clearance", ...obstacleHead(ep)];
     const lines = [head.join(",")];
-    const f = (v) => (Number.isNaN(v) ? "" : v.toFixed(4));
+    const f = csvNumber;
     for (let k = 0; k < ep.rows; k++) {
-      const row = [k, (k * ep.scene.dt).toFixed(3), f(ep.robot[2 * k]), f(ep.robot[2 * k + 1]), f(ep.heading[k]), f(ep.waypoint[2 * k]), f(ep.waypoint[2 * k + 1]), f(ep.clearance[k])];
-      for (let i = 0; i < ep.n; i++) row.push(f(ep.obstacles[(k * ep.n + i) * 2]), f(ep.obstacles[(k * ep.n + i) * 2 + 1]));
+      const row = [k, (k * ep.scene.dt).toFixed(3), f(ep.robot[2 * k]), f(ep.robot[2 * k + 1]), f(ep.heading[k]), f(ep.waypoint[2 * k]), f(ep.waypoint[2 * k + 1]), f(ep.clearance[k]),
+        ...obstacleCells(ep, k)];
       lines.push(row.join(","));
     }
     return lines.join("\n") + "\n";
@@ -255,12 +271,12 @@
   function csvOfMulti(ep) {
     const K = ep.robots, head = ["step", "time"];
     ep.scene.robots.forEach((r) => head.push(`${r.name}_x`, `${r.name}_y`, `${r.name}_status`));
-    for (let i = 0; i < ep.n; i++) head.push(`${ep.scene.humans[i] ? "human" : "obstacle"}${i}_x`, `${ep.scene.humans[i] ? "human" : "obstacle"}${i}_y`);
+    head.push(...obstacleHead(ep));
     const lines = [head.join(",")];
     for (let k = 0; k < ep.rows; k++) {
       const row = [k, (k * ep.scene.dt).toFixed(3)];
       for (let i = 0; i < K; i++) row.push(ep.pose[2 * (k * K + i)].toFixed(4), ep.pose[2 * (k * K + i) + 1].toFixed(4), STATUS_NAMES[ep.status[k * K + i]]);
-      for (let i = 0; i < ep.n; i++) row.push(ep.obstacles[(k * ep.n + i) * 2].toFixed(4), ep.obstacles[(k * ep.n + i) * 2 + 1].toFixed(4));
+      row.push(...obstacleCells(ep, k));
       lines.push(row.join(","));
     }
     return lines.join("\n") + "\n";

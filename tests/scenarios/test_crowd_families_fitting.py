@@ -1,4 +1,4 @@
-"""The crowd families' compiled candidate check (``crowd_families._fitting``) refuses and accepts exactly
+"""The crowd families' compiled candidate check (``crowd_placement._fitting``) refuses and accepts exactly
 the candidates numpy's formulas of before did, so every crowd scene is drawn as before (issue 21)."""
 
 from __future__ import annotations
@@ -9,7 +9,8 @@ import shapely
 
 from pathplan_env.geometry.walls import points_clearance, polygon_shapes
 from pathplan_env.scenarios import wall_families as families
-from pathplan_env.scenarios.crowd_families import CROWD_FAMILIES, WALL_CLEARANCE, _fitting
+from pathplan_env.scenarios.crowd_families import CROWD_FAMILIES
+from pathplan_env.scenarios.crowd_placement import WALL_CLEARANCE, _fitting
 from pathplan_env.scenarios.crowdnav import HUMAN_RADIUS
 
 
@@ -54,7 +55,8 @@ def test_compiled_fitting_is_numpys(name):
 
 
 def test_corridor_trips_are_numpys():
-    from pathplan_env.scenarios.crowd_families import _corridor_trips, _uniform
+    from pathplan_env.scenarios.crowd_families import _corridor_trips
+    from pathplan_env.scenarios.crowd_placement import _uniform
 
     for seed in range(5):
         rng = np.random.default_rng(seed)
@@ -72,7 +74,7 @@ def test_corridor_trips_are_numpys():
 def test_candidates_checked_when_reached_are_placed_as_all_checked_first(n):
     """``_place_spaced`` checks a candidate when it reaches it: the same humans as the mask of all
     (layouts without polygons: with them ``_humans`` checks every candidate first, shapely's test)."""
-    from pathplan_env.scenarios.crowd_families import _CANDIDATES, SPACING, _place_spaced, _rules, _uniform
+    from pathplan_env.scenarios.crowd_placement import _CANDIDATES, SPACING, _place_spaced, _rules, _uniform
 
     for name, box in (("corridor-crowd", (0.5, 0.5, 15.5, 5.5)), ("doorway-crowd", (0.5, 0.5, 11.5, 7.5))):
         layout = CROWD_FAMILIES[name](np.random.default_rng(n), 0)

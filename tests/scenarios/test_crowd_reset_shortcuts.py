@@ -9,7 +9,8 @@ import math
 import numba
 import numpy as np
 
-from pathplan_env.scenarios.crowd_families import _nearer, corridor_crowd
+from pathplan_env.scenarios.crowd_families import corridor_crowd
+from pathplan_env.scenarios.crowd_placement import _nearer
 from pathplan_env.scenarios.scenario import Obstacle, Scenario
 from pathplan_env.world.simulation import World
 

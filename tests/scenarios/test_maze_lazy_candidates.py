@@ -1,4 +1,4 @@
-"""maze-crowd's humans are checked when reached (``crowd_families._place_spaced_checked``: the clearance
+"""maze-crowd's humans are checked when reached (``crowd_placement._place_spaced_checked``: the clearance
 grid decides the polygons, the trip limit read from ``path_lengths``' table in compiled code): the same
 humans as every candidate checked first (the trip limit by ``path_lengths``, the polygons by shapely)."""
 
@@ -7,13 +7,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pathplan_env.scenarios import crowd_families
+from pathplan_env.scenarios import crowd_families, crowd_placement
 
 
 def _humans(seed: int, monkeypatch, lazy: bool, grid: bool = True):
     with monkeypatch.context() as patch:
         if not lazy:
-            patch.setattr(crowd_families, "_grid_decides", lambda _grid: False)
+            patch.setattr(crowd_placement, "_grid_decides", lambda _grid: False)
         if not grid:
             patch.setattr(crowd_families, "_maze_grid", lambda: None)
         scene = crowd_families.maze_crowd(np.random.default_rng(seed))
@@ -22,7 +22,7 @@ def _humans(seed: int, monkeypatch, lazy: bool, grid: bool = True):
 
 def test_the_maze_grid_decides_the_polygons():
     crowd_families.maze_crowd(np.random.default_rng(0))
-    assert crowd_families._grid_decides(crowd_families._maze_grid())
+    assert crowd_placement._grid_decides(crowd_families._maze_grid())
 
 
 @pytest.mark.parametrize("seeds", [range(0, 60), range(1000, 1060)])

@@ -134,3 +134,31 @@ def call_each_body(typingctx, function, space, iterator, data):
         return context.get_dummy_value()
 
     return types.none(types.int64, types.int64, types.int64, types.int64), codegen
+
+
+@intrinsic
+def call_set_vect(typingctx, function, body, x, y):
+    """``function(body, cpv(x, y))`` through the function's address (``void (*)(cpBody *, cpVect)``:
+    ``cpBodySetPosition``, ``cpBodySetVelocity``; a cpVect by value travels as two doubles)."""
+
+    def codegen(context, builder, signature, args):
+        pointer_t = ir.IntType(8).as_pointer()
+        fnty = ir.FunctionType(ir.VoidType(), [pointer_t, ir.DoubleType(), ir.DoubleType()])
+        builder.call(builder.inttoptr(args[0], fnty.as_pointer()), [builder.inttoptr(args[1], pointer_t), args[2], args[3]])
+        return context.get_dummy_value()
+
+    return types.none(types.int64, types.int64, types.float64, types.float64), codegen
+
+
+@intrinsic
+def call_get_vect(typingctx, function, body):
+    """``function(body)`` through the function's address (``cpVect (*)(const cpBody *)``:
+    ``cpBodyGetPosition``, ``cpBodyGetVelocity``), as ``(x, y)``."""
+
+    def codegen(context, builder, signature, args):
+        pointer_t = ir.IntType(8).as_pointer()
+        fnty = ir.FunctionType(ir.LiteralStructType([ir.DoubleType(), ir.DoubleType()]), [pointer_t])
+        vect = builder.call(builder.inttoptr(args[0], fnty.as_pointer()), [builder.inttoptr(args[1], pointer_t)])
+        return context.make_tuple(builder, signature.return_type, [builder.extract_value(vect, 0), builder.extract_value(vect, 1)])
+
+    return types.UniTuple(types.float64, 2)(types.int64, types.int64), codegen

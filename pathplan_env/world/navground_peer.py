@@ -151,7 +151,7 @@ def step_split(scenario: Scenario, steps: int = 100, worlds: int = 200) -> dict:
     """What one ``World.step`` of ``scenario`` is made of (µs a step, process CPU time over ``steps``
     steps of each of ``worlds`` fresh worlds, their building left out): the whole step; the compiled
     step called directly (its Python wrapper left out); a call of a compiled function that does
-    nothing with the same nine arguments (the boundary's cost); ``cpSpaceStep`` of the same space
+    nothing with the same eight arguments (the boundary's cost); ``cpSpaceStep`` of the same space
     through cffi (Chipmunk's step, a cffi call included)."""
     from pathplan_env.world import simulation
     from pathplan_env.world.chipmunk import space_step
@@ -161,7 +161,7 @@ def step_split(scenario: Scenario, steps: int = 100, worlds: int = 200) -> dict:
 
     def parts(world):
         _world_step = simulation._world_step  # (compiled by the first World)
-        args = (world._ints, world._floats, *world.robot_xy, 0.0, 0.0, 2.0, False, scenario.arena_diagonal)
+        args = (world._address, *world.robot_xy, 0.0, 0.0, 2.0, False, scenario.arena_diagonal)
         space, dt = world.space._space, scenario.dt
         return {
             "World.step": lambda: world.step(0.0, 0.0),
@@ -184,9 +184,9 @@ def _nothing_entry():
     from numba import types
 
     @numba.njit
-    def nothing(ints, floats, x0, y0, dx, dy, goal_fraction, static_contact, min_gap):
-        return x0, y0, True, min_gap, goal_fraction
+    def nothing(address, x0, y0, dx, dy, goal_fraction, static_contact, min_gap):
+        return (x0, y0), (dx, dy), min_gap, goal_fraction
 
-    signature = (types.int64[::1], types.float64[::1], *[types.float64] * 5, types.boolean, types.float64)
+    signature = (types.int64, *[types.float64] * 5, types.boolean, types.float64)
     nothing.compile(signature)
     return nothing.overloads[signature].entry_point

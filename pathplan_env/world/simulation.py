@@ -35,6 +35,7 @@ _NO_ROBOT = np.empty(0)  # what humans see of an invisible robot
 # the C functions the compiled step calls (``step_kernel``)
 _STEP, _EACH = function_address("cpSpaceStep"), function_address("cpSpaceEachBody")
 _READ, _WRITE = function_address("pmSpaceBodyGetIteratorFuncBatched"), function_address("pmSpaceBodySetIteratorFuncBatched")
+_BODY_FUNCTIONS = [function_address(name) for name in ("cpBodySetPosition", "cpBodySetVelocity", "cpBodyGetPosition", "cpBodyGetVelocity")]
 _world_step = None  # the compiled step's entry point: compiled (or read from numba's cache) by the first World
 
 
@@ -170,10 +171,15 @@ class World(SpaceKeeper):
             constants[step_kernel.NEIGHBOR_DIST], constants[step_kernel.TIME_HORIZON] = behaviour.neighbor_dist, behaviour.time_horizon
             constants[step_kernel.TIME_HORIZON_OBST] = behaviour.time_horizon_obst
             constants[step_kernel.PAD] = behaviour.radius_padding + behaviour.safety_space  # (as ORCA.steer adds them)
+        n_order = m + 1 if mode == step_kernel.STEER_ORCA else 0  # ORCA's neighbour order (scratch)
+        bodies = step_kernel.INT_HEADER + len(idx) + n_order
         header = [address_of(self.space._space), address_of(self._request), address_of(self._buffer._float_arr), _STEP, _EACH, _READ, _WRITE,
-                  self.substeps, mode, m, int(scenario.robot_visible), behaviour.max_neighbors if behaviour else 0, len(idx)]  # fmt: skip
-        order = np.zeros(m + 1 if mode == step_kernel.STEER_ORCA else 0, np.int64)  # ORCA's neighbour order (scratch)
-        self._floats, self._ints, self._mode = floats, np.concatenate([np.array(header, np.int64), idx, order]), mode
+                  self.substeps, mode, m, int(scenario.robot_visible), behaviour.max_neighbors if behaviour else 0, len(idx),
+                  floats.ctypes.data, len(floats), bodies + m, *_BODY_FUNCTIONS, bodies]  # fmt: skip
+        # the obstacles' cpBody pointers, in the order Chipmunk lists them (the obstacles' bodies first, as added)
+        pointers = [address_of(body._body) for body in self._objects[0::2]]
+        ints = np.concatenate([np.array(header, np.int64), idx, np.zeros(n_order, np.int64), np.array(pointers, np.int64)])
+        self._floats, self._ints, self._mode, self._address = floats, ints, mode, ints.ctypes.data
         self._sees_robot = mode in (step_kernel.STEER_ORCA, step_kernel.STEER_ROUTED) and scenario.robot_visible
         self._dt = scenario.dt
         self._plain = mode in (step_kernel.STEER_NONE, step_kernel.STEER_ORCA) and not self._sees_robot and not self._has_statics
@@ -221,26 +227,30 @@ class World(SpaceKeeper):
             > 1, if none before the goal).
         """
         x0, y0 = self.robot_xy
+        if self._plain:  # no walls, no steering in Python, the humans blind to the robot: the compiled call alone
+            self.robot_xy, self.robot_velocity_xy, min_gap, first_contact = _world_step(self._address, x0, y0, dx, dy, goal_fraction, False,
+                                                                                        self._diagonal)  # fmt: skip
+            self.time += self._dt
+            return min_gap, first_contact  # (Python floats from the compiled call)
         min_gap = self._diagonal  # no gap is wider: finite with no obstacles
         static_contact = False
-        if not self._plain:  # (plain: no walls, no steering in Python, the humans blind to the robot: the compiled call alone)
-            mode = self._mode
-            if mode == _STEER_OUTSIDE:
-                self._steer()
-            elif self._sees_robot:  # the compiled step steers; the humans see the robot here
-                vx, vy = self.robot_velocity_xy
-                robot = self._robot_row
-                robot[0], robot[1], robot[2], robot[3] = x0, y0, vx, vy
-            if self._has_statics:
-                # the substeps stop at the walls' first contact as at the goal (an obstacle touched earlier still comes first)
-                goal_fraction, static_contact, gap = static_stop(x0, y0, dx, dy, goal_fraction, self.scenario.robot_radius, self.static_segments)
-                min_gap = min(min_gap, gap)
-            if mode == _STEER_ROUTED:
-                min_gap, first_contact = self._step_routed(x0, y0, dx, dy, goal_fraction, static_contact, min_gap)
-                self.time += self._dt
-                return min_gap, first_contact
-        self.robot_xy, self.robot_velocity_xy, min_gap, first_contact = _world_step(self._ints, self._floats, x0, y0, dx, dy, goal_fraction,
-                                                                                    static_contact, min_gap)  # fmt: skip
+        mode = self._mode
+        if mode == _STEER_OUTSIDE:
+            self._steer()
+        elif self._sees_robot:  # the compiled step steers; the humans see the robot here
+            vx, vy = self.robot_velocity_xy
+            robot = self._robot_row
+            robot[0], robot[1], robot[2], robot[3] = x0, y0, vx, vy
+        if self._has_statics:
+            # the substeps stop at the walls' first contact as at the goal (an obstacle touched earlier still comes first)
+            goal_fraction, static_contact, gap = static_stop(x0, y0, dx, dy, goal_fraction, self.scenario.robot_radius, self.static_segments)
+            min_gap = min(min_gap, gap)
+        if mode == _STEER_ROUTED:
+            min_gap, first_contact = self._step_routed(x0, y0, dx, dy, goal_fraction, static_contact, min_gap)
+            self.time += self._dt
+            return min_gap, first_contact
+        self.robot_xy, self.robot_velocity_xy, min_gap, first_contact = _world_step(self._address, x0, y0, dx, dy, goal_fraction, static_contact,
+                                                                                    min_gap)  # fmt: skip
         self.time += self._dt
         return min_gap, first_contact  # (Python floats from the compiled call)
 
@@ -318,7 +328,7 @@ class World(SpaceKeeper):
     # -- pickling: pymunk's Space pickles itself; the batch buffer and its view are rebuilt ----
     def __getstate__(self):
         state = self.__dict__.copy()
-        for key in ("_buffer", "_pymunk_state", "_request", "_floats", "_ints"):
+        for key in ("_buffer", "_pymunk_state", "_request", "_floats", "_ints", "_address"):
             del state[key]
         return state
 

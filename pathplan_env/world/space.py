@@ -128,7 +128,7 @@ class SpaceKeeper:
         lent = LentSpace(space, self._walls, self._walls_bounds, self._statics, self._objects, self._moving, self._buffer,
                          self._request, self._pymunk_state, self._inserts + len(shapes), self.radii.tolist())  # fmt: skip
         self.space, self._objects, self._moving, self._walls, self._statics = None, [], [], (), ()
-        self._ints = None  # the compiled step's raw handles: this world steps no more (step_kernel)
+        self._ints = self._address = None  # the compiled step's raw handles: this world steps no more (step_kernel)
         return lent
 
     def _take_space(self, lent: LentSpace, min_radius: float) -> None:
@@ -162,7 +162,7 @@ class SpaceKeeper:
         space_remove(self.space, self._objects[0::2])
         pairs = [(self._objects[2 * i], self._objects[2 * i + 1]) for i, moving in enumerate(self._moving) if moving]
         self._objects, self._moving = [], []
-        self._ints = None  # the compiled step's raw handles: this world steps no more (step_kernel)
+        self._ints = self._address = None  # the compiled step's raw handles: this world steps no more (step_kernel)
         return pairs
 
     def _park_bodies(self) -> None:

@@ -23,15 +23,14 @@ from pathplan_env.crowds.orca import ORCAParams, ORCAWork, orca_work
 from pathplan_env.crowds.orca_obstacles import ORCAObstacles
 from pathplan_env.crowds.routing import Routes, route_targets
 from pathplan_env.geometry.contacts import NO_CONTACT
-from pathplan_env.world.chipmunk import as_pointer, call_each_body, call_step
+from pathplan_env.world.chipmunk import as_pointer, call_get_vect, call_set_vect, call_step
 from pathplan_env.world.substep_kernels import _finish_substep, _gap_until
 
 
 class Bodies(NamedTuple):
-    """The world's bodies as the compiled step sees them (:func:`_views`): Chipmunk's batch array
-    header, the obstacles' rows of its array, and the world's state, speeds and radii."""
+    """The world's bodies as the compiled step sees them (:func:`_views`): the obstacles' rows of
+    Chipmunk's batch array, and the world's state, speeds and radii."""
 
-    header: np.ndarray
     body: np.ndarray
     state: np.ndarray
     speeds: np.ndarray
@@ -54,11 +53,12 @@ class RobotMove(NamedTuple):
 #: among walls (:func:`world_step_routed`).
 STEER_NONE, STEER_ORCA, STEER_OUTSIDE, STEER_ROUTED = 0, 1, 2, 3
 
-# the int64 array's header: Chipmunk's handles and functions, then counts and flags; the ORCA
-# group's obstacle indices follow it
-# group's obstacle indices and ORCA's neighbour-order scratch (N + 1) follow it
-SPACE, REQUEST, FLOATS, STEP, EACH, READ, WRITE, SUBSTEPS, MODE, COUNT, VISIBLE, MAX_NEIGHBORS, STEERED = range(13)
-INT_HEADER = 13
+# the int64 array's header: Chipmunk's handles and functions, counts and flags, the packed float64
+# array's address and both arrays' lengths, where the obstacles' cpBody pointers start; the ORCA
+# group's obstacle indices, ORCA's neighbour-order scratch (N + 1) and the cpBody pointers follow it
+(SPACE, REQUEST, FLOATS, STEP, EACH, READ, WRITE, SUBSTEPS, MODE, COUNT, VISIBLE, MAX_NEIGHBORS, STEERED, FLOAT_ARRAY, FLOAT_LENGTH, INT_LENGTH,
+ SET_POSITION, SET_VELOCITY, GET_POSITION, GET_VELOCITY, BODIES) = range(21)  # fmt: skip
+INT_HEADER = 21
 # the float64 array's constants, after the (N, 4) state, speeds, radii, (N, 2) goals, preferred
 # speeds and the robot's row (x, y, vx, vy, radius): 9 N + 5 floats; ORCA's scratch follows them
 DT, ROBOT_RADIUS, NEIGHBOR_DIST, TIME_HORIZON, TIME_HORIZON_OBST, PAD = range(6)
@@ -79,12 +79,45 @@ def _scratch_length(n: int) -> int:
 
 
 @numba.njit(cache=True)
-def _write_bodies(ints, header):
-    """``SpaceKeeper._write_bodies``: the batch iterator reads the array from its start."""
-    filled = header[0]
-    header[0] = 0
-    call_each_body(ints[EACH], ints[SPACE], ints[WRITE], ints[REQUEST])
-    header[0] = filled
+def _write_bodies(ints, body):
+    """``SpaceKeeper._write_bodies`` (the batch write of every body's position and velocity, in
+    ``cpSpaceEachBody``'s order) as Chipmunk's own setters on the obstacles' bodies, less the calls
+    that cannot change a bit of Chipmunk's state (pymunk 7.3.1's Munk2D sources, ``cpBody.c``):
+
+    - ``cpBodySetPosition(b, r)`` sets ``p = cpTransformVect(transform, cog) + r``, the transform from
+      ``p`` and the angle, and activates the body. An obstacle's centre of gravity is zero, so the sum
+      is ``±0 + r``: ``r`` itself unless ``r`` is zero. A row's position is either what
+      ``cpBodyGetPosition`` read (``±0 + tx``, with ``tx = p - ±0``: ``p`` itself unless zero) or
+      what was written last (``p = ±0 + r``), so with both coordinates finite and non-zero ``p``
+      already is ``r`` and the transform already is the one made from it: the call is skipped;
+      otherwise it is made. Its activation repeats the velocity setter's, which follows.
+    - The bodies after the obstacles are static (``walls.pymunk_segments``: Chipmunk lists static
+      bodies after the others): nothing moves them, the world's first batch write left each where
+      writing its row again leaves it (``p = +0 + r``, never -0), and activating a static body does
+      nothing. They are not written.
+
+    ``cpBodySetVelocity`` (activate, ``v = row``) is called for every obstacle, as the batch does.
+    (One call per changed value: the batch iterator cost a lock, a pop per vector and a sine and
+    cosine per body, a tenth of a two-human step.)"""
+    pointers = _ints(np.int64(ints.ctypes.data), ints[BODIES], body.shape[0])
+    set_position, set_velocity = ints[SET_POSITION], ints[SET_VELOCITY]
+    for i in range(body.shape[0]):
+        x, y = body[i, 0], body[i, 1]
+        if not (0.0 < abs(x) < math.inf and 0.0 < abs(y) < math.inf):
+            call_set_vect(set_position, pointers[i], x, y)
+        call_set_vect(set_velocity, pointers[i], body[i, 2], body[i, 3])
+
+
+@numba.njit(cache=True)
+def _read_bodies(ints, body):
+    """The batch read's rows of the obstacles (``cpBodyGetPosition``, ``cpBodyGetVelocity`` of each
+    body, the functions the batch iterator calls), without ``cpSpaceEachBody``'s lock and the static
+    bodies' rows (unchanging: :func:`_write_bodies`)."""
+    pointers = _ints(np.int64(ints.ctypes.data), ints[BODIES], body.shape[0])
+    get_position, get_velocity = ints[GET_POSITION], ints[GET_VELOCITY]
+    for i in range(body.shape[0]):
+        body[i, 0], body[i, 1] = call_get_vect(get_position, pointers[i])
+        body[i, 2], body[i, 3] = call_get_vect(get_velocity, pointers[i])
 
 
 @numba.njit(cache=True, inline="always")
@@ -144,29 +177,33 @@ def _steer_orca(ints, floats, m, c, state, body, speeds, radii, dt):
 
 @numba.njit(cache=True)
 def _views(ints, floats):
-    """The packed arrays' views (:func:`_floats`): Chipmunk's batch array header, the obstacles' rows
-    of it, the state, speeds and radii, and where the constants start."""
+    """The packed arrays' views (:func:`_floats`): the obstacles' rows of Chipmunk's batch array, the
+    state, speeds and radii, and where the constants start."""
     m = ints[COUNT]
-    header = numba.carray(as_pointer(ints[FLOATS]), 4, np.int32)  # pmFloatArray: num, max, then its array's address
     body_address = numba.carray(as_pointer(ints[FLOATS]), 2, np.int64)[1]
     body = numba.carray(as_pointer(body_address), (m, 4), np.float64)  # the obstacles' rows of the batch array
     fb = np.int64(floats.ctypes.data)
-    return header, body, _rows(fb, 0, m, 4), _floats(fb, 4 * m, m), _floats(fb, 5 * m, m), 9 * m + 5
+    return body, _rows(fb, 0, m, 4), _floats(fb, 4 * m, m), _floats(fb, 5 * m, m), 9 * m + 5
 
 
 @numba.njit(cache=True)
-def world_step(ints, floats, x0, y0, dx, dy, goal_fraction, static_contact, min_gap):
+def world_step(address, x0, y0, dx, dy, goal_fraction, static_contact, min_gap):
     """One step of ``World.step`` from the static stop on (``goal_fraction``, ``static_contact`` and
-    ``min_gap`` as the walls left them); returns ``((x, y), (vx, vy), min_gap, first_contact)``: the
+    ``min_gap`` as the walls left them), for the world whose packed int64 array is at ``address``
+    (the float64 array's address is in its header: two arrays passed as arrays cost the call a
+    reference-counted record each, a fifth of its boundary); returns ``((x, y), (vx, vy), min_gap, first_contact)``: the
     robot's new position and velocity as the tuples ``World.robot_xy`` and ``robot_velocity_xy`` hold
     (``(dx / dt, dy / dt)`` while it moves, else zero: ``World.step``'s arithmetic, boxed here rather
     than rebuilt in Python)."""
-    header, body, state, speeds, radii, c = _views(ints, floats)
+    ints = _ints(address, 0, INT_HEADER)
+    ints = _ints(address, 0, ints[INT_LENGTH])
+    floats = _floats(ints[FLOAT_ARRAY], 0, ints[FLOAT_LENGTH])
+    body, state, speeds, radii, c = _views(ints, floats)
     dt = floats[c + DT]
     if ints[MODE] == STEER_ORCA:
         _steer_orca(ints, floats, ints[COUNT], c, state, body, speeds, radii, dt)
-        _write_bodies(ints, header)
-    x, y, moving, min_gap, first_contact = _substeps(ints, dt, floats[c + ROBOT_RADIUS], Bodies(header, body, state, speeds, radii),
+        _write_bodies(ints, body)
+    x, y, moving, min_gap, first_contact = _substeps(ints, dt, floats[c + ROBOT_RADIUS], Bodies(body, state, speeds, radii),
                                                      RobotMove(x0, y0, dx, dy, goal_fraction, static_contact, min_gap))  # fmt: skip
     velocity = (dx / dt, dy / dt) if moving else (0.0, 0.0)
     return (x, y), velocity, min_gap, first_contact
@@ -180,7 +217,7 @@ def world_step_routed(ints, floats, routes_fields, obstacle_fields, targets, mis
     humans in ``missing`` whose route is not computed yet: when not 0, nothing moved (the caller runs
     their Dijkstra and calls again). ``move``: the plain tuple of a :class:`RobotMove`'s fields."""
     move = RobotMove(move[0], move[1], move[2], move[3], move[4], move[5], move[6])
-    header, body, state, speeds, radii, c = _views(ints, floats)
+    body, state, speeds, radii, c = _views(ints, floats)
     m = ints[COUNT]
     fb, ib = np.int64(floats.ctypes.data), np.int64(ints.ctypes.data)
     steered = _ints(ib, INT_HEADER, ints[STEERED])
@@ -203,8 +240,8 @@ def world_step_routed(ints, floats, routes_fields, obstacle_fields, targets, mis
     work = ORCAWork(_unref(w.order), _unref(w.dist_sq), _unref(w.edges), _unref(w.edge_dist_sq), _unref(w.lines), _unref(w.projected), _unref(w.result))
     _orca_step_in(Steered(steered, targets, preferred), state, body, speeds, floats[c + DT], params, obstacles,
                   AgentRows(_unref(positions), _unref(velocities), _unref(padded)), _unref(out), work)  # fmt: skip
-    _write_bodies(ints, header)
-    x, y, moving, min_gap, first_contact = _substeps(ints, floats[c + DT], floats[c + ROBOT_RADIUS], Bodies(header, body, state, speeds, radii), move)
+    _write_bodies(ints, body)
+    x, y, moving, min_gap, first_contact = _substeps(ints, floats[c + DT], floats[c + ROBOT_RADIUS], Bodies(body, state, speeds, radii), move)
     return x, y, moving, min_gap, first_contact, 0
 
 
@@ -212,7 +249,7 @@ def world_step_routed(ints, floats, routes_fields, obstacle_fields, targets, mis
 def _substeps(ints, dt, robot_radius, bodies, move):
     """Every substep of a step and the robot's stop (``World.step``'s loop, operation for operation), for the
     :class:`Bodies` ``bodies`` and the :class:`RobotMove` ``move``."""
-    header, body, state, speeds, radii = bodies
+    body, state, speeds, radii = bodies
     x0, y0, dx, dy, goal_fraction, static_contact, min_gap = move
     n = ints[SUBSTEPS]
     first_contact = NO_CONTACT
@@ -223,8 +260,7 @@ def _substeps(ints, dt, robot_radius, bodies, move):
     h = dt / n
     for k in range(1, n + 1):
         call_step(ints[STEP], ints[SPACE], h)
-        header[0] = 0
-        call_each_body(ints[EACH], ints[SPACE], ints[READ], ints[REQUEST])
+        _read_bodies(ints, body)
         if moving:
             if k == n:
                 bx, by = x0 + dx, y0 + dy
@@ -237,7 +273,7 @@ def _substeps(ints, dt, robot_radius, bodies, move):
             bx, by = ax, ay
         sweep_gap, t, restored = _finish_substep(state, body, ax, ay, bx, by, robot_radius, radii, speeds)
         if restored:
-            _write_bodies(ints, header)
+            _write_bodies(ints, body)
         if not moving:
             continue
         if t <= 1.0 and (k - 1 + t) / n <= goal_fraction:  # contact first: the robot stops touching
@@ -261,7 +297,7 @@ def _substeps(ints, dt, robot_radius, bodies, move):
 def world_step_entry():
     """:func:`world_step`'s compiled entry point for the one signature ``World.step`` calls it with
     (compiled or loaded from the cache on first use): calling it skips the dispatcher's matching of
-    nine argument types, a tenth of a small crowd's step. The arguments must have those types."""
-    signature = (types.int64[::1], types.float64[::1], *[types.float64] * 5, types.boolean, types.float64)
+    eight argument types, a tenth of a small crowd's step. The arguments must have those types."""
+    signature = (types.int64, *[types.float64] * 5, types.boolean, types.float64)
     world_step.compile(signature)
     return world_step.overloads[signature].entry_point

@@ -26,15 +26,14 @@ from pathplan_env.geometry.contacts import NO_CONTACT
 from pathplan_env.geometry.walls import capsules_clearance, static_stop
 from pathplan_env.scenarios.scenario import Scenario
 from pathplan_env.world import step_kernel
-from pathplan_env.world.chipmunk import READ_BODY, BatchBuffer, address_of, each_body, function_address, space_step
-from pathplan_env.world.space import SpaceKeeper
+from pathplan_env.world.chipmunk import READ_BODY, BatchBuffer, address_of, each_body, ffi, function_address, space_step
+from pathplan_env.world.space import SpaceKeeper, body_pointers
 from pathplan_env.world.substep_count import substeps_for
 from pathplan_env.world.substep_kernels import _clearance, restore_speeds
 
 _NO_ROBOT = np.empty(0)  # what humans see of an invisible robot
 # the C functions the compiled step calls (``step_kernel``)
-_STEP, _EACH = function_address("cpSpaceStep"), function_address("cpSpaceEachBody")
-_READ, _WRITE = function_address("pmSpaceBodyGetIteratorFuncBatched"), function_address("pmSpaceBodySetIteratorFuncBatched")
+_STEP = function_address("cpSpaceStep")
 _BODY_FUNCTIONS = [function_address(name) for name in ("cpBodySetPosition", "cpBodySetVelocity", "cpBodyGetPosition", "cpBodyGetVelocity")]
 _world_step = None  # the compiled step's entry point: compiled (or read from numba's cache) by the first World
 
@@ -155,7 +154,12 @@ class World(SpaceKeeper):
                 behaviour, idx = self._drivers[0][0], self._drivers[0][1]
                 if mode == step_kernel.STEER_ROUTED and not _contiguous(self._human_statics):
                     mode = step_kernel.STEER_OUTSIDE  # (the compiled step reads their arrays as C-contiguous)
-        floats = np.zeros(step_kernel.float_length(m, mode == step_kernel.STEER_ORCA))
+        n_order = m + 1 if mode == step_kernel.STEER_ORCA else 0  # ORCA's neighbour order (scratch)
+        bodies = step_kernel.INT_HEADER + len(idx) + n_order  # where the cpBody pointers start
+        n_ints, n_floats = bodies + m, step_kernel.float_length(m, mode == step_kernel.STEER_ORCA)
+        # one allocation, one address (numpy's costs a microsecond): the int64 array, then the float64 one's bits (zeros: 0.0)
+        packed = np.zeros(n_ints + n_floats, np.int64)
+        ints, floats, address = packed[:n_ints], packed[n_ints:].view(np.float64), address_of(ffi.from_buffer(packed))
         floats[: 4 * m] = self.obstacle_state.ravel()
         floats[4 * m : 5 * m], floats[5 * m : 6 * m] = self._speeds, self.radii
         floats[9 * m : 9 * m + 5] = self._robot_row
@@ -171,15 +175,11 @@ class World(SpaceKeeper):
             constants[step_kernel.NEIGHBOR_DIST], constants[step_kernel.TIME_HORIZON] = behaviour.neighbor_dist, behaviour.time_horizon
             constants[step_kernel.TIME_HORIZON_OBST] = behaviour.time_horizon_obst
             constants[step_kernel.PAD] = behaviour.radius_padding + behaviour.safety_space  # (as ORCA.steer adds them)
-        n_order = m + 1 if mode == step_kernel.STEER_ORCA else 0  # ORCA's neighbour order (scratch)
-        bodies = step_kernel.INT_HEADER + len(idx) + n_order
-        header = [address_of(self.space._space), address_of(self._request), address_of(self._buffer._float_arr), _STEP, _EACH, _READ, _WRITE,
-                  self.substeps, mode, m, int(scenario.robot_visible), behaviour.max_neighbors if behaviour else 0, len(idx),
-                  floats.ctypes.data, len(floats), bodies + m, *_BODY_FUNCTIONS, bodies]  # fmt: skip
-        # the obstacles' cpBody pointers, in the order Chipmunk lists them (the obstacles' bodies first, as added)
-        pointers = [address_of(body._body) for body in self._objects[0::2]]
-        ints = np.concatenate([np.array(header, np.int64), idx, np.zeros(n_order, np.int64), np.array(pointers, np.int64)])
-        self._floats, self._ints, self._mode, self._address = floats, ints, mode, ints.ctypes.data
+        # the header, the ORCA group's indices, the order's scratch, the obstacles' cpBody pointers (Chipmunk lists their bodies first, as added)
+        ints[:] = [address_of(self.space._space), address_of(self._buffer._float_arr), _STEP, self.substeps, mode, m, int(scenario.robot_visible),
+                   behaviour.max_neighbors if behaviour else 0, len(idx), address + 8 * n_ints, n_floats, n_ints, *_BODY_FUNCTIONS, bodies,
+                   *idx.tolist(), *[0] * n_order, *self._pointers]  # fmt: skip
+        self._floats, self._ints, self._mode, self._address = floats, ints, mode, address
         self._sees_robot = mode in (step_kernel.STEER_ORCA, step_kernel.STEER_ROUTED) and scenario.robot_visible
         self._dt = scenario.dt
         self._plain = mode in (step_kernel.STEER_NONE, step_kernel.STEER_ORCA) and not self._sees_robot and not self._has_statics
@@ -328,13 +328,14 @@ class World(SpaceKeeper):
     # -- pickling: pymunk's Space pickles itself; the batch buffer and its view are rebuilt ----
     def __getstate__(self):
         state = self.__dict__.copy()
-        for key in ("_buffer", "_pymunk_state", "_request", "_floats", "_ints", "_address"):
+        for key in ("_buffer", "_pymunk_state", "_request", "_floats", "_ints", "_address", "_pointers"):
             del state[key]
         return state
 
     def __setstate__(self, state):
         _compile_step()  # (a world unpickled in a fresh process steps too)
         self.__dict__.update(state)
+        self._pointers = body_pointers(self._objects)
         self._buffer = BatchBuffer()
         self._attach_state_view()
         self._pack()

@@ -23,6 +23,7 @@ from pathplan_env.world.chipmunk import (
     WRITE_BODY,
     BatchBuffer,
     add_shapes,
+    address_of,
     each_body,
     ffi,
     get_stamp,
@@ -50,12 +51,19 @@ class LentSpace(NamedTuple):
     walls_bounds: tuple
     statics: tuple
     objects: list  # body, shape, body, shape, ...
+    pointers: list  # the bodies' cpBody addresses (the compiled step's)
     moving: list
     buffer: BatchBuffer
     request: object  # the batch read's request struct
     state: np.ndarray  # the numpy view onto the buffer
     inserts: int  # an upper bound on the shapes inserted so far
     radii: list  # the obstacles' radii (their bodies' masses and shapes' radii as set)
+
+
+def body_pointers(objects: list) -> list[int]:
+    """The cpBody addresses of ``objects``' bodies (body, shape, body, shape, ...), for the compiled
+    step (found once a space is built: a space lent on keeps them)."""
+    return [address_of(body._body) for body in objects[0::2]]
 
 
 class SpaceKeeper:
@@ -99,6 +107,7 @@ class SpaceKeeper:
                 shape.elasticity = 1.0  # friction is 0 by default
             objects += (body, shape)
         self._objects, self._moving = objects, moving
+        self._pointers = body_pointers(objects)
         space_add(self.space, objects)
         self._inserts = len(self._walls) + len(self._statics) + len(objects)  # (an upper bound on the shapes inserted)
         self._buffer = BatchBuffer()
@@ -125,7 +134,7 @@ class SpaceKeeper:
         self._park_bodies()
         set_time_step(c_space, 0.0)  # a new space's: no previous step to scale cached impulses by
         set_shape_counter(c_space, len(self._walls) - 1 + max(len(self._statics) - 1, 0))  # the ids after the static shapes'
-        lent = LentSpace(space, self._walls, self._walls_bounds, self._statics, self._objects, self._moving, self._buffer,
+        lent = LentSpace(space, self._walls, self._walls_bounds, self._statics, self._objects, self._pointers, self._moving, self._buffer,
                          self._request, self._pymunk_state, self._inserts + len(shapes), self.radii.tolist())  # fmt: skip
         self.space, self._objects, self._moving, self._walls, self._statics = None, [], [], (), ()
         self._ints = self._address = None  # the compiled step's raw handles: this world steps no more (step_kernel)
@@ -135,7 +144,7 @@ class SpaceKeeper:
         """The previous world's space (:meth:`_lend_space`): this episode's radii and masses, the
         obstacles' shapes added back in order."""
         self.space, self._walls, self._walls_bounds, self._statics = lent.space, lent.walls, lent.walls_bounds, lent.statics
-        self._objects, self._moving, self._buffer, self._request = lent.objects, lent.moving, lent.buffer, lent.request
+        self._objects, self._pointers, self._moving, self._buffer, self._request = lent.objects, lent.pointers, lent.moving, lent.buffer, lent.request
         self._pymunk_state, self._inserts = lent.state, lent.inserts
         c_space, objects = self.space._space, self._objects
         set_slop(c_space, 1e-4 * min_radius)  # (the collision bias stays 1.0: no overlap correction)

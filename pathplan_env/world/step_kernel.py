@@ -53,12 +53,13 @@ class RobotMove(NamedTuple):
 #: among walls (:func:`world_step_routed`).
 STEER_NONE, STEER_ORCA, STEER_OUTSIDE, STEER_ROUTED = 0, 1, 2, 3
 
-# the int64 array's header: Chipmunk's handles and functions, counts and flags, the packed float64
-# array's address and both arrays' lengths, where the obstacles' cpBody pointers start; the ORCA
-# group's obstacle indices, ORCA's neighbour-order scratch (N + 1) and the cpBody pointers follow it
-(SPACE, REQUEST, FLOATS, STEP, EACH, READ, WRITE, SUBSTEPS, MODE, COUNT, VISIBLE, MAX_NEIGHBORS, STEERED, FLOAT_ARRAY, FLOAT_LENGTH, INT_LENGTH,
- SET_POSITION, SET_VELOCITY, GET_POSITION, GET_VELOCITY, BODIES) = range(21)  # fmt: skip
-INT_HEADER = 21
+# the int64 array's header: Chipmunk's space, its batch array and step, counts and flags, the packed
+# float64 array's address and both arrays' lengths, the cpBody setters and getters, where the
+# obstacles' cpBody pointers start; the ORCA group's obstacle indices, ORCA's neighbour-order
+# scratch (N + 1) and the cpBody pointers follow it
+(SPACE, FLOATS, STEP, SUBSTEPS, MODE, COUNT, VISIBLE, MAX_NEIGHBORS, STEERED, FLOAT_ARRAY, FLOAT_LENGTH, INT_LENGTH, SET_POSITION, SET_VELOCITY,
+ GET_POSITION, GET_VELOCITY, BODIES) = range(17)  # fmt: skip
+INT_HEADER = 17
 # the float64 array's constants, after the (N, 4) state, speeds, radii, (N, 2) goals, preferred
 # speeds and the robot's row (x, y, vx, vy, radius): 9 N + 5 floats; ORCA's scratch follows them
 DT, ROBOT_RADIUS, NEIGHBOR_DIST, TIME_HORIZON, TIME_HORIZON_OBST, PAD = range(6)

@@ -57,11 +57,11 @@ class World(SpaceKeeper):
     """One episode's simulation, built from a :class:`Scenario` at every reset (its pymunk space new,
     or the previous episode's lent whole: ``pathplan_env.world.space``).
 
-    Obstacle state moves between pymunk and numpy in one batch call per substep
+    Obstacle state moves between pymunk and numpy in one batch call per substep from Python
     (``pymunk.batch``), not one Python attribute access per body, and :meth:`step` is one compiled
-    call (``pathplan_env.world.step_kernel``): the crowd's steering, Chipmunk's substeps and the
-    robot's swept test, on the world's arrays packed into two (``obstacle_state``, ``radii`` and
-    the speeds are views of one float64 array).
+    call (``pathplan_env.world.step_kernel``): the crowd's steering, Chipmunk's substeps (its bodies
+    set and read by Chipmunk's own functions) and the robot's swept test, on the world's arrays
+    packed into two (``obstacle_state``, ``radii`` and the speeds are views of one float64 array).
     """
 
     def __init__(self, scenario: Scenario, recycle: World | None = None):

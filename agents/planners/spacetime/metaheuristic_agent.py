@@ -80,6 +80,11 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     :param progress_weight: weight of the running cost, the mean cost-to-go where each step within the
         horizon ends (:attr:`~agents.planners.objective.TimedScene.progress_weight`; 0: none): among plans that
         end the horizon equally far on, it prefers the one that closes in first, not one that wanders.
+    :param still_budget, still_spread: where nothing has moved since the last replan (its problem handed
+        back: hundreds of resting discs, no mover), a replan refines the last one's best: ``still_budget``
+        times the iterations, the population drawn round that best (``still_spread`` m for a waypoint,
+        a tenth of it for a speed; 0: uniform in the box, as elsewhere). 1.0 (the default): the whole
+        budget as in any replan (docs/results/bench_planners.md: the trade between time and path length).
     :param violation: what the penalty measures (:data:`VIOLATIONS`): ``"contacts"`` (Eq. 4 and the
         feasibility offset for every obstacle touched within the horizon) or ``"first-contact"`` (how
         early the first predicted contact comes first, then Eq. 4: the plan that stays free longest wins
@@ -98,7 +103,12 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
                  n_dodges: int = 8, dodge_steps: float = 2.0, prediction: str = "physics", violation: str = "first-contact",
                  search_expansions: int = 0, dense_budget: float = 0.0, cone_degrees: float = 20.0,
                  rest_obstacles: bool = True, progress_weight: float = 0.0, obstacle_field: bool = False, steering: str = "adapt",
-                 robots: str = "reciprocal", robot_margin: float = ROBOT_MARGIN, robot_depth: float = ROBOT_DEPTH, **kwargs):  # fmt: skip
+                 robots: str = "reciprocal", robot_margin: float = ROBOT_MARGIN, robot_depth: float = ROBOT_DEPTH,
+                 still_budget: float = 1.0, still_spread: float = 0.0, **kwargs):  # fmt: skip
+        if not (0.0 < still_budget <= 1.0 and still_spread >= 0.0):
+            raise ValueError(f"still_budget must be in (0, 1] and still_spread >= 0, got {still_budget!r}, {still_spread!r}")
+        self.still_budget, self.still_spread = float(still_budget), float(still_spread)
+        self.kept_still = False  # whether the last timed_problem was the last replan's, handed back (nothing moved)
         if steering not in STEERING_RULES:
             raise ValueError(f"steering must be one of {STEERING_RULES}, got {steering!r}")
         self.steering = steering
@@ -151,7 +161,8 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         # entries, the guide and the settings: the last such problem is handed back while they stay
         # (the prediction and the broad phase among hundreds of resting discs are not built again)
         kept = None if memory is None else memory.get("still_problem")
-        if kept is not None and kept[1] is ctg and kept[0] == (_scene_bytes(obs), steering, guided_by_passable(memory)):
+        self.kept_still = kept is not None and kept[1] is ctg and kept[0] == (_scene_bytes(obs), steering, guided_by_passable(memory))
+        if self.kept_still:
             return kept[2]._replace(robot=np.asarray(obs["robot_position"], np.float64))
         static_ctg = ctg
         trajectory, n, radii, robot, goal = model.predict_scene(obs)
@@ -218,7 +229,10 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         robot, goal = problem.robot, problem.goal
         seeds = self.seed_paths(robot, goal, problem)
         stall = 0 if self.needs_whole_budget(problem) else None
-        best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, seeds, stall=stall)
+        if self.kept_still and "best" in memory and self.still_budget != 1.0:  # nothing moved since the last replan: refine its best
+            best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, seeds, self.still_budget, 0, self.still_spread)
+        else:
+            best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, seeds, stall=stall)
         if self.dense_budget > 0.0 and self.last_penalty > 0.0:  # no contact-free plan found: a dense scene
             best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, seeds, self.dense_budget, stall)
         k = self.n_waypoints

@@ -110,13 +110,15 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
                  search_expansions: int = 0, dense_budget: float = 0.0, cone_degrees: float = 20.0,
                  rest_obstacles: bool = True, progress_weight: float = 0.0, obstacle_field: bool = False, steering: str = "adapt",
                  robots: str = "reciprocal", robot_margin: float = ROBOT_MARGIN, robot_depth: float = ROBOT_DEPTH,
-                 still_budget: float | None = None, still_spread: float | None = None, **kwargs):  # fmt: skip
+                 still_budget: float | None = None, still_spread: float | None = None, still_stall: int = 0, **kwargs):  # fmt: skip
         default_budget, default_spread = STILL_REFINE.get(optimizer, (1.0, 0.0))
         still_budget = default_budget if still_budget is None else still_budget
         still_spread = default_spread if still_spread is None else still_spread
         if not (0.0 < still_budget <= 1.0 and still_spread >= 0.0):
             raise ValueError(f"still_budget must be in (0, 1] and still_spread >= 0, got {still_budget!r}, {still_spread!r}")
-        self.still_budget, self.still_spread = float(still_budget), float(still_spread)
+        if int(still_stall) != still_stall or still_stall < 0:
+            raise ValueError(f"still_stall must be a non-negative integer, got {still_stall!r}")
+        self.still_budget, self.still_spread, self.still_stall = float(still_budget), float(still_spread), int(still_stall)
         self.kept_still = False  # whether the last timed_problem was the last replan's, handed back (nothing moved)
         if steering not in STEERING_RULES:
             raise ValueError(f"steering must be one of {STEERING_RULES}, got {steering!r}")
@@ -239,7 +241,8 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         seeds = self.seed_paths(robot, goal, problem)
         stall = 0 if self.needs_whole_budget(problem) else None
         if self.kept_still and "best" in memory and self.still_budget != 1.0:  # nothing moved since the last replan: refine its best
-            best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, seeds, self.still_budget, 0, self.still_spread)
+            best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, seeds, self.still_budget, self.still_stall,
+                                      self.still_spread)  # fmt: skip
         else:
             best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, seeds, stall=stall)
         if self.dense_budget > 0.0 and self.last_penalty > 0.0:  # no contact-free plan found: a dense scene

@@ -205,7 +205,8 @@ def test_pso_refines_at_half_its_budget_only_where_nothing_moved_since_the_last_
     assert _evaluations("abc-spacetime", 6, 0, steps=6) == _evaluations("abc-spacetime", 6, 0, steps=6, still_budget=1.0)
 
 
-@pytest.mark.parametrize("settings", [{"still_budget": 0.0}, {"still_budget": 1.5}, {"still_spread": -0.1}])
+@pytest.mark.parametrize("settings", [{"still_budget": 0.0}, {"still_budget": 1.5}, {"still_spread": -0.1}, {"still_stall": -1},
+                                      {"still_stall": 2.5}])
 def test_still_refine_settings_are_checked(settings):
-    with pytest.raises(ValueError, match="still_budget"):
+    with pytest.raises(ValueError, match="still_"):
         agents.make("pso-spacetime", _clutter_env(0, 0, n_cylinders=40), seed=0, **settings)

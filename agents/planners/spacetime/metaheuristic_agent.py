@@ -102,7 +102,8 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     0.71 to 0.80, no 8-obstacle cell worse; docs/results/dense_planners/ablation.md), except in a
     replan whose way to the goal bends round walls or resting discs, or where nothing moves
     (:meth:`needs_whole_budget`), which runs its whole budget (docs/results/walls_stall: the maze and
-    static scenes gain; humans crossing open rooms keep the exit).
+    static scenes gain; humans crossing open rooms keep the exit), and where nothing has moved since the
+    last replan, its share ``still_budget`` of it (:data:`STILL_REFINE`).
     """
 
     def __init__(self, env, seed: int | None = None, *, optimizer: str = "pso", horizon_steps: int = 10, margin: float = 0.005,

@@ -213,7 +213,9 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         k = self.n_waypoints
         rows = [np.concatenate([self.straight_line(robot, goal), np.ones(k + 1)])]
         if problem is not None and problem.cost_to_go.field.size:
-            around = waypoints_on(route(problem.cost_to_go, robot, goal, 0.5 * self.facts.robot_radius), k)
+            # where nothing moved since the last replan (a refining one), the plain simplification: a seed, and the
+            # topology-preserving one cost more than a sixth of such a replan
+            around = waypoints_on(route(problem.cost_to_go, robot, goal, 0.5 * self.facts.robot_radius, not self.kept_still), k)
             rows.insert(0, np.concatenate([around.ravel(), np.ones(k + 1)]))
         for angle in 2 * np.pi * np.arange(self.n_dodges) / self.n_dodges:
             w1 = np.clip(robot + self.dodge_steps * self.step_length * np.array([np.cos(angle), np.sin(angle)]), self.search_lo[:2], self.search_hi[:2])

@@ -210,3 +210,30 @@ def test_pso_refines_at_half_its_budget_only_where_nothing_moved_since_the_last_
 def test_still_refine_settings_are_checked(settings):
     with pytest.raises(ValueError, match="still_"):
         agents.make("pso-spacetime", _clutter_env(0, 0, n_cylinders=40), seed=0, **settings)
+
+
+@pytest.mark.parametrize("seed", [1, 6])
+def test_the_plain_route_is_the_topology_preserving_one_along_clutter_descents(seed):
+    """``route(preserve_topology=False)`` (the refining replans' seed): from the start to the goal, every
+    corner a cell of the descent, and along a clutter field's descents the topology-preserving route's corners."""
+    from agents.planners.costtogo import descent, route
+
+    env = _clutter_env(seed, 0)
+    agent = agents.make("pso-spacetime", env, seed=0)
+    obs, _ = env.reset(seed=seed)
+    for _ in range(3):  # the passable guide engages on the second replan
+        obs, *_ = env.step(agent.predict(obs, deterministic=True)[0])
+    problem = agent.timed_problem(obs, agent._memory[0])
+    tolerance = 0.5 * agent.facts.robot_radius
+    rng = np.random.default_rng(seed)
+    compared = 0
+    for start in rng.uniform(problem.robot - 1.0, problem.robot + 1.0, (20, 2)):
+        cells, _ = descent(problem.cost_to_go, start)
+        if len(cells) == 0:
+            continue
+        plain, kept = route(problem.cost_to_go, start, problem.goal, tolerance, False), route(problem.cost_to_go, start, problem.goal, tolerance)
+        assert np.array_equal(plain[0], start) and np.array_equal(plain[-1], problem.goal)
+        assert all((np.abs(cells - corner).sum(axis=1) == 0).any() for corner in plain[1:-1])
+        assert np.array_equal(plain, kept)
+        compared += 1
+    assert compared >= 10

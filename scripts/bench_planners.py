@@ -30,7 +30,7 @@
     python scripts/bench_planners.py --dense [--dense-episodes 5] [--dense-obstacles 30,50] [--dense-delta-d 1,2,4]
     python scripts/bench_planners.py --unicycle [--spacetime-episodes 20] [--unicycle-planners pso-unicycle,pso-unicycle-crowd]
     python scripts/bench_planners.py --learned [--spacetime-episodes 20]
-    python scripts/bench_planners.py --static-clutter [--spacetime-episodes 20]
+    python scripts/bench_planners.py --static-clutter [--spacetime-episodes 20] [--static-clutter-planners pso-spacetime,pso-spacetime?still_budget=0.3]
 """
 
 from __future__ import annotations
@@ -158,10 +158,11 @@ def replan_cell(name: str, delta_d: float | None, seeds, n_obstacles: int | None
     replan's CPU time (ms, this process's), ``evaluations`` a PSO's or ABC's objective evaluations in it."""
     from pathplan_env.scenarios.splits import heldout_seeds
 
-    robot = "unicycle" if name in agents.UNICYCLE_AGENTS else "holonomic"
+    base, settings = agents.registry.split_settings(name)  # a name may carry settings: "pso-spacetime?still_budget=0.3"
+    robot = "unicycle" if base in agents.UNICYCLE_AGENTS else "holonomic"
     env = gym.make("DynamicObstacle-v0", scenario=scenario, delta_d=delta_d, robot=robot, n_obstacles=n_obstacles,
-                   observation=agents.observation_of(name))
-    agent = agents.make(name, env, seed=0)
+                   observation=agents.observation_of(base))
+    agent = agents.make(base, env, seed=0, **settings)
     agents.rollout(agent, env, seed=heldout_seeds(9, 1)[0])  # warm-up: numba's cache loads here
     times, wins = [], 0
     for seed in seeds:
@@ -255,6 +256,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--dense", action="store_true", help="only the dense cells (30 and 50 obstacles x Δd 1, 2, 4)")
     parser.add_argument("--static-clutter", action="store_true",
                         help="only the replan times among 300 resting cylinders: oracle-static's, the space-time planners' beside 8 obstacles")
+    parser.add_argument("--static-clutter-planners", default=",".join(HOLONOMIC_SPACETIME),
+                        help="comma-separated space-time planners of --static-clutter, each may carry settings after '?' "
+                             "(pso-spacetime?still_budget=0.3&still_spread=0.3)")
     parser.add_argument("--learned", action="store_true", help="only the learned agents' acting times (their own scenes)")
     parser.add_argument("--unicycle", action="store_true", help="only the unicycle's space-time rows (random scenes, circle crossing)")
     parser.add_argument("--unicycle-planners", default=",".join(UNICYCLE_SPACETIME + CROWD_PLANNERS),
@@ -276,6 +280,13 @@ def parse_args(argv=None) -> argparse.Namespace:
         parser.error(f"--dense-obstacles / --dense-delta-d: comma-separated numbers ({error})")
     args.dense_planners = [p.strip() for p in args.dense_planners.split(",") if p.strip()]
     args.unicycle_planners = [p.strip() for p in args.unicycle_planners.split(",") if p.strip()]
+    args.static_clutter_planners = [p.strip() for p in args.static_clutter_planners.split(",") if p.strip()]
+    try:
+        clutter_bases = {agents.registry.split_settings(p)[0] for p in args.static_clutter_planners}
+    except ValueError as error:
+        parser.error(f"--static-clutter-planners: {error}")
+    if clutter_bases - set(HOLONOMIC_SPACETIME):
+        parser.error(f"--static-clutter-planners: each one of {HOLONOMIC_SPACETIME}, with settings or without")
     if set(args.unicycle_planners) - set(UNICYCLE_SPACETIME + CROWD_PLANNERS):
         parser.error(f"--unicycle-planners: each one of {UNICYCLE_SPACETIME + CROWD_PLANNERS}")
     unknown = sorted(set(args.dense_planners) - set(agents.available()))
@@ -335,7 +346,8 @@ def clutter_replans(name: str, episodes: int, n_cylinders: int = 300, evaluation
     times, cpu, wins = [], [], 0
     for seed in range(episodes + 1):
         env = gym.make("DynamicObstacle-v0", scenario=clutter_scenario(np.random.default_rng(seed), n_cylinders=n_cylinders))
-        agent = agents.make(name, env, seed=0)
+        base, settings = agents.registry.split_settings(name)
+        agent = agents.make(base, env, seed=0, **settings)
         obs, _ = env.reset(seed=seed)
         while True:
             begin = time.process_time()
@@ -352,7 +364,7 @@ def clutter_replans(name: str, episodes: int, n_cylinders: int = 300, evaluation
     return times, cpu, wins
 
 
-def print_static_clutter(episodes: int) -> None:
+def print_static_clutter(episodes: int, planners=HOLONOMIC_SPACETIME) -> None:
     print(f"\noracle-static: plan times over {episodes} episodes, ms (the first builds the graph; among resting shapes the rest fly on along it)")
     print("| scene | plans | first plan (median) | later replans (median) | first plan, CPU | later replans, CPU |")
     print("|---|---:|---:|---:|---:|---:|")
@@ -365,7 +377,7 @@ def print_static_clutter(episodes: int) -> None:
     print("| planner | replans, 300 cylinders | median | median CPU | success | replans, 8 obstacles | median | median CPU | ratio (median CPU) "
           "| objective evaluations a replan, median: 300 cylinders / 8 obstacles |")  # fmt: skip
     print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
-    for name in HOLONOMIC_SPACETIME:
+    for name in planners:
         many_evaluations: list[int] = []
         few_evaluations: list[int] = []
         times, cpu, wins = clutter_replans(name, episodes, evaluations=many_evaluations)
@@ -380,7 +392,7 @@ def print_static_clutter(episodes: int) -> None:
 def main(argv=None) -> None:
     args = parse_args(argv)
     if args.static_clutter:
-        print_static_clutter(args.spacetime_episodes)
+        print_static_clutter(args.spacetime_episodes, args.static_clutter_planners)
         return
     if args.dense:
         print_dense(args)

@@ -194,10 +194,12 @@ def _descend(field, i, j, max_cells):
     return out[:count]
 
 
-def route(ctg: CostToGo, start, goal, tolerance: float) -> np.ndarray:
+def route(ctg: CostToGo, start, goal, tolerance: float, preserve_topology: bool = True) -> np.ndarray:
     """The way to the goal the cost-to-go points out: its steepest descent from ``start``, simplified
     (shapely, ``tolerance`` m) to its corners; ``(P, 2)`` points from ``start`` to ``goal``. The
-    straight segment when there is no field or it cannot lead (``start`` cut off from the goal)."""
+    straight segment when there is no field or it cannot lead (``start`` cut off from the goal).
+    ``preserve_topology=False``: shapely's plain Douglas-Peucker (a simplified piece may cross the
+    descent elsewhere), ~40 x cheaper than the topology-preserving one on a 200-cell descent."""
     import shapely
 
     start, goal = np.asarray(start, np.float64), np.asarray(goal, np.float64)
@@ -205,7 +207,7 @@ def route(ctg: CostToGo, start, goal, tolerance: float) -> np.ndarray:
     if len(centres) == 0:
         return np.array([start, goal])
     points = np.vstack([start, centres, goal])
-    return np.asarray(shapely.LineString(points).simplify(tolerance).coords)
+    return np.asarray(shapely.LineString(points).simplify(tolerance, preserve_topology=preserve_topology).coords)
 
 
 def descent(ctg: CostToGo, start, reach: int = 0) -> tuple[np.ndarray, np.ndarray]:

@@ -132,13 +132,16 @@ class MetaheuristicAgent(Agent):
         return self.run_optimizer(scene, self.search_lo, self.search_hi, memory, self.straight_line(scene.robot, scene.goal))
 
     def run_optimizer(self, problem: Scene | TimedScene, lo: np.ndarray, hi: np.ndarray, memory: dict[str, Any],
-                      seeds: np.ndarray, budget: float = 1.0, stall: int | None = None) -> np.ndarray:  # fmt: skip
+                      seeds: np.ndarray, budget: float = 1.0, stall: int | None = None, around: float = 0.0) -> np.ndarray:  # fmt: skip
         """The optimiser on any objective (``agents.planners.objective.objective``) in the box ``[lo, hi]``.
 
         With ``warm_start``, the population holds the previous best (``memory["best"]``) and the
         rows of ``seeds`` (the straight line to the goal first; as many as fit); the rest is
         uniform in the box. ``budget`` scales the iterations (1: the agent's own); ``stall``, when
-        given, replaces the rule's early exit for this run (0: the whole budget).
+        given, replaces the rule's early exit for this run (0: the whole budget). ``around`` > 0 (with
+        ``warm_start`` and a previous best): the rows the seeds leave are drawn round the previous best
+        (normal, this standard deviation in m for a waypoint, a tenth of it for a speed) instead of
+        uniformly in the box, for a run that refines a plan still good.
         """
         pso_settings, abc_settings = self.pso_settings, self.abc_settings
         if stall is not None and stall != self.rule.stall:
@@ -151,6 +154,9 @@ class MetaheuristicAgent(Agent):
         seed = int(self.rng.integers(2**31 - 1))
         size = self.population if self.optimizer == "pso" else self.population // 2
         x0 = self.rng.uniform(lo, hi, size=(size, lo.size))
+        if self.warm_start and around > 0.0 and "best" in memory:
+            scale = np.where(np.arange(lo.size) < self.search_lo.size, around, 0.1 * around)
+            x0 = np.clip(memory["best"] + scale * self.rng.standard_normal(x0.shape), lo, hi)
         if self.warm_start:
             if "best" in memory:  # the previous plan, as the paper's modified ABC does
                 x0[0] = memory["best"]

@@ -33,6 +33,12 @@ from agents.planners.steering import STEERING_RULES, SteeringCheck
 #: (chosen on maze-crowd validation episodes: docs/results/maps_first_look/README.md).
 CROWD_SETTINGS = MappingProxyType({"margin": 0.05, "rest_obstacles": False, "obstacle_field": True})
 
+#: Where nothing has moved since the last replan, each optimiser's share of its budget and the spread (m) of
+#: its population round the last best (``still_budget``, ``still_spread``): chosen on the clutter table's
+#: 30 episodes (docs/results/bench_planners.md): PSO's paths as short at half its budget (1.0057 x the
+#: exact length against 1.0060), ABC's longer at every share tried (1.03-1.12 against 1.028): its whole budget.
+STILL_REFINE = MappingProxyType({"pso": (0.5, 0.1), "abc": (1.0, 0.0)})
+
 #: What the space-time optimisers' penalty measures (:data:`agents.planners.objective.FIRST_CONTACT`).
 VIOLATIONS = {"contacts": CONTACTS, "first-contact": FIRST_CONTACT}
 
@@ -80,6 +86,11 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     :param progress_weight: weight of the running cost, the mean cost-to-go where each step within the
         horizon ends (:attr:`~agents.planners.objective.TimedScene.progress_weight`; 0: none): among plans that
         end the horizon equally far on, it prefers the one that closes in first, not one that wanders.
+    :param still_budget, still_spread: where nothing has moved since the last replan (its problem handed
+        back: hundreds of resting discs, no mover), a replan refines the last one's best: ``still_budget``
+        times the iterations, the population drawn round that best (``still_spread`` m for a waypoint,
+        a tenth of it for a speed; 0: uniform in the box, as elsewhere); 1.0: the whole budget, as in
+        any replan. Default: the optimiser's :data:`STILL_REFINE`.
     :param violation: what the penalty measures (:data:`VIOLATIONS`): ``"contacts"`` (Eq. 4 and the
         feasibility offset for every obstacle touched within the horizon) or ``"first-contact"`` (how
         early the first predicted contact comes first, then Eq. 4: the plan that stays free longest wins
@@ -91,14 +102,25 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     0.71 to 0.80, no 8-obstacle cell worse; docs/results/dense_planners/ablation.md), except in a
     replan whose way to the goal bends round walls or resting discs, or where nothing moves
     (:meth:`needs_whole_budget`), which runs its whole budget (docs/results/walls_stall: the maze and
-    static scenes gain; humans crossing open rooms keep the exit).
+    static scenes gain; humans crossing open rooms keep the exit), and where nothing has moved since the
+    last replan, its share ``still_budget`` of it (:data:`STILL_REFINE`).
     """
 
     def __init__(self, env, seed: int | None = None, *, optimizer: str = "pso", horizon_steps: int = 10, margin: float = 0.005,
                  n_dodges: int = 8, dodge_steps: float = 2.0, prediction: str = "physics", violation: str = "first-contact",
                  search_expansions: int = 0, dense_budget: float = 0.0, cone_degrees: float = 20.0,
                  rest_obstacles: bool = True, progress_weight: float = 0.0, obstacle_field: bool = False, steering: str = "adapt",
-                 robots: str = "reciprocal", robot_margin: float = ROBOT_MARGIN, robot_depth: float = ROBOT_DEPTH, **kwargs):  # fmt: skip
+                 robots: str = "reciprocal", robot_margin: float = ROBOT_MARGIN, robot_depth: float = ROBOT_DEPTH,
+                 still_budget: float | None = None, still_spread: float | None = None, still_stall: int = 0, **kwargs):  # fmt: skip
+        default_budget, default_spread = STILL_REFINE.get(optimizer, (1.0, 0.0))
+        still_budget = default_budget if still_budget is None else still_budget
+        still_spread = default_spread if still_spread is None else still_spread
+        if not (0.0 < still_budget <= 1.0 and still_spread >= 0.0):
+            raise ValueError(f"still_budget must be in (0, 1] and still_spread >= 0, got {still_budget!r}, {still_spread!r}")
+        if int(still_stall) != still_stall or still_stall < 0:
+            raise ValueError(f"still_stall must be a non-negative integer, got {still_stall!r}")
+        self.still_budget, self.still_spread, self.still_stall = float(still_budget), float(still_spread), int(still_stall)
+        self.kept_still = False  # whether the last timed_problem was the last replan's, handed back (nothing moved)
         if steering not in STEERING_RULES:
             raise ValueError(f"steering must be one of {STEERING_RULES}, got {steering!r}")
         self.steering = steering
@@ -151,7 +173,8 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         # entries, the guide and the settings: the last such problem is handed back while they stay
         # (the prediction and the broad phase among hundreds of resting discs are not built again)
         kept = None if memory is None else memory.get("still_problem")
-        if kept is not None and kept[1] is ctg and kept[0] == (_scene_bytes(obs), steering, guided_by_passable(memory)):
+        self.kept_still = kept is not None and kept[1] is ctg and kept[0] == (_scene_bytes(obs), steering, guided_by_passable(memory))
+        if self.kept_still:
             return kept[2]._replace(robot=np.asarray(obs["robot_position"], np.float64))
         static_ctg = ctg
         trajectory, n, radii, robot, goal = model.predict_scene(obs)
@@ -190,7 +213,9 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         k = self.n_waypoints
         rows = [np.concatenate([self.straight_line(robot, goal), np.ones(k + 1)])]
         if problem is not None and problem.cost_to_go.field.size:
-            around = waypoints_on(route(problem.cost_to_go, robot, goal, 0.5 * self.facts.robot_radius), k)
+            # where nothing moved since the last replan (a refining one), the plain simplification: a seed, and the
+            # topology-preserving one cost more than a sixth of such a replan
+            around = waypoints_on(route(problem.cost_to_go, robot, goal, 0.5 * self.facts.robot_radius, not self.kept_still), k)
             rows.insert(0, np.concatenate([around.ravel(), np.ones(k + 1)]))
         for angle in 2 * np.pi * np.arange(self.n_dodges) / self.n_dodges:
             w1 = np.clip(robot + self.dodge_steps * self.step_length * np.array([np.cos(angle), np.sin(angle)]), self.search_lo[:2], self.search_hi[:2])
@@ -218,7 +243,11 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         robot, goal = problem.robot, problem.goal
         seeds = self.seed_paths(robot, goal, problem)
         stall = 0 if self.needs_whole_budget(problem) else None
-        best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, seeds, stall=stall)
+        if self.kept_still and "best" in memory and self.still_budget != 1.0:  # nothing moved since the last replan: refine its best
+            best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, seeds, self.still_budget, self.still_stall,
+                                      self.still_spread)  # fmt: skip
+        else:
+            best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, seeds, stall=stall)
         if self.dense_budget > 0.0 and self.last_penalty > 0.0:  # no contact-free plan found: a dense scene
             best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, seeds, self.dense_budget, stall)
         k = self.n_waypoints

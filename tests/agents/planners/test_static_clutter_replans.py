@@ -23,7 +23,8 @@ def _clutter_env(seed: int, n_moving: int, n_cylinders: int = 300):
 
 def _flown_digest(name: str, seed: int, n_moving: int, steps: int = 30) -> str:
     env = _clutter_env(seed, n_moving)
-    agent = agents.make(name, env, seed=0)
+    base, settings = agents.registry.split_settings(name)
+    agent = agents.make(base, env, seed=0, **settings)
     obs, _ = env.reset(seed=seed)
     h = hashlib.sha256()
     for _ in range(steps):
@@ -39,7 +40,10 @@ def _flown_digest(name: str, seed: int, n_moving: int, steps: int = 30) -> str:
 FLOWN_DIGESTS = [  # 30 steps' actions and plans among 300 cylinders (and 2 bouncing discs), computed on 5c47f38
     ("astar-spacetime", 6, 0, "a02ea740c772b2e08b159192d5d8675017aa30578d00e79ddc31d1853502a512"),
     ("astar-spacetime", 7, 2, "505402f3e14af8d0012d0250b30a830fabe2b42d3da368c5e6425f55629212a4"),
-    ("pso-spacetime", 6, 0, "e00d8a7633ab744d43c61c08c0629537af18097edfe8f277838ed8f7628cc356"),
+    # with its whole budget where nothing moves, as every replan had it before STILL_REFINE
+    ("pso-spacetime?still_budget=1.0", 6, 0, "e00d8a7633ab744d43c61c08c0629537af18097edfe8f277838ed8f7628cc356"),
+    # STILL_REFINE's half budget round the last best (computed on 1304d38)
+    ("pso-spacetime", 6, 0, "da14e84add8873db438ee6a784225f6474b98fa398bf9d0d4680c61a164cefa0"),
     ("pso-spacetime", 7, 2, "0afc7a1dc9890ca1a660c449ec9c4928c012fcaa2ec9ae3349e31175cdc1a004"),
     ("abc-spacetime", 6, 0, "8f6b8d96b31a20d5bbc3ec85c8fd67a782949164647b741c2b9ecc9401ba6447"),
     ("abc-spacetime", 7, 2, "47f5425b1283690d3fbb4e3538cf06c9da03facc3318c6c906842412f0f632b0"),
@@ -172,3 +176,64 @@ def test_a_kept_static_problem_is_the_one_built_afresh(name, seed):
         action, _ = agent.predict(obs, deterministic=True)
         obs, *_ = env.step(action)
     assert handed_back >= 8
+
+
+def _evaluations(name: str, seed: int, n_moving: int, steps: int = 12, **settings) -> list[int]:
+    env = _clutter_env(seed, n_moving)
+    agent = agents.make(name, env, seed=0, **settings)
+    obs, _ = env.reset(seed=seed)
+    spent = []
+    for _ in range(steps):
+        action, _ = agent.predict(obs, deterministic=True)
+        spent.append(agent.last_evaluations)
+        obs, _, terminated, truncated, _ = env.step(action)
+        if terminated or truncated:
+            break
+    return spent
+
+
+def test_pso_refines_at_half_its_budget_only_where_nothing_moved_since_the_last_replan():
+    """Among resting cylinders alone the first replans spend the whole budget (no last best, then the
+    passable guide engaging: a problem built afresh), the later ones half of it; with bouncing discs
+    every replan's problem is built afresh, and the optimisers spend as before; ABC keeps its whole budget."""
+    whole = 30 * (50 + 1)  # the initial swarm, then 50 iterations of 30 particles
+    still = _evaluations("pso-spacetime", 6, 0)
+    assert still[0] == whole and set(still[3:]) == {30 * (25 + 1)}
+    assert set(_evaluations("pso-spacetime", 6, 0, still_budget=1.0)) == {whole}
+    moving = _evaluations("pso-spacetime", 7, 2, steps=8)
+    assert moving == _evaluations("pso-spacetime", 7, 2, steps=8, still_budget=1.0)
+    assert _evaluations("abc-spacetime", 6, 0, steps=6) == _evaluations("abc-spacetime", 6, 0, steps=6, still_budget=1.0)
+
+
+@pytest.mark.parametrize("settings", [{"still_budget": 0.0}, {"still_budget": 1.5}, {"still_spread": -0.1}, {"still_stall": -1},
+                                      {"still_stall": 2.5}])
+def test_still_refine_settings_are_checked(settings):
+    with pytest.raises(ValueError, match="still_"):
+        agents.make("pso-spacetime", _clutter_env(0, 0, n_cylinders=40), seed=0, **settings)
+
+
+@pytest.mark.parametrize("seed", [1, 6])
+def test_the_plain_route_is_the_topology_preserving_one_along_clutter_descents(seed):
+    """``route(preserve_topology=False)`` (the refining replans' seed): from the start to the goal, every
+    corner a cell of the descent, and along a clutter field's descents the topology-preserving route's corners."""
+    from agents.planners.costtogo import descent, route
+
+    env = _clutter_env(seed, 0)
+    agent = agents.make("pso-spacetime", env, seed=0)
+    obs, _ = env.reset(seed=seed)
+    for _ in range(3):  # the passable guide engages on the second replan
+        obs, *_ = env.step(agent.predict(obs, deterministic=True)[0])
+    problem = agent.timed_problem(obs, agent._memory[0])
+    tolerance = 0.5 * agent.facts.robot_radius
+    rng = np.random.default_rng(seed)
+    compared = 0
+    for start in rng.uniform(problem.robot - 1.0, problem.robot + 1.0, (20, 2)):
+        cells, _ = descent(problem.cost_to_go, start)
+        if len(cells) == 0:
+            continue
+        plain, kept = route(problem.cost_to_go, start, problem.goal, tolerance, False), route(problem.cost_to_go, start, problem.goal, tolerance)
+        assert np.array_equal(plain[0], start) and np.array_equal(plain[-1], problem.goal)
+        assert all((np.abs(cells - corner).sum(axis=1) == 0).any() for corner in plain[1:-1])
+        assert np.array_equal(plain, kept)
+        compared += 1
+    assert compared >= 10

@@ -172,14 +172,16 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         # where nothing moves, every field but the robot's position is a function of the observation's other
         # entries, the guide and the settings: the last such problem is handed back while they stay
         # (the prediction and the broad phase among hundreds of resting discs are not built again)
+        guided = memory is not None and guided_by_passable(memory)  # (nothing below changes it)
         kept = None if memory is None else memory.get("still_problem")
-        self.kept_still = kept is not None and kept[1] is ctg and kept[0] == (_scene_bytes(obs), steering, guided_by_passable(memory))
+        scene = _scene_bytes(obs) if kept is not None and kept[1] is ctg else None  # (made once, and only where it may be asked)
+        self.kept_still = scene is not None and kept[0] == (scene, steering, guided)
         if self.kept_still:
             return kept[2]._replace(robot=np.asarray(obs["robot_position"], np.float64))
         static_ctg = ctg
         trajectory, n, radii, robot, goal = model.predict_scene(obs)
         resting = model.in_row_order(obs, (Observation.of(obs).obstacles.velocities == 0.0).all(axis=1), len(radii))
-        if guided_by_passable(memory or {}):  # among dense static geometry the rest goes round the movers too (a disc bouncing in a gap)
+        if guided:  # among dense static geometry the rest goes round the movers too (a disc bouncing in a gap)
             own = model.own_radii(obs, len(radii))
             ctg = passable_around(ctg, obs, self.facts, model.margin, trajectory[self.model.horizon_steps * n, ~resting, :2], own[~resting])
         elif obstacle_field and ctg.field.size:  # the rest goes round the obstacles where the prediction leaves them
@@ -191,7 +193,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         travel = np.ascontiguousarray(moves.reshape(self.model.horizon_steps, n, -1).sum(axis=1))
         f = self.facts
         # guided by the passable field, the resting discs are its static geometry: the rest pays them as it pays walls
-        exempt = resting if guided_by_passable(memory or {}) else np.zeros(0, np.bool_)
+        exempt = resting if guided else np.zeros(0, np.bool_)
         broad = resting_set(trajectory, radii, memory)
         # every disc of the broad phase's grid exempt: the rest visits the moving ones alone (the same costs)
         skips = broad is not None and exempt.size > 0 and bool(exempt[broad.grid.items].all())
@@ -200,7 +202,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
                              0.0 if self.constraint == "adaptive" else INFEASIBLE, rest_obstacles, self.progress_weight, exempt,
                              broad, skips)  # fmt: skip
         if memory is not None and broad is not None and not travel.any():  # kept only where nothing moves (no robot's either)
-            memory["still_problem"] = ((_scene_bytes(obs), steering, guided_by_passable(memory)), static_ctg, problem)
+            memory["still_problem"] = ((_scene_bytes(obs) if scene is None else scene, steering, guided), static_ctg, problem)
         elif memory is not None:
             memory.pop("still_problem", None)
         return problem

@@ -154,6 +154,11 @@ class OccupancyMap:
         chosen: list[np.ndarray] = []
         for _ in range(max_batches if len(cells) else 0):
             pts, clear = self._candidates(cells[rng.integers(len(cells), size=64)], rng.random((64, 2)), clearance)
+            if n == 1:  # one point (a scene's start, its goal): the batch's avoid tests at once, the first kept point
+                keep = _kept(pts, np.flatnonzero(clear), avoid)
+                if keep >= 0:
+                    return pts[keep : keep + 1].copy()
+                continue
             for p in pts[clear]:
                 if all(math.dist(p, q) >= min_separation for q in chosen) and all(math.dist(p, q) >= d for q, d in avoid):
                     chosen.append(p)
@@ -164,6 +169,27 @@ class OccupancyMap:
 
 _CLEAR, _UNSURE = 1, 2
 _NO_CENTRES = np.zeros(0)
+
+
+def _kept(pts: np.ndarray, rows: np.ndarray, avoid: list) -> int:
+    """The first of ``pts[rows]`` at least ``d`` from every ``(q, d)`` of ``avoid`` (``math.dist(p, q) >= d``,
+    :meth:`OccupancyMap.sample_free`'s test), or -1. The squared distances decide, numpy over the batch,
+    except within a relative 1e-9 of ``d * d`` (their rounding is ~1e-16), where ``math.dist`` does: the
+    per-point loop of Python's tests was most of a maze start and goal's draw."""
+    for q, d in avoid:
+        if not len(rows):
+            break
+        if not d > 0.0:  # (math.dist >= 0 always holds; a NaN never does)
+            rows = rows if d <= 0.0 else rows[:0]
+            continue
+        dx, dy = pts[rows, 0] - q[0], pts[rows, 1] - q[1]
+        squared, limit = dx * dx + dy * dy, d * d
+        far = squared > limit * (1.0 + 1e-9)
+        unsure = np.flatnonzero(~far & (squared >= limit * (1.0 - 1e-9)))
+        for k in unsure.tolist():
+            far[k] = math.dist(pts[rows[k]], q) >= d
+        rows = rows[far]
+    return int(rows[0]) if len(rows) else -1
 
 
 class CellGrid(NamedTuple):

@@ -6,6 +6,7 @@ import pytest
 
 from pathplan_env.scenarios.draws import bit_source, integers, uniform
 
+
 def same_state(a, b) -> bool:
     """Bit generator states (dicts, MT19937's key an array) equal."""
     if isinstance(a, dict):

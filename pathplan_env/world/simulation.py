@@ -44,6 +44,18 @@ def _compile_step() -> None:
     global _world_step
     if _world_step is None:
         _world_step = step_kernel.world_step_entry()
+
+
+def _routed_entry():
+    """The routed step's entry point (``step_kernel.world_step_routed_entry``), made by the first world
+    that steps a crowd among walls."""
+    global _routed_step
+    if _routed_step is None:
+        _routed_step = step_kernel.world_step_routed_entry()
+    return _routed_step
+
+
+_routed_step = None
 _STEER_OUTSIDE, _STEER_ROUTED = step_kernel.STEER_OUTSIDE, step_kernel.STEER_ROUTED  # (read every step: no module lookups)
 
 
@@ -51,6 +63,22 @@ def _contiguous(statics) -> bool:
     """Whether every array the routed compiled step reads of ``statics`` is C-contiguous."""
     arrays = (*statics.routes_fields, *statics.obstacle_fields, statics.scratch_targets, statics.missing)
     return all(a.flags.c_contiguous for a in arrays if isinstance(a, np.ndarray))
+
+
+def _routed_typed(statics) -> bool:
+    """Whether the routed step's arguments of ``statics`` have exactly the types of its entry point's
+    signature (``step_kernel.ROUTED_SIGNATURE``: numbers of those Python types, arrays of those dtypes and
+    dimensions, C-contiguous, aligned and writable): the entry point unboxes them without checking."""
+    pairs = (*zip(statics.routes_fields, step_kernel.ROUTES_KINDS), *zip(statics.obstacle_fields, step_kernel.OBSTACLES_KINDS),
+             (statics.scratch_targets, (np.float64, 2)), (statics.missing, (np.int64, 1)))  # fmt: skip
+    for value, (kind, ndim) in pairs:
+        if ndim is None:
+            if type(value) is not kind:
+                return False
+        elif not (type(value) is np.ndarray and value.dtype == kind and value.ndim == ndim and value.flags.c_contiguous and value.flags.aligned
+                  and value.flags.writeable):  # fmt: skip
+            return False
+    return len(statics.routes_fields) == len(step_kernel.ROUTES_KINDS) and len(statics.obstacle_fields) == len(step_kernel.OBSTACLES_KINDS)
 
 
 class World(SpaceKeeper):
@@ -154,6 +182,9 @@ class World(SpaceKeeper):
                 behaviour, idx = self._drivers[0][0], self._drivers[0][1]
                 if mode == step_kernel.STEER_ROUTED and not _contiguous(self._human_statics):
                     mode = step_kernel.STEER_OUTSIDE  # (the compiled step reads their arrays as C-contiguous)
+        # the routed step through its entry point where the arguments have its types, else the dispatcher
+        routed = mode == step_kernel.STEER_ROUTED and _routed_typed(self._human_statics)
+        self._routed_call = _routed_entry() if routed else step_kernel.world_step_routed
         floats = np.zeros(step_kernel.float_length(m, mode == step_kernel.STEER_ORCA))
         floats[: 4 * m] = self.obstacle_state.ravel()
         floats[4 * m : 5 * m], floats[5 * m : 6 * m] = self._speeds, self.radii
@@ -249,10 +280,11 @@ class World(SpaceKeeper):
         statics = self._human_statics
         args = (self._ints, self._floats, statics.routes_fields, statics.obstacle_fields, statics.scratch_targets, statics.missing,
                 (x0, y0, dx, dy, goal_fraction, static_contact, min_gap))  # fmt: skip
-        ax, ay, moving, min_gap, first_contact, n_missing = step_kernel.world_step_routed(*args)
+        call = self._routed_call
+        ax, ay, moving, min_gap, first_contact, n_missing = call(*args)
         while n_missing:  # some human first lost sight of its goal: its route (grid_dijkstra), then the step
             statics.fill_routes(n_missing)
-            ax, ay, moving, min_gap, first_contact, n_missing = step_kernel.world_step_routed(*args)
+            ax, ay, moving, min_gap, first_contact, n_missing = call(*args)
         self.robot_xy = (ax, ay)
         dt = self._dt
         self.robot_velocity_xy = (dx / dt, dy / dt) if moving else (0.0, 0.0)
@@ -318,7 +350,7 @@ class World(SpaceKeeper):
     # -- pickling: pymunk's Space pickles itself; the batch buffer and its view are rebuilt ----
     def __getstate__(self):
         state = self.__dict__.copy()
-        for key in ("_buffer", "_pymunk_state", "_request", "_floats", "_ints"):
+        for key in ("_buffer", "_pymunk_state", "_request", "_floats", "_ints", "_routed_call"):
             del state[key]
         return state
 

@@ -95,7 +95,7 @@ def _array_typed(value, dtype, ndim) -> bool:
 
 
 def _remember(array) -> None:
-    if len(_SHARED_TYPED) >= 256:  # (a few geometries' worth; more: checked again)
+    if len(_SHARED_TYPED) >= 64:  # (a few geometries' worth; more: checked again)
         _SHARED_TYPED.clear()
     _SHARED_TYPED[id(array)] = array
 

@@ -90,8 +90,11 @@ def _routed_typed(statics) -> bool:
 
 
 def _array_typed(value, dtype, ndim) -> bool:
-    # (numpy's flag bits in one read: C-contiguous 0x1, aligned 0x100, writeable 0x400)
-    return type(value) is np.ndarray and value.dtype is dtype and value.ndim == ndim and value.flags.num & 0x501 == 0x501
+    # (numpy's flag bits in one read: C-contiguous 0x1, aligned 0x100, writeable 0x400; an array numba made
+    # has a dtype equal to numpy's, not numpy's own object)
+    if type(value) is not np.ndarray or value.ndim != ndim or not (value.dtype is dtype or value.dtype == dtype):
+        return False
+    return value.flags.num & 0x501 == 0x501
 
 
 def _remember(array) -> None:
@@ -105,49 +108,6 @@ _ROUTES_KINDS = tuple((kind, None) if ndim is None else (np.dtype(kind), ndim) f
 _OBSTACLES_KINDS = tuple((np.dtype(kind), ndim) for kind, ndim in step_kernel.OBSTACLES_KINDS)
 _SHARED_ROUTES = frozenset({5, 6, 11})  # Routes.free, nearest, blocked_below: the grid's (routing._grid, cached per geometry)
 _SHARED_TYPED: dict[int, np.ndarray] = {}  # id -> a shared array found typed (kept, so that its id stays its own)
-
-
-def _compile_step() -> None:
-    """Compile the world's step once a process, when the first world is built rather than at import
-    (``import pathplan_env`` stays fast: ``pathplan-env --help`` does not wait for numba)."""
-    global _world_step
-    if _world_step is None:
-        _world_step = step_kernel.world_step_entry()
-
-
-def _routed_entry():
-    """The routed step's entry point (``step_kernel.world_step_routed_entry``), made by the first world
-    that steps a crowd among walls."""
-    global _routed_step
-    if _routed_step is None:
-        _routed_step = step_kernel.world_step_routed_entry()
-    return _routed_step
-
-
-_routed_step = None
-_STEER_OUTSIDE, _STEER_ROUTED = step_kernel.STEER_OUTSIDE, step_kernel.STEER_ROUTED  # (read every step: no module lookups)
-
-
-def _contiguous(statics) -> bool:
-    """Whether every array the routed compiled step reads of ``statics`` is C-contiguous."""
-    arrays = (*statics.routes_fields, *statics.obstacle_fields, statics.scratch_targets, statics.missing)
-    return all(a.flags.c_contiguous for a in arrays if isinstance(a, np.ndarray))
-
-
-def _routed_typed(statics) -> bool:
-    """Whether the routed step's arguments of ``statics`` have exactly the types of its entry point's
-    signature (``step_kernel.ROUTED_SIGNATURE``: numbers of those Python types, arrays of those dtypes and
-    dimensions, C-contiguous, aligned and writable): the entry point unboxes them without checking."""
-    pairs = (*zip(statics.routes_fields, step_kernel.ROUTES_KINDS), *zip(statics.obstacle_fields, step_kernel.OBSTACLES_KINDS),
-             (statics.scratch_targets, (np.float64, 2)), (statics.missing, (np.int64, 1)))  # fmt: skip
-    for value, (kind, ndim) in pairs:
-        if ndim is None:
-            if type(value) is not kind:
-                return False
-        elif not (type(value) is np.ndarray and value.dtype == kind and value.ndim == ndim and value.flags.c_contiguous and value.flags.aligned
-                  and value.flags.writeable):  # fmt: skip
-            return False
-    return len(statics.routes_fields) == len(step_kernel.ROUTES_KINDS) and len(statics.obstacle_fields) == len(step_kernel.OBSTACLES_KINDS)
 
 
 class World(SpaceKeeper):

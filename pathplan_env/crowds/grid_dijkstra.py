@@ -221,4 +221,14 @@ def extend_rows(graph, queue, sources, rows, needs, reach, out):
         out.complete[r] = _search(graph, queue, sources[k], needs[k], reach, out.dist[r], out.pred[r], out.settled[r])
 
 
-__all__ = ["NEIGHBOURS", "NO_PREDECESSOR", "Graph", "GridGraph", "Queue", "RouteRows", "buckets", "extend_rows", "grid_adjacency", "grid_graph", "route_rows"]
+@numba.njit(cache=True)
+def extend_rows_fields(graph_fields, queue_fields, sources, rows, needs, reach, out_fields):
+    """:func:`extend_rows` with its three records passed as plain tuples of their fields and rebuilt here:
+    numba types a NamedTuple argument in Python at every call (~5 µs each), a tuple of arrays in C."""
+    extend_rows(GridGraph(*graph_fields), Queue(*queue_fields), sources, rows, needs, reach, RouteRows(*out_fields))
+
+
+__all__ = [
+    "NEIGHBOURS", "NO_PREDECESSOR", "Graph", "GridGraph", "Queue", "RouteRows", "buckets", "extend_rows",
+    "extend_rows_fields", "grid_adjacency", "grid_graph", "route_rows",
+]

@@ -35,7 +35,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from pathplan_env.crowds.grid_dijkstra import GridGraph, Queue, RouteRows, buckets, extend_rows, grid_adjacency, grid_graph
+from pathplan_env.crowds.grid_dijkstra import GridGraph, Queue, buckets, extend_rows_fields, grid_adjacency, grid_graph
 from pathplan_env.crowds.orca_obstacles import ORCAObstacles, obstacle_vertices
 from pathplan_env.geometry.walls import points_clearance
 
@@ -109,8 +109,8 @@ class HumanStatics(NamedTuple):
         if (needs < 0).any():
             resolve_nearest(routes.nearest, routes.free, routes.rows, routes.cols)
             rows, needs = rows[needs >= 0], needs[needs >= 0]
-        out = RouteRows(routes.dist, routes.pred, routes.settled, routes.ready)
-        extend_rows(self.graph, self.queue, self.goal_cells[rows], rows, needs, ROUTE_REACH, out)
+        out = (routes.dist, routes.pred, routes.settled, routes.ready)  # (RouteRows' fields: extend_rows_fields)
+        extend_rows_fields(tuple(self.graph), tuple(self.queue), self.goal_cells[rows], rows, needs, ROUTE_REACH, out)
 
 
 class _Grid(NamedTuple):

@@ -323,11 +323,11 @@ def static_stop(x0, y0, dx, dy, goal_fraction, robot_radius, segments) -> tuple[
     fraction with ``contact`` true and gap 0; otherwise the stop stays ``goal_fraction`` and the gap
     is the walls' smallest up to where the robot stops.
     """
-    gap, t = swept_capsules(x0, y0, x0 + dx, y0 + dy, robot_radius, segments)
+    gap, t = _swept.swept_capsules_near(x0, y0, x0 + dx, y0 + dy, robot_radius, segments)
     if t <= 1.0 and t <= goal_fraction:
         return t, True, 0.0
     if goal_fraction < 1.0:  # the goal is reached part-way: the gap counts up to there
-        gap = swept_capsules(x0, y0, x0 + goal_fraction * dx, y0 + goal_fraction * dy, robot_radius, segments)[0]
+        gap = _swept.swept_capsules_near(x0, y0, x0 + goal_fraction * dx, y0 + goal_fraction * dy, robot_radius, segments)[0]
     return goal_fraction, False, gap
 
 
@@ -389,3 +389,6 @@ __all__ = [
     "swept_capsules",
     "static_stop",
 ]
+
+# swept_capsules' answer with far capsules skipped (imported last: it builds on swept_capsule above)
+from pathplan_env.geometry import swept_walls as _swept  # noqa: E402

@@ -22,6 +22,8 @@ from shapely.geometry import LineString, Polygon
 from shapely.geometry.polygon import orient
 from shapely.ops import split
 
+from pathplan_env.scenarios.draws import MAX_BOUND, bit_source, next_below, next_double
+
 #: Simplification (cells): half a cell keeps a lone pixel a square and every cell centre on its side of
 #: the boundary, and still straightens the one-pixel staircases of a SLAM map's slanted walls.
 DEFAULT_TOLERANCE = 0.5
@@ -124,7 +126,10 @@ class OccupancyMap:
         ``(gaps >= clearance) & (gaps > 0)`` with ``gaps = self.clearance(pts)``, the same booleans, by
         :func:`_batch`'s bound, shapely measuring only the points it leaves open."""
         centre = self._centre_clearance if self.polygons else _NO_CENTRES
-        pts, verdict = _batch_fields(picks, offsets, self._cell_grid, centre, self._edges, float(clearance))
+        return self._settled(*_batch_fields(picks, offsets, self._cell_grid, centre, self._edges, float(clearance)), clearance)
+
+    def _settled(self, pts: np.ndarray, verdict: np.ndarray, clearance: float) -> tuple[np.ndarray, np.ndarray]:
+        """``(pts, which have clearance)`` from :func:`_batch`'s verdicts, shapely deciding the unsure ones."""
         unsure = verdict == _UNSURE
         if unsure.any():
             gaps = shapely.distance(self.geometry, shapely.points(pts[unsure]))
@@ -152,8 +157,27 @@ class OccupancyMap:
         cells = self.free_cells(clearance)
         avoid = [(np.asarray(p, dtype=float), float(d)) for p, d in avoid]
         chosen: list[np.ndarray] = []
+        # a batch drawn and tested in one compiled call (numpy's draws, bit for bit: scenarios.draws), one
+        # point's avoid tests too, where the squared distances decide them (else Python's tests below)
+        drawn = isinstance(rng, np.random.Generator) and 0 < len(cells) <= MAX_BOUND and all(q.shape == (2,) for q, _ in avoid)
+        if drawn:
+            source, centre = bit_source(rng), self._centre_clearance if self.polygons else _NO_CENTRES
+            targets = np.array([(q[0], q[1], d) for q, d in avoid], np.float64).reshape(-1, 3)
         for _ in range(max_batches if len(cells) else 0):
-            pts, clear = self._candidates(cells[rng.integers(len(cells), size=64)], rng.random((64, 2)), clearance)
+            if drawn:
+                pts, verdict, first = _drawn_batch(cells, source, self._cell_grid, centre, self._edges, float(clearance), targets)
+                if n == 1 and first >= -1:
+                    if first >= 0:
+                        return pts[first : first + 1].copy()
+                    continue
+                pts, clear = self._settled(pts, verdict, clearance)
+            else:
+                pts, clear = self._candidates(cells[rng.integers(len(cells), size=64)], rng.random((64, 2)), clearance)
+            if n == 1:  # one point (a scene's start, its goal): the batch's avoid tests at once, the first kept point
+                keep = _kept(pts, np.flatnonzero(clear), avoid)
+                if keep >= 0:
+                    return pts[keep : keep + 1].copy()
+                continue
             for p in pts[clear]:
                 if all(math.dist(p, q) >= min_separation for q in chosen) and all(math.dist(p, q) >= d for q, d in avoid):
                     chosen.append(p)
@@ -164,6 +188,27 @@ class OccupancyMap:
 
 _CLEAR, _UNSURE = 1, 2
 _NO_CENTRES = np.zeros(0)
+
+
+def _kept(pts: np.ndarray, rows: np.ndarray, avoid: list) -> int:
+    """The first of ``pts[rows]`` at least ``d`` from every ``(q, d)`` of ``avoid`` (``math.dist(p, q) >= d``,
+    :meth:`OccupancyMap.sample_free`'s test), or -1. The squared distances decide, numpy over the batch,
+    except within a relative 1e-9 of ``d * d`` (their rounding is ~1e-16), where ``math.dist`` does: the
+    per-point loop of Python's tests was most of a maze start and goal's draw."""
+    for q, d in avoid:
+        if not len(rows):
+            break
+        if not d > 0.0:  # (math.dist >= 0 always holds; a NaN never does)
+            rows = rows if d <= 0.0 else rows[:0]
+            continue
+        dx, dy = pts[rows, 0] - q[0], pts[rows, 1] - q[1]
+        squared, limit = dx * dx + dy * dy, d * d
+        far = squared > limit * (1.0 + 1e-9)
+        unsure = np.flatnonzero(~far & (squared >= limit * (1.0 - 1e-9)))
+        for k in unsure.tolist():
+            far[k] = math.dist(pts[rows[k]], q) >= d
+        rows = rows[far]
+    return int(rows[0]) if len(rows) else -1
 
 
 class CellGrid(NamedTuple):
@@ -223,6 +268,51 @@ def _batch(picks, offsets, grid, centre, edges, clearance):
 def _batch_fields(picks, offsets, grid_fields, centre, edges, clearance):
     """:func:`_batch` with its :class:`CellGrid` as a plain tuple of its fields."""
     return _batch(picks, offsets, CellGrid(*grid_fields), centre, edges, clearance)
+
+
+@numba.njit(cache=True)
+def _drawn_batch(cells, source, grid_fields, centre, edges, clearance, targets):
+    """:func:`_batch_fields` of the batch ``cells[rng.integers(len(cells), size=64)]``, ``rng.random((64, 2))``
+    drawn here (``scenarios.draws``: numpy's draws in numpy's order), and :func:`_first_kept` of it."""
+    picks, offsets = np.empty(64, np.int64), np.empty((64, 2))
+    for k in range(64):
+        picks[k] = cells[next_below(source, cells.shape[0])]
+    for k in range(64):
+        offsets[k, 0] = next_double(source)
+        offsets[k, 1] = next_double(source)
+    pts, verdict = _batch(picks, offsets, CellGrid(*grid_fields), centre, edges, clearance)
+    return pts, verdict, _first_kept(pts, verdict, targets)
+
+
+@numba.njit(cache=True)
+def _first_kept(pts, verdict, targets):
+    """The first point with clearance (``_CLEAR``) at least ``d`` from every ``(qx, qy, d)`` row of ``targets``,
+    as :func:`_kept` decides it where the squared distances do; -1 if none, -2 where Python must decide (an
+    ``_UNSURE`` verdict or a distance within a relative 1e-9 of the limit before the first kept point)."""
+    for k in range(pts.shape[0]):
+        if verdict[k] == _UNSURE:
+            return -2
+        if verdict[k] != _CLEAR:
+            continue
+        kept = True
+        for t in range(targets.shape[0]):
+            d = targets[t, 2]
+            if d <= 0.0:
+                continue
+            if not d > 0.0:  # NaN: math.dist(p, q) >= nan never holds
+                kept = False
+                break
+            dx, dy = pts[k, 0] - targets[t, 0], pts[k, 1] - targets[t, 1]
+            squared, limit = dx * dx + dy * dy, d * d
+            if squared > limit * (1.0 + 1e-9):
+                continue
+            if squared < limit * (1.0 - 1e-9):
+                kept = False
+                break
+            return -2
+        if kept:
+            return k
+    return -1
 
 
 @numba.njit(cache=True, inline="always")

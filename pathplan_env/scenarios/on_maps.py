@@ -41,6 +41,8 @@ def scenario_kwargs(
     keep = robot_radius + obstacle_radius + margin
     avoid = [(start, keep), (goal, keep)]
     centres = occupancy.sample_free(rng, n_obstacles, obstacle_radius + margin, avoid=avoid, min_separation=2 * obstacle_radius + margin)
+    if n_obstacles == 0:  # (a scene drawn without obstacles, as the crowd maze's: no heading drawn, nothing to build)
+        return {"bounds": occupancy.bounds, "polygons": occupancy.polygons, "start": tuple(map(float, start)), "goal": tuple(map(float, goal)), "obstacles": ()}
     headings = rng.uniform(0.0, 2.0 * math.pi, size=n_obstacles)
     velocities = obstacle_speed * np.column_stack([np.cos(headings), np.sin(headings)]) + 0.0  # + 0.0: no -0.0 at rest
     obstacles = tuple(Obstacle(center=tuple(map(float, c)), radius=obstacle_radius, velocity=tuple(map(float, v))) for c, v in zip(centres, velocities))

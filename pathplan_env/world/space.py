@@ -22,12 +22,12 @@ from pathplan_env.world.chipmunk import (
     READ_BODY,
     WRITE_BODY,
     BatchBuffer,
-    add_shapes,
     address_of,
     each_body,
+    each_shape,
     ffi,
+    function_address,
     get_stamp,
-    remove_shapes,
     set_mass,
     set_radius,
     set_shape_counter,
@@ -39,6 +39,7 @@ from pathplan_env.world.chipmunk import (
 )
 
 _STATE_FIELDS = pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.VELOCITY
+_ADD_SHAPE, _REMOVE_SHAPE = function_address("cpSpaceAddShape"), function_address("cpSpaceRemoveShape")
 #: A lent space is renewed before Chipmunk's 32-bit stamps (one a step, one an insertion) near a wrap.
 STAMP_BUDGET = 2**31
 
@@ -58,6 +59,7 @@ class LentSpace(NamedTuple):
     state: np.ndarray  # the numpy view onto the buffer
     inserts: int  # an upper bound on the shapes inserted so far
     radii: list  # the obstacles' radii (their bodies' masses and shapes' radii as set)
+    shape_addresses: np.ndarray  # (n,) int64: the obstacles' cpShape pointers, in order
 
 
 def body_pointers(objects: list) -> list[int]:
@@ -106,7 +108,7 @@ class SpaceKeeper:
                 shape = pymunk.Circle(body, r)
                 shape.elasticity = 1.0  # friction is 0 by default
             objects += (body, shape)
-        self._objects, self._moving = objects, moving
+        self._objects, self._moving, self._shape_addresses = objects, moving, None
         self._pointers = body_pointers(objects)
         space_add(self.space, objects)
         self._inserts = len(self._walls) + len(self._statics) + len(objects)  # (an upper bound on the shapes inserted)
@@ -130,12 +132,17 @@ class SpaceKeeper:
                 or not self._same_statics(scenario.static_segments) or get_stamp(space._space) + self._inserts > STAMP_BUDGET):  # fmt: skip
             return None
         shapes, c_space = self._objects[1::2], space._space
-        remove_shapes(space, shapes)
+        addresses = getattr(self, "_shape_addresses", None)
+        if addresses is None or len(addresses) != len(shapes):
+            addresses = np.array([address_of(shape._shape) for shape in shapes], np.int64)
+        # Chipmunk's removals alone: pymunk's books (each shape's space, the space's shapes) stay as they
+        # were, which is what _take_space's additions would restore (the space is unusable in between)
+        each_shape(_REMOVE_SHAPE, address_of(c_space), addresses)
         self._park_bodies()
         set_time_step(c_space, 0.0)  # a new space's: no previous step to scale cached impulses by
         set_shape_counter(c_space, len(self._walls) - 1 + max(len(self._statics) - 1, 0))  # the ids after the static shapes'
         lent = LentSpace(space, self._walls, self._walls_bounds, self._statics, self._objects, self._pointers, self._moving, self._buffer,
-                         self._request, self._pymunk_state, self._inserts + len(shapes), self.radii.tolist())  # fmt: skip
+                         self._request, self._pymunk_state, self._inserts + len(shapes), self.radii.tolist(), addresses)  # fmt: skip
         self.space, self._objects, self._moving, self._walls, self._statics = None, [], [], (), ()
         self._ints = self._address = None  # the compiled step's raw handles: this world steps no more (step_kernel)
         return lent
@@ -154,7 +161,8 @@ class SpaceKeeper:
                 if dynamic:
                     set_mass(objects[2 * i]._body, r * r)
                 set_radius(objects[2 * i + 1]._shape, r)
-        add_shapes(self.space, objects[1::2])
+        self._shape_addresses = lent.shape_addresses
+        each_shape(_ADD_SHAPE, address_of(c_space), lent.shape_addresses)  # (pymunk's books already list them: _lend_space)
 
     def _release_moving_obstacles(self) -> list:
         """Empty this world and hand over its moving obstacles' (body, shape) pairs for reuse.

@@ -295,6 +295,38 @@ def _substeps(ints, dt, robot_radius, bodies, move):
     return ax, ay, moving, min_gap, first_contact
 
 
+def world_step_routed_entry():
+    """:func:`world_step_routed`'s compiled entry point for :data:`ROUTED_SIGNATURE` (compiled or loaded
+    from the cache on first use): the dispatcher's typing of its 30-odd arguments (a tuple of the
+    routes' 14 fields among them) was a tenth of a wall crowd's step. ``World`` calls it only with
+    arguments of exactly those types (``simulation._routed_typed``), else the dispatcher."""
+    world_step_routed.compile(ROUTED_SIGNATURE)
+    return world_step_routed.overloads[ROUTED_SIGNATURE].entry_point
+
+
+def _c_array(dtype, ndim):
+    return types.Array(dtype, ndim, "C")
+
+
+#: The routes' fields (``routing.Routes``) and the RVO2 obstacles' (``ORCAObstacles``) as ``World`` passes
+#: them to the entry point: ``(python type, None)`` for a number, ``(dtype, ndim)`` for a C-contiguous array.
+ROUTES_KINDS = ((float, None), (float, None), (float, None), (int, None), (int, None), (np.bool_, 1), (np.int64, 1), (np.float64, 2),
+                (np.int32, 2), (np.int64, 1), (np.bool_, 1), (np.int64, 2), (np.bool_, 2), (np.int64, 1))  # fmt: skip
+OBSTACLES_KINDS = ((np.float64, 2), (np.float64, 2), (np.int64, 1), (np.int64, 1), (np.bool_, 1))
+
+
+def _numba_kind(kind):
+    python_type, ndim = kind
+    if ndim is None:
+        return types.float64 if python_type is float else types.int64
+    return _c_array(numba.from_dtype(np.dtype(python_type)), ndim)
+
+
+ROUTED_SIGNATURE = (_c_array(types.int64, 1), _c_array(types.float64, 1), types.Tuple(tuple(map(_numba_kind, ROUTES_KINDS))),
+                    types.Tuple(tuple(map(_numba_kind, OBSTACLES_KINDS))), _c_array(types.float64, 2), _c_array(types.int64, 1),
+                    types.Tuple((*[types.float64] * 5, types.boolean, types.float64)))  # fmt: skip
+
+
 def world_step_entry():
     """:func:`world_step`'s compiled entry point for the one signature ``World.step`` calls it with
     (compiled or loaded from the cache on first use): calling it skips the dispatcher's matching of

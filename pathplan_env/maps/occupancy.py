@@ -22,7 +22,7 @@ from shapely.geometry import LineString, Polygon
 from shapely.geometry.polygon import orient
 from shapely.ops import split
 
-from pathplan_env.scenarios.draws import MAX_BOUND, bit_source, next_below, next_double
+from pathplan_env.maps.draws import MAX_BOUND, bit_source, next_below, next_double
 
 #: Simplification (cells): half a cell keeps a lone pixel a square and every cell centre on its side of
 #: the boundary, and still straightens the one-pixel staircases of a SLAM map's slanted walls.

@@ -33,10 +33,10 @@ import numpy as np
 
 from pathplan_env.arguments import check_count
 from pathplan_env.geometry.walls import polygon_shapes
+from pathplan_env.maps.draws import bit_source, next_below, next_double
 from pathplan_env.scenarios import wall_families as families
 from pathplan_env.scenarios.crowd_placement import HUMAN_SPEED, WALL_CLEARANCE, _crowd, _uniform, clearance_grid  # noqa: F401  (HUMAN_SPEED: its users' name)
 from pathplan_env.scenarios.crowdnav import HUMAN_RADIUS
-from pathplan_env.scenarios.draws import bit_source, next_below, next_double
 from pathplan_env.scenarios.scenario import Scenario
 
 

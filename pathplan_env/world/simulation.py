@@ -27,6 +27,7 @@ from pathplan_env.geometry.walls import capsules_clearance, static_stop
 from pathplan_env.scenarios.scenario import Scenario
 from pathplan_env.world import step_kernel
 from pathplan_env.world.chipmunk import READ_BODY, BatchBuffer, address_of, each_body, ffi, function_address, space_step
+from pathplan_env.world.routed_call import contiguous, routed_entry, routed_typed
 from pathplan_env.world.space import SpaceKeeper, body_pointers
 from pathplan_env.world.substep_count import substeps_for
 from pathplan_env.world.substep_kernels import _clearance, restore_speeds
@@ -46,68 +47,7 @@ def _compile_step() -> None:
         _world_step = step_kernel.world_step_entry()
 
 
-def _routed_entry():
-    """The routed step's entry point (``step_kernel.world_step_routed_entry``), made by the first world
-    that steps a crowd among walls."""
-    global _routed_step
-    if _routed_step is None:
-        _routed_step = step_kernel.world_step_routed_entry()
-    return _routed_step
-
-
-_routed_step = None
 _STEER_OUTSIDE, _STEER_ROUTED = step_kernel.STEER_OUTSIDE, step_kernel.STEER_ROUTED  # (read every step: no module lookups)
-
-
-def _contiguous(statics) -> bool:
-    """Whether every array the routed compiled step reads of ``statics`` is C-contiguous."""
-    arrays = (*statics.routes_fields, *statics.obstacle_fields, statics.scratch_targets, statics.missing)
-    return all(a.flags.c_contiguous for a in arrays if isinstance(a, np.ndarray))
-
-
-def _routed_typed(statics) -> bool:
-    """Whether the routed step's arguments of ``statics`` have exactly the types of its entry point's
-    signature (``step_kernel.ROUTED_SIGNATURE``: numbers of those Python types, arrays of those dtypes and
-    dimensions, C-contiguous, aligned and writable): the entry point unboxes them without checking.
-    The arrays a geometry's worlds share (its grid's, its RVO2 obstacles') are checked once (kept by identity)."""
-    routes, obstacles = statics.routes_fields, statics.obstacle_fields
-    if len(routes) != len(_ROUTES_KINDS) or len(obstacles) != len(_OBSTACLES_KINDS):
-        return False
-    for k, (value, (kind, ndim)) in enumerate(zip(routes, _ROUTES_KINDS)):
-        if ndim is None:
-            if type(value) is not kind:
-                return False
-        elif not (_SHARED_TYPED.get(id(value)) is value if k in _SHARED_ROUTES else _array_typed(value, kind, ndim)):
-            if k not in _SHARED_ROUTES or not _array_typed(value, kind, ndim):
-                return False
-            _remember(value)
-    for value, (kind, ndim) in zip(obstacles, _OBSTACLES_KINDS):
-        if _SHARED_TYPED.get(id(value)) is not value:
-            if not _array_typed(value, kind, ndim):
-                return False
-            _remember(value)
-    return _array_typed(statics.scratch_targets, _FLOAT64, 2) and _array_typed(statics.missing, _INT64, 1)
-
-
-def _array_typed(value, dtype, ndim) -> bool:
-    # (numpy's flag bits in one read: C-contiguous 0x1, aligned 0x100, writeable 0x400; an array numba made
-    # has a dtype equal to numpy's, not numpy's own object)
-    if type(value) is not np.ndarray or value.ndim != ndim or not (value.dtype is dtype or value.dtype == dtype):
-        return False
-    return value.flags.num & 0x501 == 0x501
-
-
-def _remember(array) -> None:
-    if len(_SHARED_TYPED) >= 64:  # (a few geometries' worth; more: checked again)
-        _SHARED_TYPED.clear()
-    _SHARED_TYPED[id(array)] = array
-
-
-_FLOAT64, _INT64 = np.dtype(np.float64), np.dtype(np.int64)
-_ROUTES_KINDS = tuple((kind, None) if ndim is None else (np.dtype(kind), ndim) for kind, ndim in step_kernel.ROUTES_KINDS)
-_OBSTACLES_KINDS = tuple((np.dtype(kind), ndim) for kind, ndim in step_kernel.OBSTACLES_KINDS)
-_SHARED_ROUTES = frozenset({5, 6, 11})  # Routes.free, nearest, blocked_below: the grid's (routing._grid, cached per geometry)
-_SHARED_TYPED: dict[int, np.ndarray] = {}  # id -> a shared array found typed (kept, so that its id stays its own)
 
 
 class World(SpaceKeeper):
@@ -210,10 +150,10 @@ class World(SpaceKeeper):
                 mode = step_kernel.STEER_ORCA if self._human_statics is None else step_kernel.STEER_ROUTED
                 behaviour, idx = self._drivers[0][0], self._drivers[0][1]
         # the routed step through its entry point where the arguments have its types, else the dispatcher
-        typed = mode == step_kernel.STEER_ROUTED and _routed_typed(self._human_statics)
-        if mode == step_kernel.STEER_ROUTED and not typed and not _contiguous(self._human_statics):
+        typed = mode == step_kernel.STEER_ROUTED and routed_typed(self._human_statics)
+        if mode == step_kernel.STEER_ROUTED and not typed and not contiguous(self._human_statics):
             mode = step_kernel.STEER_OUTSIDE  # (the compiled step reads their arrays as C-contiguous)
-        self._routed_call = _routed_entry() if typed else step_kernel.world_step_routed
+        self._routed_call = routed_entry() if typed else step_kernel.world_step_routed
         n_order = m + 1 if mode == step_kernel.STEER_ORCA else 0  # ORCA's neighbour order (scratch)
         bodies = step_kernel.INT_HEADER + len(idx) + n_order  # where the cpBody pointers start
         n_ints, n_floats = bodies + m, step_kernel.float_length(m, mode == step_kernel.STEER_ORCA)

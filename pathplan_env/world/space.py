@@ -22,12 +22,14 @@ from pathplan_env.world.chipmunk import (
     READ_BODY,
     WRITE_BODY,
     BatchBuffer,
+    add_shapes,  # noqa: F401 (0.1.0's `pathplan_env.world_space` offered it: kept importable)
     address_of,
     each_body,
     each_shape,
     ffi,
     function_address,
     get_stamp,
+    remove_shapes,  # noqa: F401 (as add_shapes)
     set_mass,
     set_radius,
     set_shape_counter,

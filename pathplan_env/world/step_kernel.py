@@ -299,7 +299,7 @@ def world_step_routed_entry():
     """:func:`world_step_routed`'s compiled entry point for :data:`ROUTED_SIGNATURE` (compiled or loaded
     from the cache on first use): the dispatcher's typing of its 30-odd arguments (a tuple of the
     routes' 14 fields among them) was a tenth of a wall crowd's step. ``World`` calls it only with
-    arguments of exactly those types (``simulation._routed_typed``), else the dispatcher."""
+    arguments of exactly those types (``routed_call.routed_typed``), else the dispatcher."""
     world_step_routed.compile(ROUTED_SIGNATURE)
     return world_step_routed.overloads[ROUTED_SIGNATURE].entry_point
 

@@ -5,8 +5,7 @@ import math
 
 import numpy as np
 
-from pathplan_env.geometry.swept_walls import swept_capsules_near
-from pathplan_env.geometry.walls import static_stop, swept_capsules
+from pathplan_env.geometry.swept_walls import static_stop, swept_capsules, swept_capsules_near
 from pathplan_env.scenarios.presets import make_scenario
 
 

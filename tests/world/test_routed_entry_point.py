@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from pathplan_env.scenarios.presets import make_scenario
-from pathplan_env.world import simulation, step_kernel
+from pathplan_env.world import routed_call, step_kernel
 from pathplan_env.world.simulation import World
 
 
@@ -19,7 +19,7 @@ def test_the_wall_crowds_step_through_the_entry_point_as_through_the_dispatcher(
     for seed in range(3):
         scenario = crowd(preset, seed)
         fast, slow = World(scenario), World(scenario)
-        assert fast._routed_call is simulation._routed_step is not None
+        assert fast._routed_call is routed_call.routed_step is not None
         slow._routed_call = step_kernel.world_step_routed
         rng = np.random.default_rng(seed)
         for _ in range(60):
@@ -32,12 +32,12 @@ def test_the_wall_crowds_step_through_the_entry_point_as_through_the_dispatcher(
 def test_other_types_take_the_dispatcher():
     """A routes' field of another type (an int corner, a read-only or float32 array) is not unboxed as the signature's."""
     statics = World(crowd("corridor-crowd"))._human_statics
-    assert simulation._routed_typed(statics)
+    assert routed_call.routed_typed(statics)
     fields = list(statics.routes_fields)
     for k, other in ((0, 0), (3, 3.0), (7, fields[7].astype(np.float32)), (8, np.asfortranarray(fields[8][:, :3]))):
         changed = list(fields)
         changed[k] = other
-        assert not simulation._routed_typed(statics._replace(routes_fields=tuple(changed)))
+        assert not routed_call.routed_typed(statics._replace(routes_fields=tuple(changed)))
     read_only = fields[5].copy()
     read_only.flags.writeable = False
-    assert not simulation._routed_typed(statics._replace(routes_fields=(*fields[:5], read_only, *fields[6:])))
+    assert not routed_call.routed_typed(statics._replace(routes_fields=(*fields[:5], read_only, *fields[6:])))

@@ -4,7 +4,7 @@ the generator in numpy's state (the buffered 32-bit half of PCG64 included), wha
 import numpy as np
 import pytest
 
-from pathplan_env.scenarios.draws import bit_source, integers, uniform
+from pathplan_env.maps.draws import bit_source, integers, uniform
 
 
 def same_state(a, b) -> bool:

@@ -28,7 +28,16 @@ import numpy as np
 from numba.extending import overload
 
 from agents.planners.costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal
-from agents.planners.resting_discs import EVERY_OBSTACLE, RestingSet, moving_obstacles, obstacles_along, obstacles_near_again, visited
+from agents.planners.resting_discs import (
+    EVERY_OBSTACLE,
+    RestingSet,
+    broad_phase_of,
+    moving_obstacles,
+    obstacles_along,
+    obstacles_near_again,
+    off_chord,
+    visited,
+)
 from pathplan_env.geometry.contacts import swept_pair
 from pathplan_env.geometry.walls import swept_capsule
 from pathplan_env.robots.holonomic import reach_fraction, substep_point
@@ -272,6 +281,20 @@ def _rest_visits(scene, ax, ay, bx, by, visit):
     return obstacles_along(scene.resting, scene.contact_radii.shape[0], ax, ay, bx, by, scene.robot_radius, visit)
 
 
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _out_of_reach(scene, rests, o, step, px, py, dx, dy, ee):
+    """Whether the robot's step ``step`` from ``p`` by ``d`` (``ee``: ``|d|^2``) cannot touch obstacle
+    ``o``, so that its substep tests are passed over: a resting one (``rests``) off the chord
+    (:func:`off_chord`: one test for ``substeps``), or one that starts farther than both move."""
+    robot_radius, contact_radius = scene.robot_radius, scene.contact_radii[o]
+    if rests and off_chord(scene.trajectory[0, o, 0], scene.trajectory[0, o, 1], px, py, dx, dy, ee, robot_radius + contact_radius):
+        return True
+    first = step * scene.substeps
+    ox, oy = scene.trajectory[first, o, 0], scene.trajectory[first, o, 1]
+    gap0 = math.sqrt((px - ox) * (px - ox) + (py - oy) * (py - oy)) - robot_radius - contact_radius
+    return gap0 > scene.reach + scene.travel[step, o]
+
+
 @numba.njit(cache=True, inline="always")
 def _sort_ascending(values, count):
     """Sort ``values[:count]`` in place (insertion sort: a plan touches a few obstacles)."""
@@ -324,7 +347,7 @@ def timed_path_cost(x, scene):
     """
     traj, n, robot_radius, contact_radii = scene.trajectory, scene.substeps, scene.robot_radius, scene.contact_radii
     robot, goal, goal_radius, reach = scene.robot, scene.goal, scene.goal_radius, scene.reach
-    horizon_steps, penalty_weight, travel = scene.horizon_steps, scene.penalty_weight, scene.travel
+    horizon_steps, penalty_weight = scene.horizon_steps, scene.penalty_weight
     statics = scene.statics
     k = (x.shape[0] - 1) // 3
     pts = np.empty((k + 2, 2))
@@ -353,16 +376,16 @@ def timed_path_cost(x, scene):
     visit = indices[n_obs : 2 * n_obs]
     span = indices[2 * n_obs :]  # the grid cells ``visit`` holds for the horizon's steps (none yet)
     span[:] = -2
+    broad, n_moving, chord = broad_phase_of(scene.resting, n_obs)
     for step in range(horizon_steps):
         nseg, qx, qy = walk_along(pts, seg, px, py, x[2 * k + seg] * reach)
         dx, dy = qx - px, qy - py
         goal_t = reach_fraction(px, py, dx, dy, goal[0], goal[1], goal_radius)
         first = step * n
+        ee = dx * dx + dy * dy
         for q in range(obstacles_near_again(scene.resting, n_obs, px, py, reach + robot_radius, visit, span)):
-            o = visited(scene.resting, visit, q)
-            ox, oy = traj[first, o, 0], traj[first, o, 1]
-            gap0 = math.sqrt((px - ox) * (px - ox) + (py - oy) * (py - oy)) - robot_radius - contact_radii[o]
-            if gap0 > reach + travel[step, o]:
+            o = visit[q] if broad else q  # (:func:`visited`, read here: a compiled call a visit cost more than the test)
+            if _out_of_reach(scene, chord and q >= n_moving, o, step, px, py, dx, dy, ee):
                 continue
             ax, ay = px, py
             sub_reach = math.sqrt(dx * dx + dy * dy) / n

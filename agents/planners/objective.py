@@ -39,6 +39,7 @@ from agents.planners.resting_discs import (
     visited,
 )
 from pathplan_env.geometry.contacts import swept_pair
+from pathplan_env.geometry.disc_grid import span_of
 from pathplan_env.geometry.walls import swept_capsule
 from pathplan_env.robots.holonomic import reach_fraction, substep_point
 
@@ -281,6 +282,20 @@ def _rest_visits(scene, ax, ay, bx, by, visit):
     return obstacles_along(scene.resting, scene.contact_radii.shape[0], ax, ay, bx, by, scene.robot_radius, visit)
 
 
+@numba.njit(cache=True, inline="always")
+def _step_visits(scene, broad, n_moving, shape, px, py, visit, span):
+    """:func:`obstacles_near_again` for a step from ``p`` (``broad``, ``n_moving``, ``shape``: what
+    :func:`broad_phase_of` read): where the step's grid cells are the last one's, its count is read
+    here, and the compiled call taking the record (dearer than the tests it lists) made only where they are not."""
+    n_obs, distance = scene.contact_radii.shape[0], scene.reach + scene.robot_radius
+    if not broad:
+        return n_obs
+    i0, i1, j0, j1 = span_of(shape, px, py, px, py, distance)
+    if i0 == span[0] and i1 == span[1] and j0 == span[2] and j1 == span[3]:
+        return n_moving + span[4]
+    return obstacles_near_again(scene.resting, n_obs, px, py, distance, visit, span)
+
+
 @numba.njit(cache=True, inline="always", error_model="numpy")
 def _out_of_reach(scene, rests, o, step, px, py, dx, dy, ee):
     """Whether the robot's step ``step`` from ``p`` by ``d`` (``ee``: ``|d|^2``) cannot touch obstacle
@@ -376,14 +391,14 @@ def timed_path_cost(x, scene):
     visit = indices[n_obs : 2 * n_obs]
     span = indices[2 * n_obs :]  # the grid cells ``visit`` holds for the horizon's steps (none yet)
     span[:] = -2
-    broad, n_moving, chord = broad_phase_of(scene.resting, n_obs)
+    broad, n_moving, chord, shape = broad_phase_of(scene.resting, n_obs)
     for step in range(horizon_steps):
         nseg, qx, qy = walk_along(pts, seg, px, py, x[2 * k + seg] * reach)
         dx, dy = qx - px, qy - py
         goal_t = reach_fraction(px, py, dx, dy, goal[0], goal[1], goal_radius)
         first = step * n
         ee = dx * dx + dy * dy
-        for q in range(obstacles_near_again(scene.resting, n_obs, px, py, reach + robot_radius, visit, span)):
+        for q in range(_step_visits(scene, broad, n_moving, shape, px, py, visit, span)):
             o = visit[q] if broad else q  # (:func:`visited`, read here: a compiled call a visit cost more than the test)
             if _out_of_reach(scene, chord and q >= n_moving, o, step, px, py, dx, dy, ee):
                 continue

@@ -16,7 +16,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from pathplan_env.geometry.disc_grid import DiscGrid, cell_span, collect_span, disc_grid, near_point, near_segment
+from pathplan_env.geometry.disc_grid import DiscGrid, cell_span, collect_span, disc_grid, grid_shape, near_point, near_segment
 
 #: Below this many resting obstacles every obstacle is visited: a grid's bookkeeping costs more than
 #: testing a few dozen distances (and among the benchmark's 8 moving obstacles there are none).
@@ -154,8 +154,8 @@ def broad_phase_of(resting, n_obstacles):
     how many of the list's first obstacles move, whether the resting ones pass :func:`off_chord`)``.
     Without a broad phase every obstacle is visited as a moving one: ``(False, n_obstacles, False)``."""
     if resting is None:
-        return False, n_obstacles, False
-    return True, resting.moving.shape[0], resting.chord
+        return False, n_obstacles, False, (0.0, 0.0, 1.0, 1, 1, 0.0, 0)
+    return True, resting.moving.shape[0], resting.chord, grid_shape(resting.grid)
 
 
 @numba.njit(cache=True, inline="always")

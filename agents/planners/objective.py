@@ -36,7 +36,6 @@ from agents.planners.resting_discs import (
     obstacles_along,
     obstacles_near_again,
     off_chord,
-    visited,
 )
 from pathplan_env.geometry.contacts import swept_pair
 from pathplan_env.geometry.disc_grid import span_of
@@ -274,10 +273,13 @@ def _touch(o, touched, depth, hits, n_hits):
 
 
 @numba.njit(cache=True, inline="always")
-def _rest_visits(scene, ax, ay, bx, by, visit):
+def _rest_visits(scene, no_movers, ax, ay, bx, by, visit):
     """The obstacles a piece ``a``-``b`` of the rest visits (written to ``visit``, :func:`visited`): the moving
-    ones alone where every resting one is exempt (:attr:`TimedScene.rest_skips_resting`); their count."""
+    ones alone where every resting one is exempt (:attr:`TimedScene.rest_skips_resting`), none without a
+    mover (``no_movers``: a broad phase's grid holds every obstacle; no compiled call a piece); their count."""
     if scene.rest_skips_resting:
+        if no_movers:
+            return 0
         return moving_obstacles(scene.resting, scene.contact_radii.shape[0], visit)
     return obstacles_along(scene.resting, scene.contact_radii.shape[0], ax, ay, bx, by, scene.robot_radius, visit)
 
@@ -446,8 +448,8 @@ def timed_path_cost(x, scene):
         for s in range(seg + 1, k + 2):
             bx, by = pts[s, 0], pts[s, 1]
             rest += math.sqrt((bx - ax) * (bx - ax) + (by - ay) * (by - ay))
-            for q in range(_rest_visits(scene, ax, ay, bx, by, visit) if rest_obstacles else 0):
-                o = visited(scene.resting, visit, q)
+            for q in range(_rest_visits(scene, broad and n_moving == 0, ax, ay, bx, by, visit) if rest_obstacles else 0):
+                o = visit[q] if broad else q  # (:func:`visited`)
                 if o < scene.rest_exempt.shape[0] and scene.rest_exempt[o]:
                     continue
                 r = contact_radii[o] + robot_radius

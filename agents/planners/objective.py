@@ -28,8 +28,17 @@ import numpy as np
 from numba.extending import overload
 
 from agents.planners.costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal
-from agents.planners.resting_discs import EVERY_OBSTACLE, RestingSet, moving_obstacles, obstacles_along, obstacles_near_again, visited
+from agents.planners.resting_discs import (
+    EVERY_OBSTACLE,
+    RestingSet,
+    broad_phase_of,
+    moving_obstacles,
+    obstacles_along,
+    obstacles_near_again,
+    off_chord,
+)
 from pathplan_env.geometry.contacts import swept_pair
+from pathplan_env.geometry.disc_grid import span_of
 from pathplan_env.geometry.walls import swept_capsule
 from pathplan_env.robots.holonomic import reach_fraction, substep_point
 
@@ -264,12 +273,43 @@ def _touch(o, touched, depth, hits, n_hits):
 
 
 @numba.njit(cache=True, inline="always")
-def _rest_visits(scene, ax, ay, bx, by, visit):
+def _rest_visits(scene, no_movers, ax, ay, bx, by, visit):
     """The obstacles a piece ``a``-``b`` of the rest visits (written to ``visit``, :func:`visited`): the moving
-    ones alone where every resting one is exempt (:attr:`TimedScene.rest_skips_resting`); their count."""
+    ones alone where every resting one is exempt (:attr:`TimedScene.rest_skips_resting`), none without a
+    mover (``no_movers``: a broad phase's grid holds every obstacle; no compiled call a piece); their count."""
     if scene.rest_skips_resting:
+        if no_movers:
+            return 0
         return moving_obstacles(scene.resting, scene.contact_radii.shape[0], visit)
     return obstacles_along(scene.resting, scene.contact_radii.shape[0], ax, ay, bx, by, scene.robot_radius, visit)
+
+
+@numba.njit(cache=True, inline="always")
+def _step_visits(scene, broad, n_moving, shape, px, py, visit, span):
+    """:func:`obstacles_near_again` for a step from ``p`` (``broad``, ``n_moving``, ``shape``: what
+    :func:`broad_phase_of` read): where the step's grid cells are the last one's, its count is read
+    here, and the compiled call taking the record (dearer than the tests it lists) made only where they are not."""
+    n_obs, distance = scene.contact_radii.shape[0], scene.reach + scene.robot_radius
+    if not broad:
+        return n_obs
+    i0, i1, j0, j1 = span_of(shape, px, py, px, py, distance)
+    if i0 == span[0] and i1 == span[1] and j0 == span[2] and j1 == span[3]:
+        return n_moving + span[4]
+    return obstacles_near_again(scene.resting, n_obs, px, py, distance, visit, span)
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _out_of_reach(scene, rests, o, step, px, py, dx, dy, ee):
+    """Whether the robot's step ``step`` from ``p`` by ``d`` (``ee``: ``|d|^2``) cannot touch obstacle
+    ``o``, so that its substep tests are passed over: a resting one (``rests``) off the chord
+    (:func:`off_chord`: one test for ``substeps``), or one that starts farther than both move."""
+    robot_radius, contact_radius = scene.robot_radius, scene.contact_radii[o]
+    if rests and off_chord(scene.trajectory[0, o, 0], scene.trajectory[0, o, 1], px, py, dx, dy, ee, robot_radius + contact_radius):
+        return True
+    first = step * scene.substeps
+    ox, oy = scene.trajectory[first, o, 0], scene.trajectory[first, o, 1]
+    gap0 = math.sqrt((px - ox) * (px - ox) + (py - oy) * (py - oy)) - robot_radius - contact_radius
+    return gap0 > scene.reach + scene.travel[step, o]
 
 
 @numba.njit(cache=True, inline="always")
@@ -324,7 +364,7 @@ def timed_path_cost(x, scene):
     """
     traj, n, robot_radius, contact_radii = scene.trajectory, scene.substeps, scene.robot_radius, scene.contact_radii
     robot, goal, goal_radius, reach = scene.robot, scene.goal, scene.goal_radius, scene.reach
-    horizon_steps, penalty_weight, travel = scene.horizon_steps, scene.penalty_weight, scene.travel
+    horizon_steps, penalty_weight = scene.horizon_steps, scene.penalty_weight
     statics = scene.statics
     k = (x.shape[0] - 1) // 3
     pts = np.empty((k + 2, 2))
@@ -353,16 +393,16 @@ def timed_path_cost(x, scene):
     visit = indices[n_obs : 2 * n_obs]
     span = indices[2 * n_obs :]  # the grid cells ``visit`` holds for the horizon's steps (none yet)
     span[:] = -2
+    broad, n_moving, chord, shape = broad_phase_of(scene.resting, n_obs)
     for step in range(horizon_steps):
         nseg, qx, qy = walk_along(pts, seg, px, py, x[2 * k + seg] * reach)
         dx, dy = qx - px, qy - py
         goal_t = reach_fraction(px, py, dx, dy, goal[0], goal[1], goal_radius)
         first = step * n
-        for q in range(obstacles_near_again(scene.resting, n_obs, px, py, reach + robot_radius, visit, span)):
-            o = visited(scene.resting, visit, q)
-            ox, oy = traj[first, o, 0], traj[first, o, 1]
-            gap0 = math.sqrt((px - ox) * (px - ox) + (py - oy) * (py - oy)) - robot_radius - contact_radii[o]
-            if gap0 > reach + travel[step, o]:
+        ee = dx * dx + dy * dy
+        for q in range(_step_visits(scene, broad, n_moving, shape, px, py, visit, span)):
+            o = visit[q] if broad else q  # (:func:`visited`, read here: a compiled call a visit cost more than the test)
+            if _out_of_reach(scene, chord and q >= n_moving, o, step, px, py, dx, dy, ee):
                 continue
             ax, ay = px, py
             sub_reach = math.sqrt(dx * dx + dy * dy) / n
@@ -408,8 +448,8 @@ def timed_path_cost(x, scene):
         for s in range(seg + 1, k + 2):
             bx, by = pts[s, 0], pts[s, 1]
             rest += math.sqrt((bx - ax) * (bx - ax) + (by - ay) * (by - ay))
-            for q in range(_rest_visits(scene, ax, ay, bx, by, visit) if rest_obstacles else 0):
-                o = visited(scene.resting, visit, q)
+            for q in range(_rest_visits(scene, broad and n_moving == 0, ax, ay, bx, by, visit) if rest_obstacles else 0):
+                o = visit[q] if broad else q  # (:func:`visited`)
                 if o < scene.rest_exempt.shape[0] and scene.rest_exempt[o]:
                     continue
                 r = contact_radii[o] + robot_radius

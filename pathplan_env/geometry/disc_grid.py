@@ -99,14 +99,32 @@ def _collect(grid, i, j0, j1, out, count):
 @numba.njit(cache=True, inline="always")
 def cell_span(grid, x0, y0, x1, y1, distance):
     """The cells :func:`near_box` collects: columns ``i0..i1`` x rows ``j0..j1`` (``i0 > i1``: none)."""
-    if grid.items.shape[0] == 0:
+    return span_of(grid_shape(grid), x0, y0, x1, y1, distance)
+
+
+@numba.njit(cache=True, inline="always")
+def grid_shape(grid):
+    """The grid's numbers :func:`span_of` reads: ``(x0, y0, cell, nx, ny, reach, discs)``."""
+    return grid.x0, grid.y0, grid.cell, grid.nx, grid.ny, grid.reach, grid.items.shape[0]
+
+
+@numba.njit(cache=True, inline="always")
+def span_of(shape, x0, y0, x1, y1, distance):
+    """:func:`cell_span` of the grid whose :func:`grid_shape` is ``shape`` (a loop's query without the record)."""
+    gx0, gy0, cell, nx, ny, reach, discs = shape
+    if discs == 0:
         return 0, -1, 0, -1
-    grow = distance + grid.reach + SLACK * (1.0 + abs(distance) + abs(x0) + abs(y0) + abs(x1) + abs(y1))
-    if x1 + grow < grid.x0 or y1 + grow < grid.y0:
+    grow = distance + reach + SLACK * (1.0 + abs(distance) + abs(x0) + abs(y0) + abs(x1) + abs(y1))
+    if x1 + grow < gx0 or y1 + grow < gy0:
         return 0, -1, 0, -1
-    if x0 - grow > grid.x0 + grid.nx * grid.cell or y0 - grow > grid.y0 + grid.ny * grid.cell:
+    if x0 - grow > gx0 + nx * cell or y0 - grow > gy0 + ny * cell:
         return 0, -1, 0, -1
-    return _column(grid, x0 - grow), _column(grid, x1 + grow), _row(grid, y0 - grow), _row(grid, y1 + grow)
+    return (
+        min(max(int(math.floor((x0 - grow - gx0) / cell)), 0), nx - 1),
+        min(max(int(math.floor((x1 + grow - gx0) / cell)), 0), nx - 1),
+        min(max(int(math.floor((y0 - grow - gy0) / cell)), 0), ny - 1),
+        min(max(int(math.floor((y1 + grow - gy0) / cell)), 0), ny - 1),
+    )
 
 
 @numba.njit(cache=True, inline="always")

@@ -17,8 +17,9 @@ from agents.base import real_static_segments as real_static_segments
 from agents.observation import Observation
 from agents.planners.bee_colony import ABCSettings, abc_run
 from agents.planners.constraints import constraint_rule
-from agents.planners.objective import Scene, TimedScene
+from agents.planners.objective import Scene
 from agents.planners.pso import PSOSettings, inertia_schedule, pso_run
+from agents.planners.timed_objective import TimedScene
 
 
 class MetaheuristicAgent(Agent):

@@ -3,7 +3,7 @@ model's predicted obstacles (:class:`agents.planners.spacetime.SpacetimeModel`).
 
 The paper's adaptive constraint PSO and modified ABC, the same compiled update rules as ``pso`` /
 ``abc``, optimise a sequence of moves (a relative displacement per ``hold`` steps, up to one robot step
-each) with the paper's penalty (Eq. 4) on predicted contact (:func:`agents.planners.objective.timed_path_cost`).
+each) with the paper's penalty (Eq. 4) on predicted contact (:func:`agents.planners.timed_objective.timed_path_cost`).
 Humans that steer are no bouncing bodies: once :mod:`agents.planners.steering` sees that, the planners
 plan with :data:`CROWD_SETTINGS`.
 """
@@ -18,13 +18,14 @@ from agents.base import real_obstacles as real_obstacles  # 0.1.0 public path
 from agents.observation import Observation
 from agents.planners.costtogo import around_obstacles, route, route_bends, waypoints_on
 from agents.planners.metaheuristic import MetaheuristicAgent
-from agents.planners.objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, TimedScene, walk_along
 from agents.planners.passable import guided_by_passable, passable_around
+from agents.planners.path_pieces import walk_along
 from agents.planners.reciprocal import ROBOT_DEPTH, ROBOT_MARGIN
 from agents.planners.resting_discs import resting_set
 from agents.planners.spacetime.astar_agent import SpacetimeModel
 from agents.planners.spacetime.seeds import SearchSeed, search_seeds
 from agents.planners.steering import STEERING_RULES, SteeringCheck
+from agents.planners.timed_objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, TimedScene
 
 #: What ``pso-spacetime`` / ``abc-spacetime`` plan with once the obstacles are seen to steer
 #: (``steering="adapt"``, :mod:`agents.planners.steering`), and what ``pso-crowd`` / ``abc-crowd`` plan
@@ -39,7 +40,7 @@ CROWD_SETTINGS = MappingProxyType({"margin": 0.05, "rest_obstacles": False, "obs
 #: exact length against 1.0060), ABC's longer at every share tried (1.03-1.12 against 1.028): its whole budget.
 STILL_REFINE = MappingProxyType({"pso": (0.5, 0.1), "abc": (1.0, 0.0)})
 
-#: What the space-time optimisers' penalty measures (:data:`agents.planners.objective.FIRST_CONTACT`).
+#: What the space-time optimisers' penalty measures (:data:`agents.planners.timed_objective.FIRST_CONTACT`).
 VIOLATIONS = {"contacts": CONTACTS, "first-contact": FIRST_CONTACT}
 
 
@@ -56,7 +57,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     segments (a fraction of the top speed: the robot may slow down or wait). Its cost is the
     predicted arrival time (as metres at top speed) plus the paper's penalty on every predicted
     contact within ``horizon_steps`` and on the rest of the path against the obstacles where the
-    prediction leaves them (:func:`agents.planners.objective.timed_path_cost`). Each replan warm-starts from
+    prediction leaves them (:func:`agents.planners.timed_objective.timed_path_cost`). Each replan warm-starts from
     the previous best and the straight line at top speed; the robot flies the first step of the best.
 
     :param horizon_steps: steps of predicted obstacle motion checked step by step.
@@ -69,7 +70,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
     :param prediction, cone_degrees: :class:`SpacetimeModel`'s obstacle prediction.
     :param rest_obstacles: in a scene with walls (a cost-to-go), whether the rest of the path past the
         horizon pays Eq. 4 on the obstacles its straight pieces pass where the prediction leaves them
-        (:attr:`~agents.planners.objective.TimedScene.rest_obstacles`; always so without walls). Off
+        (:attr:`~agents.planners.timed_objective.TimedScene.rest_obstacles`; always so without walls). Off
         in ``pso-crowd`` / ``abc-crowd``: those pieces may cut walls, and the charge held the robot behind
         slow humans in maze-crowd.
     :param obstacle_field: in a scene with walls, the cost-to-go past the horizon goes round the obstacles
@@ -84,7 +85,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         ``obstacle_field``: until then, and among bodies that bounce, exactly as configured. ``"ignore"``:
         as configured throughout (the planners before the check; docs/results/steering).
     :param progress_weight: weight of the running cost, the mean cost-to-go where each step within the
-        horizon ends (:attr:`~agents.planners.objective.TimedScene.progress_weight`; 0: none): among plans that
+        horizon ends (:attr:`~agents.planners.timed_objective.TimedScene.progress_weight`; 0: none): among plans that
         end the horizon equally far on, it prefers the one that closes in first, not one that wanders.
     :param still_budget, still_spread: where nothing has moved since the last replan (its problem handed
         back: hundreds of resting discs, no mover), a replan refines the last one's best: ``still_budget``
@@ -159,7 +160,7 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         self._timed_hi = np.concatenate([self.search_hi, np.ones(speeds)])
 
     def timed_problem(self, obs, memory: dict | None = None, steering: bool = False) -> TimedScene:
-        """The space-time objective's problem for one observation (:func:`~agents.planners.objective.timed_path_cost`),
+        """The space-time objective's problem for one observation (:func:`~agents.planners.timed_objective.timed_path_cost`),
         with the scene's walls and the static cost-to-go (kept in ``memory`` while the statics stay); with
         ``steering``, the problem among obstacles that steer (:data:`CROWD_SETTINGS`)."""
         if steering:  # the crowd settings, where they ask more than the configured ones

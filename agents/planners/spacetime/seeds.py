@@ -15,8 +15,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from agents.planners.objective import TimedScene
 from agents.planners.spacetime.astar import SearchSettings, SpacetimeProblem, heading_moves, search
+from agents.planners.timed_objective import TimedScene
 
 
 class SearchSeed(NamedTuple):

@@ -6,7 +6,7 @@ the env's step operation for operation (``pathplan_env.robots.unicycle_step.step
 reached within the acceleration limits at each step's start, then one exact arc; the heading
 wrapped as the env wraps it), so the plan goes where the env would drive it (tested).
 
-The cost (:func:`control_cost`) is the space-time objective's (``objective.timed_path_cost``) on
+The cost (:func:`control_cost`) is the space-time objective's (``timed_objective.timed_path_cost``) on
 arcs: each step's arc is tested against the predicted obstacles at every substep with the env's
 exact arc contact (``arc_contact.arc_disc``; pairs farther apart than both can travel are skipped),
 and against the walls, polygon edges and the arena's edges (``arc_contact.arc_capsule``: the
@@ -29,7 +29,9 @@ import numpy as np
 from numba.extending import overload
 
 from agents.planners.costtogo import CostToGo, distance_to_goal
-from agents.planners.objective import INFEASIBLE, TWO_PI, objective
+from agents.planners.objective import objective
+from agents.planners.path_pieces import TWO_PI
+from agents.planners.timed_objective import INFEASIBLE
 from pathplan_env.geometry.contacts import NO_CONTACT
 from pathplan_env.geometry.walls import point_segment
 from pathplan_env.robots.arc_contact import Arc, ArcPiece, arc_capsule, arc_disc_between, arc_goal, arc_point

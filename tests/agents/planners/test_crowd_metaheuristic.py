@@ -12,7 +12,7 @@ import pytest
 import agents
 import pathplan_env  # noqa: F401  (registers the env)
 from agents.planners.costtogo import STRAIGHT_LINE, around_obstacles, cost_to_go, distance_to_goal
-from agents.planners.objective import FIRST_CONTACT, INFEASIBLE, TimedScene, timed_path_cost
+from agents.planners.timed_objective import FIRST_CONTACT, INFEASIBLE, TimedScene, timed_path_cost
 
 PLANNERS = ("pso-spacetime", "abc-spacetime", "pso-crowd", "abc-crowd")
 

@@ -9,8 +9,8 @@ import numba
 import numpy as np
 import pytest
 
-from agents.planners.objective import timed_path_cost
 from agents.planners.resting_discs import CHORD_MARGIN, off_chord
+from agents.planners.timed_objective import timed_path_cost
 from pathplan_env.geometry.contacts import swept_pair
 from pathplan_env.robots.holonomic import substep_point
 

@@ -5,7 +5,7 @@ addresses, which travel as integers so that the compiled code caches). A sampler
 candidates in one compiled call saves the Python calls' fixed cost (``integers`` ~6 µs a call, most of
 a 64-point batch of the maze's free-space sampling). Like numpy's methods, the draws read and advance
 the bit generator's state (its buffered 32-bit half included); unlike them they take no lock: a
-generator is not shared between threads here. ``tests/scenarios/test_compiled_draws.py``: the same
+generator is not shared between threads here. ``tests/maps/test_compiled_draws.py``: the same
 values and the same state after, against numpy, over seeds, bounds and interleavings.
 """
 

@@ -27,9 +27,13 @@ import numba
 import numpy as np
 from numba.extending import overload
 
-# the space-time objective's names, importable from here as before it had a module of its own
+# 0.1.0's names of this module (the space-time objective's and what it imported), importable from here still
+from agents.planners.costtogo import STRAIGHT_LINE, CostToGo, distance_to_goal  # noqa: F401
 from agents.planners.path_pieces import TWO_PI, _segment_origin_distance_sq, capsule_penalty, segment_distance, walk_along  # noqa: F401
 from agents.planners.timed_objective import CONTACTS, FIRST_CONTACT, INFEASIBLE, SURVIVAL_WEIGHT, TimedScene, timed_path_cost  # noqa: F401
+from pathplan_env.geometry.contacts import swept_pair  # noqa: F401
+from pathplan_env.geometry.walls import swept_capsule  # noqa: F401
+from pathplan_env.robots.holonomic import reach_fraction, substep_point  # noqa: F401
 
 
 class Scene(NamedTuple):

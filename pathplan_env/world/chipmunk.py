@@ -125,19 +125,6 @@ def call_step(typingctx, function, space, dt):
 
 
 @intrinsic
-def call_each_body(typingctx, function, space, iterator, data):
-    """``cpSpaceEachBody(space, iterator, data)`` through the function's address."""
-
-    def codegen(context, builder, signature, args):
-        pointer_t = ir.IntType(8).as_pointer()
-        fnty = ir.FunctionType(ir.VoidType(), [pointer_t, pointer_t, pointer_t])
-        builder.call(builder.inttoptr(args[0], fnty.as_pointer()), [builder.inttoptr(a, pointer_t) for a in args[1:]])
-        return context.get_dummy_value()
-
-    return types.none(types.int64, types.int64, types.int64, types.int64), codegen
-
-
-@intrinsic
 def call_set_vect(typingctx, function, body, x, y):
     """``function(body, cpv(x, y))`` through the function's address (``void (*)(cpBody *, cpVect)``:
     ``cpBodySetPosition``, ``cpBodySetVelocity``; a cpVect by value travels as two doubles)."""

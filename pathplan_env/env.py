@@ -12,6 +12,7 @@ import numpy as np
 from pathplan_env import _moved
 from pathplan_env.arena import Arena
 from pathplan_env.arguments import check_count, check_delta_d, check_n_obstacles
+from pathplan_env.fused_step import FusedStep
 from pathplan_env.rewards import RewardWeights, reward_terms
 from pathplan_env.robots import unicycle  # noqa: F401  (registers the "unicycle" action)
 from pathplan_env.robots.actions import make_action_type, with_robot_entries
@@ -225,6 +226,7 @@ class DynamicObstacleEnv(gym.Env):
         self.observation_space, self._observe = with_robot_entries(self.observation_type, self.action_type, self.scenario.dt)
         self._advance = self.action_type.advance
         self._world: World | None = None
+        self._fused: FusedStep | None = None  # the episode's step in one compiled call, where its parts allow (fused_step.py)
         self._moves: list[tuple] | None = None
         self._renderer = None
         self.trail: list[tuple[float, float]] = []
@@ -304,11 +306,17 @@ class DynamicObstacleEnv(gym.Env):
         self._step_limit = None if limit is None else max(1, math.ceil(limit / scenario.dt - 1e-9))
         if self.render_mode == "human":
             self.render()
+        self._fused = FusedStep.of(self, DynamicObstacleEnv)
         clearance = world.clearance()
         rewards = dict.fromkeys(self._rewards(False, False, self._distance, clearance), 0.0)  # the step's terms, zero
         return self._observe(world), self._info(False, False, clearance, rewards)
 
     def step(self, action):
+        fused = self._fused
+        if fused is not None:
+            result = fused(action)
+            if result is not None:
+                return result
         world = self._world
         if world is None:
             raise RuntimeError("call reset() before step()")
@@ -329,6 +337,8 @@ class DynamicObstacleEnv(gym.Env):
         self._distance = distance
         terminated = success or collision
         self._ended = self._ended or terminated
+        if terminated:
+            self._fused = None  # (the next step warns)
         # the scenario's own time limit (CrowdNav's 25 s); the registration's step limit is TimeLimit's
         self._steps += 1
         truncated = self._step_limit is not None and not terminated and self._steps >= self._step_limit
@@ -422,9 +432,11 @@ class DynamicObstacleEnv(gym.Env):
         state = self.__dict__.copy()
         state["_renderer"] = None  # a pygame window does not pickle; it reopens on the next render()
         state["_world"] = None
+        state["_fused"] = None  # (it holds the world's addresses)
         return state
 
     def __setstate__(self, state):
+        self._fused = None  # (a pickle of 0.2.0 and earlier has none)
         self.__dict__.update(state)
         if self._moves is not None:
             world = World(self.scenario)
@@ -432,3 +444,5 @@ class DynamicObstacleEnv(gym.Env):
             for move in self._moves:
                 self.action_type.replay(world, move)
             self._world = world
+            if not self._ended:
+                self._fused = FusedStep.of(self, DynamicObstacleEnv)

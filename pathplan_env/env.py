@@ -314,7 +314,7 @@ class DynamicObstacleEnv(gym.Env):
     def step(self, action):
         fused = self._fused
         if fused is not None:
-            result = fused(action)
+            result = fused.step(action)  # (a method: calling an instance's __call__ cost a step 70 ns more)
             if result is not None:
                 return result
         world = self._world

@@ -43,25 +43,28 @@ CONSTANTS = 17
 _NDARRAY, _FLOAT32, _FLOAT64 = np.ndarray, np.dtype(np.float32), np.dtype(np.float64)
 _BLOCK_ROWS = StateObservation.BLOCK_ROWS
 _hypot = math.hypot
-_entry = None  # fused_step's entry point, compiled (or read from numba's cache) by the first FusedStep
+_ENTRY_FLOAT32 = _ENTRY_FLOAT64 = None  # fused_step's entry points, compiled (or read from numba's cache) by the first FusedStep
 
 
 @numba.njit(cache=True)
-def fused_step(address, a0, a1, x0, y0, row):
-    """One step of the env whose packed array (:class:`FusedStep`) is at ``address``, for the action
-    ``(a0, a1)`` from the robot at ``(x0, y0)``, its observation written in the block's row ``row``:
+def fused_step(address, action, x0, y0, row):
+    """One step of the env whose packed array (:class:`FusedStep`) is at ``address``, for ``action`` (a
+    float32 or float64 array of one dimension) from the robot at ``(x0, y0)``, its observation
+    written in the block's row ``row``:
     ``WaypointAction.act``'s move (``move_and_goal``), ``World.step``'s compiled call
     (``step_kernel.world_step``), ``StateObservation.observe``'s row (``_observation_row``) and the
     step's facts and reward terms that need no distance to the goal (``DynamicObstacleEnv.step``,
     ``rewards.reward_terms``), in the general step's order and arithmetic. Returns ``(finite,
     waypoint, move, (x, y), (vx, vy), min_gap, first_contact, success, collision, flown, goal, hit,
     proximity)``: ``waypoint`` and ``move`` the tuples the env keeps, ``flown`` the share of the move
-    flown, the last three reward terms; with ``finite`` False (a NaN or infinite action) nothing moved
-    and nothing was written."""
+    flown, the last three reward terms; with ``finite`` False (a NaN or infinite action, or not two of
+    them) nothing moved and nothing was written."""
     ints = numba.carray(as_pointer(address), HEADER, np.int64)
     c = numba.carray(as_pointer(address + 8 * HEADER), CONSTANTS, np.float64)
     box = ArenaBox(c[BOX], c[BOX + 1], c[BOX + 2], c[BOX + 3], c[BOX + 4], c[BOX + 5], c[BOX + 6], c[BOX + 7])
-    finite, wx, wy, dx, dy, goal_fraction = move_and_goal((a0, a1), box, x0, y0, c[REACH], c[GOAL_X], c[GOAL_Y], c[GOAL_RADIUS])
+    if action.shape[0] != 2:
+        return False, (0.0, 0.0), (0.0, 0.0, 0.0), (x0, y0), (0.0, 0.0), 0.0, 0.0, False, False, 0.0, 0.0, 0.0, 0.0
+    finite, wx, wy, dx, dy, goal_fraction = move_and_goal(action, box, x0, y0, c[REACH], c[GOAL_X], c[GOAL_Y], c[GOAL_RADIUS])
     if not finite:
         return False, (wx, wy), (dx, dy, goal_fraction), (x0, y0), (0.0, 0.0), 0.0, 0.0, False, False, 0.0, 0.0, 0.0, 0.0
     world = ints[WORLD]
@@ -88,17 +91,26 @@ def fused_step(address, a0, a1, x0, y0, row):
     return True, (wx, wy), (dx, dy, goal_fraction), xy, velocity, min_gap, first_contact, success, collision, flown, goal, hit, proximity
 
 
+@numba.njit(cache=True)
+def _data_address(array):
+    """Where ``array``'s data starts (cffi's ``from_buffer`` cost ~10 µs on a block's first use)."""
+    return np.int64(array.ctypes.data)
+
+
 def _compile() -> None:
-    global _entry
-    if _entry is None:
+    global _ENTRY_FLOAT32, _ENTRY_FLOAT64
+    if _ENTRY_FLOAT64 is None:
+        # the action typed unaligned, of any strides and shape[0]: no array of one dimension is read amiss
         t = numba.types
-        _entry = entry_point(fused_step, (t.int64, t.float64, t.float64, t.float64, t.float64, t.int64))
+        action = lambda dtype: t.Array(dtype, 1, "A", aligned=False)
+        _ENTRY_FLOAT32 = entry_point(fused_step, (t.int64, action(t.float32), t.float64, t.float64, t.int64))
+        _ENTRY_FLOAT64 = entry_point(fused_step, (t.int64, action(t.float64), t.float64, t.float64, t.int64))
 
 
 class FusedStep:
     """The step of one episode of ``env`` (a ``DynamicObstacleEnv`` just reset), made by :meth:`of`
-    where the episode's parts allow it; the env calls it first and takes its general step when it
-    returns ``None``."""
+    where the episode's parts allow it; the env calls its :meth:`step` first and takes its general
+    step when that returns ``None``."""
 
     @classmethod
     def of(cls, env, base: type) -> FusedStep | None:
@@ -143,19 +155,19 @@ class FusedStep:
 
     def _set_block(self, block) -> None:
         self._block = block
-        self._packed[BLOCK] = address_of(ffi.from_buffer(block))
+        self._packed[BLOCK] = _data_address(block)
 
-    def __call__(self, action):
+    def step(self, action):
         """The step's ``(observation, reward, terminated, truncated, info)``, or ``None`` for an action
         this step does not take (the general step then takes it, and raises its errors)."""
         if type(action) is not _NDARRAY or action.ndim != 1:
             return None
         dtype = action.dtype
-        if dtype is not _FLOAT32 and dtype is not _FLOAT64:
-            return None
-        try:
-            a0, a1 = action.tolist()  # (exact: move_and_goal reads float64(action[i]))
-        except ValueError:  # (not two of them)
+        if dtype is _FLOAT32:
+            entry = _ENTRY_FLOAT32
+        elif dtype is _FLOAT64:
+            entry = _ENTRY_FLOAT64
+        else:
             return None
         env, world, observation = self.env, self.world, self.observation
         w = self._weights
@@ -168,7 +180,7 @@ class FusedStep:
         if observation._block is not self._block:
             self._set_block(observation._block)
         x0, y0 = world.robot_xy
-        finite, waypoint, move, xy, velocity, min_gap, _, success, collision, flown, goal, hit, proximity = _entry(self._address, a0, a1, x0, y0, i)
+        finite, waypoint, move, xy, velocity, min_gap, _, success, collision, flown, goal, hit, proximity = entry(self._address, action, x0, y0, i)
         if not finite:
             return None  # (the general step raises the ValueError)
         observation._rows_used = i + 1

@@ -92,7 +92,7 @@ def test_a_crowd_episode_runs_fused():
     env = gym.make("DynamicObstacle-v0", scenario="crowdnav-circle-crossing").unwrapped
     env.reset(seed=0)
     assert isinstance(env._fused, FusedStep)
-    assert env._fused(np.zeros(3)) is None and env._fused(np.zeros(2, np.int64)) is None  # (the general step's to judge)
+    assert env._fused.step(np.zeros(3)) is None and env._fused.step(np.zeros(2, np.int64)) is None  # (the general step's to judge)
 
 
 def test_bad_actions_raise_as_before_and_move_nothing():

@@ -280,6 +280,7 @@ class DynamicObstacleEnv(gym.Env):
         try:  # a draw can still fail (a random scene that does not fit): then the generator is put back
             scenario = self._make_scenario(spec, self.np_random, n_obstacles, delta_d)
             self._check_fits(scenario)
+            self._fused = None  # (it holds the addresses of the old world, which the new one may empty)
             world = World(scenario, recycle=self._world)  # checks the substeps before it touches the old world
         except ValueError:
             self._np_random, self._np_random_seed = saved[0], saved[1]

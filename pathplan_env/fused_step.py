@@ -55,7 +55,7 @@ def fused_step(address, action, x0, y0, row):
     (``step_kernel.world_step``), ``StateObservation.observe``'s row (``_observation_row``) and the
     step's facts and reward terms that need no distance to the goal (``DynamicObstacleEnv.step``,
     ``rewards.reward_terms``), in the general step's order and arithmetic. Returns ``(finite,
-    waypoint, move, (x, y), (vx, vy), min_gap, first_contact, success, collision, flown, goal, hit,
+    waypoint, move, (x, y), (vx, vy), min_gap, success, collision, flown, goal, hit,
     proximity)``: ``waypoint`` and ``move`` the tuples the env keeps, ``flown`` the share of the move
     flown, the last three reward terms; with ``finite`` False (a NaN or infinite action, or not two of
     them) nothing moved and nothing was written."""
@@ -63,10 +63,10 @@ def fused_step(address, action, x0, y0, row):
     c = numba.carray(as_pointer(address + 8 * HEADER), CONSTANTS, np.float64)
     box = ArenaBox(c[BOX], c[BOX + 1], c[BOX + 2], c[BOX + 3], c[BOX + 4], c[BOX + 5], c[BOX + 6], c[BOX + 7])
     if action.shape[0] != 2:
-        return False, (0.0, 0.0), (0.0, 0.0, 0.0), (x0, y0), (0.0, 0.0), 0.0, 0.0, False, False, 0.0, 0.0, 0.0, 0.0
+        return False, (0.0, 0.0), (0.0, 0.0, 0.0), (x0, y0), (0.0, 0.0), 0.0, False, False, 0.0, 0.0, 0.0, 0.0
     finite, wx, wy, dx, dy, goal_fraction = move_and_goal(action, box, x0, y0, c[REACH], c[GOAL_X], c[GOAL_Y], c[GOAL_RADIUS])
     if not finite:
-        return False, (wx, wy), (dx, dy, goal_fraction), (x0, y0), (0.0, 0.0), 0.0, 0.0, False, False, 0.0, 0.0, 0.0, 0.0
+        return False, (wx, wy), (dx, dy, goal_fraction), (x0, y0), (0.0, 0.0), 0.0, False, False, 0.0, 0.0, 0.0, 0.0
     world = ints[WORLD]
     xy, velocity, min_gap, first_contact = step_kernel.world_step(world, x0, y0, dx, dy, goal_fraction, False, c[DIAGONAL])
     # the observation of the world as the step left it (StateObservation.observe): its obstacles' state is
@@ -88,7 +88,7 @@ def fused_step(address, action, x0, y0, row):
     if c[W_PROXIMITY] != 0.0:  # (Python's max(0.0, g): 0.0 unless g > 0.0)
         g = 1.0 - min_gap / c[PROXIMITY_DISTANCE]
         proximity = c[W_PROXIMITY] * (g if g > 0.0 else 0.0)
-    return True, (wx, wy), (dx, dy, goal_fraction), xy, velocity, min_gap, first_contact, success, collision, flown, goal, hit, proximity
+    return True, (wx, wy), (dx, dy, goal_fraction), xy, velocity, min_gap, success, collision, flown, goal, hit, proximity
 
 
 @numba.njit(cache=True)
@@ -180,12 +180,12 @@ class FusedStep:
         if observation._block is not self._block:
             self._set_block(observation._block)
         x0, y0 = world.robot_xy
-        finite, waypoint, move, xy, velocity, min_gap, _, success, collision, flown, goal, hit, proximity = entry(self._address, action, x0, y0, i)
+        finite, waypoint, move, xy, velocity, min_gap, success, collision, flown, goal, hit, proximity = entry(self._address, action, x0, y0, i)
         if not finite:
             return None  # (the general step raises the ValueError)
         observation._rows_used = i + 1
         world.robot_xy, world.robot_velocity_xy = xy, velocity
-        world.time += world._dt
+        world.time = now = world.time + world._dt  # (World.step's `self.time += self._dt`)
         # DynamicObstacleEnv.step from here, operation for operation (the distances: Python's hypot)
         env.waypoint = waypoint
         env._moves.append(move)
@@ -208,7 +208,7 @@ class FusedStep:
             "cost": 1.0 if collision else 0.0,
             "min_clearance": min_gap,
             "path_length": path_length,
-            "time": world.time,
+            "time": now,
             "distance_to_goal": distance,
             "waypoint": waypoint,
             "rewards": {"progress": progress, "goal": goal, "collision": hit, "time": time, "proximity": proximity},

@@ -11,10 +11,12 @@ turns at going first.
 
 ``--split``: what our ``World.step`` is made of at those sizes (no navground needed): the whole step,
 the compiled step called directly, the Python/compiled boundary alone, Chipmunk's step alone.
-``--env-split``: what ``DynamicObstacle-v0.step`` adds to it (µs): the action's move, the
-observation, the reward terms, the info, and the least any Gymnasium step of this env can cost: the
-world's step and the three dicts the API returns (the observation's seven arrays, the reward terms,
-the info) built from ready values.
+``--env-split``: what ``DynamicObstacle-v0.step`` adds to it (µs): the general step's pieces (the
+action's move, the observation, the reward terms, the info), the fused step's one compiled call
+(``pathplan_env.fused_step``, which replaces them and ``World.step`` where it applies), and the
+least any Gymnasium step of this env can cost: the world's step (or the fused call) and the three
+dicts the API returns (the observation's seven arrays, the reward terms, the info) built from ready
+values.
 
 navground is in the ``crowds-bench`` extra (``pip install -e .[crowds-bench]``); without it the
 script says so and stops.
@@ -53,8 +55,16 @@ def env_stepper(scenario):
 
 def env_split(scenario, steps: int = 100, envs: int = 200) -> dict:
     """What one ``DynamicObstacle-v0.step`` of ``scenario`` is made of (µs a step, process CPU time
-    over ``steps`` steps of each of ``envs`` fresh envs, the robot holding still)."""
+    over ``steps`` steps of each of ``envs`` fresh envs, the robot holding still): the whole step;
+    ``World.step``; the general step's pieces (``DynamicObstacleEnv.step`` where the fused step does
+    not apply: the action's move, the observation, the reward terms, the info); the fused step's
+    one compiled call (``pathplan_env.fused_step``: the move, the world's step, the observation's
+    row, the reward terms that need no distance); the least any Gymnasium step of this env can cost
+    with ``World.step`` (its step and the three dicts the API returns, built from ready values), and
+    with the fused call in its place."""
     import numpy as np
+
+    from pathplan_env import fused_step
 
     def parts():
         env = gym.make("DynamicObstacle-v0", scenario=scenario)
@@ -63,9 +73,15 @@ def env_split(scenario, steps: int = 100, envs: int = 200) -> dict:
         world, hold = u.world, u.waypoint_to_action(scenario.start)
         rewards = u._rewards(False, False, 1.0, 1.0)
         entries = [np.zeros((2,), np.float32)] * 3 + [np.zeros((u.max_obstacles, 2), np.float32)] * 2 + [np.zeros(u.max_obstacles, np.float32)] * 2
+        fused = u._fused
+        if fused is not None:
+            fused._set_block(u.observation_type._block)
+            entry, address = fused_step._ENTRY_FLOAT32, fused._address
+            compiled = lambda: entry(address, hold, *world.robot_xy, 1)  # (the world's state steps; the robot holds)
+        else:
+            compiled = lambda: world.step(0.0, 0.0)
 
-        def floor():  # World.step and the API's three dicts, nothing else
-            min_gap, _ = world.step(0.0, 0.0)
+        def dicts(min_gap):  # the API's three dicts from ready values
             p, v, g, ps, vs, r, m = entries
             obs = {"robot_position": p, "robot_velocity": v, "goal": g, "obstacle_positions": ps, "obstacle_velocities": vs,
                    "obstacle_radii": r, "obstacle_mask": m}  # fmt: skip
@@ -73,6 +89,14 @@ def env_split(scenario, steps: int = 100, envs: int = 200) -> dict:
             info = {"is_success": False, "collision": False, "cost": 0.0, "min_clearance": min_gap, "path_length": 0.0, "time": world.time,
                     "distance_to_goal": 1.0, "waypoint": (0.0, 0.0), "rewards": terms}  # fmt: skip
             return obs, -0.005, False, False, info
+
+        def floor():  # World.step and the API's three dicts, nothing else
+            min_gap, _ = world.step(0.0, 0.0)
+            return dicts(min_gap)
+
+        def fused_floor():  # the fused step's compiled call and the API's three dicts, nothing else
+            compiled()
+            return dicts(1.0)
 
         return {
             "env step": lambda: u.step(hold),
@@ -82,6 +106,8 @@ def env_split(scenario, steps: int = 100, envs: int = 200) -> dict:
             "reward terms": lambda: u._rewards(False, False, 1.0, 1.0),
             "info": lambda: u._info(False, False, 1.0, rewards),
             "floor: World.step + the API's dicts": floor,
+            "fused compiled call": compiled,
+            "floor: fused call + the API's dicts": fused_floor,
         }
 
     totals = dict.fromkeys(parts(), 0.0)

@@ -138,16 +138,13 @@ class FusedStep:
         _compile()
         self.env, self.world, self.observation = env, env._world, env.observation_type
         world, scenario, observation = self.world, env.scenario, self.observation
-        packed = np.zeros(HEADER + CONSTANTS, np.int64)
-        self._packed, self._address = packed, address_of(ffi.from_buffer(packed))
-        ints, c = packed[:HEADER], packed[HEADER:].view(np.float64)
-        ints[WORLD], ints[ROW_SIZE], ints[N_MAX] = world._address, observation.layout.size, observation.max_obstacles
-        ints[TEMPLATE] = address_of(ffi.from_buffer(observation._template))
-        c[BOX : BOX + 8] = env.arena.box
-        c[REACH], (c[GOAL_X], c[GOAL_Y]), c[GOAL_RADIUS] = scenario.robot_speed * scenario.dt, scenario.goal, scenario.goal_radius
-        c[DIAGONAL] = world._diagonal
         self._weights = w = env.reward_weights
-        c[W_GOAL], c[W_COLLISION], c[W_PROXIMITY], c[PROXIMITY_DISTANCE] = w.goal, w.collision, w.proximity, w.proximity_distance
+        # (the two parts written whole: a reset paid ~1 µs for each element written into a numpy array)
+        packed = np.empty(HEADER + CONSTANTS, np.int64)
+        packed[:HEADER] = world._address, 0, observation.layout.size, observation.max_obstacles, address_of(ffi.from_buffer(observation._template))
+        packed[HEADER:].view(np.float64)[:] = (*env.arena.box, scenario.robot_speed * scenario.dt, *scenario.goal, scenario.goal_radius,
+                                               world._diagonal, w.goal, w.collision, w.proximity, w.proximity_distance)  # fmt: skip
+        self._packed, self._address = packed, address_of(ffi.from_buffer(packed))
         self._block = None  # the observation block whose address the header holds
         self._goal, self._start_distance = env._goal_xy, env._start_distance
         limit = env._step_limit

@@ -21,8 +21,17 @@ ends); the verdict is "plan" if it reaches the goal (its moves prove a collision
 "undetermined": nothing proved success or impossibility. Where it is cornered (no move free, the
 search exhausted up to its grid) the reachable-set test runs again on a grid twice as fine, then
 where asked (``straight_lost``) the proof that models the env's one straight move a step
-(:mod:`agents.planners.straight_lost`), and "lost" if either proves it; else the episode stays "undetermined" and ends in contact, flying
-whichever stays free longer: the scheme's moves or the last search's deepest node.
+(:mod:`agents.planners.straight_lost`), and "lost" if either proves it.
+
+Where the episode would still stay "undetermined" (cornered and not proved lost, or the scheme's moves
+run to the episode's end short of the goal), it keeps searching where planners win: it flies the
+planners it knows (``astar-spacetime``, ``pso-spacetime``, ``abc-spacetime``, default settings, the
+episode's seed) on a copy of the env from its current state (:mod:`agents.oracles.flown_planners`; a
+copied env continues the episode bit for bit) and flies the first that arrives without contact, its
+actions replayed exactly: the verdict is "plan", ``found_by`` the planner's name. Else it stays
+"undetermined" and flies whichever stays free longest: the scheme's moves, the last search's deepest
+node, or a planner's flight (``last_search["flown_by"]``); cornered, that still ends in contact where
+every one of them does. ``last_search["planners"]`` gives each flight's outcome and steps.
 
 Where goal-directed obstacles see the robot (``Scenario.robot_visible``), their future depends on
 what the robot does and no fixed trajectory bounds it: the oracle then plans against the future

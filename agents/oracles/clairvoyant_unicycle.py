@@ -17,7 +17,10 @@ projection of the unicycle's reachable set, lies inside the kept cells at every 
 edges, walls to the unicycle, are outside the box the test keeps. When the cells empty, no heading,
 speed or turn rate reaches the goal: "lost" is a proof for the unicycle too. The converse is weaker
 than for the holonomic robot: a unicycle that cannot turn or brake in time is lost in more episodes
-than this test proves, and those stay "undetermined".
+than this test proves, and those stay "undetermined" unless one of the unicycle's planners (``astar-unicycle``,
+``pso-unicycle``, ``abc-unicycle``), flown on a copy of the env from the current state
+(:mod:`agents.oracles.flown_planners`), arrives without contact: then it flies that planner's actions (verdict
+"plan", ``found_by`` its name), or the one that stays free longest.
 """
 
 from __future__ import annotations

@@ -69,3 +69,18 @@ def test_episodes_it_plans_or_proves_lost_fly_no_planner():
             flights.append(_flown(oracle, env, seed)[0])
             assert oracle.verdict == verdict and oracle.last_search["planners"] == {} and oracle.last_search["flown_by"] is None
         assert np.array_equal(*flights)
+
+
+def test_the_unicycle_limit_flies_the_unicycle_planners():
+    # a unicycle limit of one search of 30 nodes (no receding scheme, no last resort): undetermined, it
+    # heads for the goal and collides; astar-unicycle, flown on a copy of the env, arrives
+    env = gym.make("DynamicObstacle-v0", scenario="random", delta_d=0.5, robot="unicycle")
+    weak, seed = {"receding": None, "searches": ((3.0, 0.06, 0.1),), "max_expansions": 30, "last_resort": None}, 1000000000
+    alone = agents.make("oracle-clairvoyant", env, seed=seed, planners=(), **weak)
+    _, info = _flown(alone, env, seed)
+    assert alone.verdict == "undetermined" and info["collision"]
+    oracle = agents.make("oracle-clairvoyant", env, seed=seed, **weak)
+    positions, info = _flown(oracle, env, seed)
+    assert info["is_success"] and oracle.verdict == "plan" and oracle.last_search["found_by"] == "astar-unicycle"
+    planner_positions, _ = _flown(agents.make("astar-unicycle", env, seed=seed), env, seed)
+    assert np.array_equal(positions, planner_positions)

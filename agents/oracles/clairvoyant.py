@@ -85,7 +85,8 @@ class ClairvoyantOracle(Agent):
         on a copy of the env from the current state where the episode would stay "undetermined"
         (:mod:`agents.oracles.flown_planners`): the first that arrives without contact is flown (verdict
         "plan", ``found_by`` its name), else the one that flies the most steps free if that beats the
-        oracle's own flight. ``()`` or ``None``: none.
+        oracle's own flight. ``()`` or ``None``: none. Not flown where the obstacles react to the robot
+        (verdict "reactive": no limit is given there).
     """
 
     def __new__(cls, *args, **kwargs):

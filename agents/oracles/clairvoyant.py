@@ -21,8 +21,17 @@ ends); the verdict is "plan" if it reaches the goal (its moves prove a collision
 "undetermined": nothing proved success or impossibility. Where it is cornered (no move free, the
 search exhausted up to its grid) the reachable-set test runs again on a grid twice as fine, then
 where asked (``straight_lost``) the proof that models the env's one straight move a step
-(:mod:`agents.planners.straight_lost`), and "lost" if either proves it; else the episode stays "undetermined" and ends in contact, flying
-whichever stays free longer: the scheme's moves or the last search's deepest node.
+(:mod:`agents.planners.straight_lost`), and "lost" if either proves it.
+
+Where the episode would still stay "undetermined" (cornered and not proved lost, or the scheme's moves
+run to the episode's end short of the goal), it keeps searching where planners win: it flies the
+planners it knows (``astar-spacetime``, ``pso-spacetime``, ``abc-spacetime``, default settings, the
+episode's seed) on a copy of the env from its current state (:mod:`agents.oracles.flown_planners`; a
+copied env continues the episode bit for bit) and flies the first that arrives without contact, its
+actions replayed exactly: the verdict is "plan", ``found_by`` the planner's name. Else it stays
+"undetermined" and flies whichever stays free longest: the scheme's moves, the last search's deepest
+node, or a planner's flight (``last_search["flown_by"]``); cornered, that still ends in contact where
+every one of them does. ``last_search["planners"]`` gives each flight's outcome and steps.
 
 Where goal-directed obstacles see the robot (``Scenario.robot_visible``), their future depends on
 what the robot does and no fixed trajectory bounds it: the oracle then plans against the future
@@ -37,6 +46,7 @@ import numpy as np
 
 from agents.base import Agent
 from agents.oracles.clairvoyant_unicycle import UnicycleClairvoyantOracle
+from agents.oracles.flown_planners import PLANNERS, best_flight
 from agents.oracles.future import simulator_of, true_future
 from agents.planners.reachable_set import provably_lost
 from agents.planners.spacetime.astar import BUDGET, EXHAUSTED, FOUND, HORIZON, SearchSettings, SpacetimeProblem, heading_moves, search
@@ -71,6 +81,12 @@ class ClairvoyantOracle(Agent):
         ``(grid in m, steps)``, e.g. ``(0.005, 4)``; ``None`` (the default): none, since at grids that run
         in minutes it proved none of the traced cornered episodes lost. Holonomic robot only (the
         unicycle's oracle keeps the reachable set). It sets only the verdict: the episode flies as without it.
+    :param planners: registered planners flown, each with its default settings and the episode's seed,
+        on a copy of the env from the current state where the episode would stay "undetermined"
+        (:mod:`agents.oracles.flown_planners`): the first that arrives without contact is flown (verdict
+        "plan", ``found_by`` its name), else the one that flies the most steps free if that beats the
+        oracle's own flight. ``()`` or ``None``: none. Not flown where the obstacles react to the robot
+        (verdict "reactive": no limit is given there).
     """
 
     def __new__(cls, *args, **kwargs):
@@ -83,8 +99,9 @@ class ClairvoyantOracle(Agent):
 
     def __init__(self, env, seed: int | None = None, *, n_headings: int = 32, speed_fractions=(1.0, 0.5),
                  searches=((3.0, 0.03), (1.5, 0.03), (3.0, 0.06)), max_expansions: int = 100_000, lost_cell: float = 0.005,
-                 receding=(20, 10, 0.03, 2000, 10), straight_lost=None):  # fmt: skip
+                 receding=(20, 10, 0.03, 2000, 10), straight_lost=None, planners=PLANNERS):  # fmt: skip
         super().__init__(env, seed)
+        self._given = env  # what the planners it flies are built for (:mod:`agents.oracles.flown_planners`)
         self._env, self.max_steps = simulator_of(env)
         if int(n_headings) != n_headings or n_headings < 4:
             raise ValueError(f"n_headings must be an integer >= 4, got {n_headings!r}")
@@ -99,6 +116,7 @@ class ClairvoyantOracle(Agent):
         if straight_lost is not None and (len(straight_lost) != 2 or not straight_lost[0] > 0 or not _whole(straight_lost[1])):
             raise ValueError(f"straight_lost must be (grid > 0 in m, steps >= 1) or None, got {straight_lost!r}")
         self.straight_lost = None if straight_lost is None else (float(straight_lost[0]), int(straight_lost[1]))
+        self.planners = tuple(planners or ())
         self.verdict: str | None = None  # of the episode planned last
         self.last_search: dict = {}
 
@@ -155,8 +173,10 @@ class ClairvoyantOracle(Agent):
                                    statics, ctg)  # fmt: skip
         return problem, remaining, reactive
 
-    def solve(self) -> dict:
-        """Search from the env's current state; returns the memory entries the episode flies."""
+    def solve(self, observation=None) -> dict:
+        """Search from the env's current state; returns the memory entries the episode flies.
+        ``observation``: the env's current one, which the planners flown where the episode would stay
+        "undetermined" start from (none are flown without it)."""
         begin = time.perf_counter()
         problem, remaining, reactive = self.problem()
         expansions = 0
@@ -186,21 +206,41 @@ class ClairvoyantOracle(Agent):
                         straight, at = provably_lost_straight(problem, cell, cell, steps)
                         lost, lost_at = (True, at) if straight else (lost, lost_at)
                     verdict = "lost" if lost else verdict
+        flight, flown = None, {}
+        if verdict == "undetermined" and self.planners and observation is not None and not reactive:  # keep searching where planners win
+            flight, flown = best_flight(self.planners, self._given, self._env, observation, self.seed, remaining, len(targets))
+            if flight is not None and flight.arrived:
+                verdict, found_by = "plan", flight.name
         if reactive:
             verdict = "reactive"
         self.verdict = verdict
-        self.last_search = {"verdict": verdict, "found_by": found_by, "steps": len(targets), "expansions": int(expansions),
-                            "lost_at_step": lost_at, "seconds": time.perf_counter() - begin}  # fmt: skip
-        return {"targets": targets, "next": 0}
+        steps = len(targets if flight is None else flight.actions)
+        self.last_search = {"verdict": verdict, "found_by": found_by, "steps": steps, "expansions": int(expansions), "lost_at_step": lost_at,
+                            "flown_by": None if flight is None else flight.name, "planners": flown,
+                            "seconds": time.perf_counter() - begin}  # fmt: skip
+        return {"targets": targets, "next": 0, "flight": flight}
 
     def predict(self, observation, state=None, episode_start=None, deterministic: bool = False):
         if np.ndim(observation["robot_position"]) != 1:
             raise ValueError("oracle-clairvoyant reads the simulator of the one env it was made for: it cannot act on a batch")
         return super().predict(observation, state, episode_start, deterministic)
 
+    def act(self, obs, memory):
+        if "targets" not in memory:
+            memory.update(self.solve(obs))
+        flight = memory["flight"]
+        if flight is None:
+            return super().act(obs, memory)
+        i = memory["next"]  # a planner's flight on a copy of the env: its actions, replayed exactly
+        memory["next"] = i + 1
+        self.last_plan = np.vstack([obs["robot_position"], flight.positions[i:]])
+        if i < len(flight.actions):
+            return flight.actions[i]
+        return self.waypoint_to_action(np.asarray(obs["goal"], np.float64))  # past its end (a timeout): head for the goal
+
     def plan(self, obs, memory):
         if "targets" not in memory:
-            memory.update(self.solve())
+            memory.update(self.solve(obs))
         i = memory["next"]
         memory["next"] = i + 1
         targets = memory["targets"]

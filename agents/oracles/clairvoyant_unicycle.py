@@ -17,7 +17,10 @@ projection of the unicycle's reachable set, lies inside the kept cells at every 
 edges, walls to the unicycle, are outside the box the test keeps. When the cells empty, no heading,
 speed or turn rate reaches the goal: "lost" is a proof for the unicycle too. The converse is weaker
 than for the holonomic robot: a unicycle that cannot turn or brake in time is lost in more episodes
-than this test proves, and those stay "undetermined".
+than this test proves, and those stay "undetermined" unless one of the unicycle's planners (``astar-unicycle``,
+``pso-unicycle``, ``abc-unicycle``), flown on a copy of the env from the current state
+(:mod:`agents.oracles.flown_planners`), arrives without contact: then it flies that planner's actions (verdict
+"plan", ``found_by`` its name), or the one that stays free longest.
 """
 
 from __future__ import annotations
@@ -28,6 +31,7 @@ import time
 import numpy as np
 
 from agents.base import Agent
+from agents.oracles.flown_planners import UNICYCLE_PLANNERS, best_flight
 from agents.oracles.future import simulator_of, true_future
 from agents.planners.reachable_set import provably_lost
 from agents.planners.spacetime.astar import BUDGET, EXHAUSTED, FOUND, HORIZON, SpacetimeProblem
@@ -58,12 +62,18 @@ class UnicycleClairvoyantOracle(Agent):
         to skip it. It runs only where every earlier search failed, so it changes no episode they solve.
         After it the episode is "undetermined" unless the reachable-set test proves it lost.
     :param lost_cell: grid (m) of that test.
+    :param planners: registered planners flown on a copy of the env where the episode would stay
+        "undetermined" (:mod:`agents.oracles.flown_planners`, as the holonomic oracle does): the first that
+        arrives without contact is flown (verdict "plan", ``found_by`` its name), else the one that flies the
+        most steps free if that beats the oracle's own flight. ``()`` or ``None``: none.
     """
 
     def __init__(self, env, seed: int | None = None, *, speed_steps=(-1.0, 0.0, 1.0), turn_steps=(-1.0, -0.5, 0.0, 0.5, 1.0),
                  receding=(20, 10, 0.05, 0.1, 2000, 20), searches=((3.0, 0.03, 0.05), (1.5, 0.03, 0.05), (3.0, 0.06, 0.1)),
-                 max_expansions: int = 100_000, last_resort=(3.0, 0.06, 0.1, 10), lost_cell: float = 0.005):  # fmt: skip
+                 max_expansions: int = 100_000, last_resort=(3.0, 0.06, 0.1, 10), lost_cell: float = 0.005,
+                 planners=UNICYCLE_PLANNERS):  # fmt: skip
         super().__init__(env, seed)
+        self._given, self.planners = env, tuple(planners or ())  # (the planners are built for the env given)
         self._env, self.max_steps = simulator_of(env)
         self.model = unicycle_model(env)
         if not lost_cell > 0:
@@ -127,8 +137,10 @@ class UnicycleClairvoyantOracle(Agent):
                 break
         return UnicycleResult(outcome, np.concatenate(actions or [np.zeros((0, 2), np.float32)]), np.concatenate(poses), expansions), expansions
 
-    def solve(self) -> dict:
-        """Search from the env's current state; returns the memory entries the episode flies."""
+    def solve(self, observation=None) -> dict:
+        """Search from the env's current state; returns the memory entries the episode flies.
+        ``observation``: the env's current one, which the planners flown where the episode would stay
+        "undetermined" start from (none are flown without it)."""
         env = self._env
         scenario, world = env.scenario, env.world
         begin = time.perf_counter()
@@ -158,12 +170,19 @@ class UnicycleClairvoyantOracle(Agent):
                                          scenario.goal_radius, env.arena.box, reach, statics, ctg)  # fmt: skip
             lost, lost_at = provably_lost(positions, self.lost_cell)
             verdict = "lost" if lost else "undetermined"
+        flight, flown, actions, poses = None, {}, result.actions, result.poses
+        if verdict == "undetermined" and self.planners and observation is not None and not reactive:  # keep searching where planners win
+            flight, flown = best_flight(self.planners, self._given, env, observation, self.seed, remaining, len(result.actions))
+            if flight is not None:  # its actions, replayed exactly; its positions as the plan drawn
+                actions, poses = flight.actions, np.vstack([start[None, :2], flight.positions])
+                verdict, found_by = ("plan", flight.name) if flight.arrived else (verdict, found_by)
         if reactive:
             verdict = "reactive"
         self.verdict = verdict
-        self.last_search = {"verdict": verdict, "found_by": found_by, "steps": len(result.actions), "expansions": int(expansions),
-                            "lost_at_step": lost_at, "seconds": time.perf_counter() - begin}  # fmt: skip
-        return {"actions": result.actions, "poses": result.poses, "next": 0}
+        self.last_search = {"verdict": verdict, "found_by": found_by, "steps": len(actions), "expansions": int(expansions),
+                            "lost_at_step": lost_at, "flown_by": None if flight is None else flight.name, "planners": flown,
+                            "seconds": time.perf_counter() - begin}  # fmt: skip
+        return {"actions": actions, "poses": poses, "next": 0}
 
     def predict(self, observation, state=None, episode_start=None, deterministic: bool = False):
         if np.ndim(observation["robot_position"]) != 1:
@@ -173,7 +192,7 @@ class UnicycleClairvoyantOracle(Agent):
         memory = self._memory[0]
         begin = time.perf_counter()
         if "actions" not in memory:
-            memory.update(self.solve())
+            memory.update(self.solve(observation))
         i = memory["next"]
         memory["next"] = i + 1
         self.last_plan = memory["poses"][i:, :2].copy()

@@ -22,7 +22,7 @@ def _clutter():
 
 def test_an_episode_the_searches_leave_undetermined_ends_without_contact():
     env = _clutter()
-    old = ClairvoyantOracle(env, max_expansions=BUDGET, receding=None)
+    old = ClairvoyantOracle(env, max_expansions=BUDGET, receding=None, planners=())
     info = agents.rollout(old, env, seed=SEED)
     assert old.verdict == "undetermined" and info["collision"]  # 0.1.0's way: past the deepest node, at the goal
     oracle = ClairvoyantOracle(env, max_expansions=BUDGET)

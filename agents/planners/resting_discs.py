@@ -158,6 +158,19 @@ def broad_phase_of(resting, n_obstacles):
     return True, resting.moving.shape[0], resting.chord, grid_shape(resting.grid)
 
 
+_NO_ROWS = np.zeros(0, np.int64)
+
+
+@numba.njit(cache=True)
+def grid_lists(resting):
+    """The arrays a loop over the broad phase's cells reads once (:func:`broad_phase_of`'s companion):
+    ``(moving, start, items)``, the moving obstacles and the grid's cell starts and disc rows; empty
+    without a broad phase."""
+    if resting is None:
+        return _NO_ROWS, _NO_ROWS, _NO_ROWS  # (a constant: nothing allocated an evaluation)
+    return resting.moving, resting.grid.start, resting.grid.items
+
+
 @numba.njit(cache=True, inline="always")
 def off_chord(cx, cy, px, py, dx, dy, ee, distance):
     """Whether a resting centre ``c`` lies farther than ``distance`` (the robot's radius plus its

@@ -19,7 +19,6 @@ from agents.planners.resting_discs import (
     EVERY_OBSTACLE,
     RestingSet,
     broad_phase_of,
-    grid_lists,
     moving_obstacles,
     obstacles_along,
     off_chord,
@@ -160,7 +159,7 @@ def _rest_visits(scene, no_movers, ax, ay, bx, by, visit):
 def _step_visits(scene, broad, n_moving, shape, start, items, px, py, visit, span):
     """:func:`~agents.planners.resting_discs.obstacles_near_again` for a step from ``p`` (``broad``,
     ``n_moving``, ``shape``: what :func:`broad_phase_of` read; ``start``, ``items``: the grid's arrays,
-    :func:`grid_lists`; ``visit[:n_moving]`` holds the moving ones already): where the step's grid cells
+    :func:`broad_phase_of`; ``visit[:n_moving]`` holds the moving ones already): where the step's grid cells
     are the last one's, its count is read here; else the cells' discs are collected here, in the same
     order (a compiled call taking the record cost more than a step's tests)."""
     n_obs, distance = scene.contact_radii.shape[0], scene.reach + scene.robot_radius
@@ -274,8 +273,7 @@ def timed_path_cost(x, scene):
     visit = indices[n_obs : 2 * n_obs]
     span = indices[2 * n_obs :]  # the grid cells ``visit`` holds for the horizon's steps (none yet)
     span[:] = -2
-    broad, n_moving, chord, shape = broad_phase_of(scene.resting, n_obs)
-    moving, start, items = grid_lists(scene.resting)
+    broad, n_moving, chord, shape, (moving, start, items) = broad_phase_of(scene.resting, n_obs)
     visit[: moving.shape[0]] = moving  # the moving ones head every step's list (:func:`_step_visits`)
     for step in range(horizon_steps):
         nseg, qx, qy = walk_along(pts, seg, px, py, x[2 * k + seg] * reach)

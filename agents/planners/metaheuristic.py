@@ -150,7 +150,10 @@ class MetaheuristicAgent(Agent):
             pso_settings, abc_settings = pso_settings._replace(rule=rule), abc_settings._replace(rule=rule)
         if budget != 1.0:
             iterations = max(1, round(self.iterations * budget))
-            pso_settings = pso_settings._replace(inertia=inertia_schedule(iterations, self.w_max, self.w_min))
+            schedules = self.__dict__.setdefault("_schedules", {})  # made once for each share (a replan's Python counts among hundreds of discs)
+            if iterations not in schedules:
+                schedules[iterations] = inertia_schedule(iterations, self.w_max, self.w_min)
+            pso_settings = pso_settings._replace(inertia=schedules[iterations])
             abc_settings = abc_settings._replace(max_evaluations=self.population * iterations)
         seed = int(self.rng.integers(2**31 - 1))
         size = self.population if self.optimizer == "pso" else self.population // 2

@@ -147,15 +147,21 @@ def visited(resting, out, q):
     return out[q]
 
 
+#: No rows (a constant: :func:`broad_phase_of` allocates nothing without a broad phase).
+_NO_ROWS = np.zeros(0, np.int64)
+
+
 @numba.njit(cache=True)
 def broad_phase_of(resting, n_obstacles):
     """What a loop over :func:`obstacles_near`'s list reads once, not per obstacle (a compiled call
     taking the record costs more than a resting obstacle's test): ``(whether there is a broad phase,
-    how many of the list's first obstacles move, whether the resting ones pass :func:`off_chord`)``.
-    Without a broad phase every obstacle is visited as a moving one: ``(False, n_obstacles, False)``."""
+    how many of the list's first obstacles move, whether the resting ones pass :func:`off_chord`, the
+    grid's numbers (:func:`grid_shape`), and its arrays: (the moving obstacles, the cells' starts, the
+    discs' rows))``. Without a broad phase every obstacle is visited as a moving one:
+    ``(False, n_obstacles, False, ..., empty arrays)``."""
     if resting is None:
-        return False, n_obstacles, False, (0.0, 0.0, 1.0, 1, 1, 0.0, 0)
-    return True, resting.moving.shape[0], resting.chord, grid_shape(resting.grid)
+        return False, n_obstacles, False, (0.0, 0.0, 1.0, 1, 1, 0.0, 0), (_NO_ROWS, _NO_ROWS, _NO_ROWS)
+    return True, resting.moving.shape[0], resting.chord, grid_shape(resting.grid), (resting.moving, resting.grid.start, resting.grid.items)
 
 
 @numba.njit(cache=True, inline="always")

@@ -21,7 +21,6 @@ from agents.planners.resting_discs import (
     broad_phase_of,
     moving_obstacles,
     obstacles_along,
-    obstacles_near_again,
     off_chord,
 )
 from pathplan_env.geometry.contacts import swept_pair
@@ -157,17 +156,26 @@ def _rest_visits(scene, no_movers, ax, ay, bx, by, visit):
 
 
 @numba.njit(cache=True, inline="always")
-def _step_visits(scene, broad, n_moving, shape, px, py, visit, span):
-    """:func:`obstacles_near_again` for a step from ``p`` (``broad``, ``n_moving``, ``shape``: what
-    :func:`broad_phase_of` read): where the step's grid cells are the last one's, its count is read
-    here, and the compiled call taking the record (dearer than the tests it lists) made only where they are not."""
+def _step_visits(scene, broad, n_moving, shape, start, items, px, py, visit, span):
+    """:func:`~agents.planners.resting_discs.obstacles_near_again` for a step from ``p`` (``broad``,
+    ``n_moving``, ``shape``: what :func:`broad_phase_of` read; ``start``, ``items``: the grid's arrays,
+    :func:`broad_phase_of`; ``visit[:n_moving]`` holds the moving ones already): where the step's grid cells
+    are the last one's, its count is read here; else the cells' discs are collected here, in the same
+    order (a compiled call taking the record cost more than a step's tests)."""
     n_obs, distance = scene.contact_radii.shape[0], scene.reach + scene.robot_radius
     if not broad:
         return n_obs
     i0, i1, j0, j1 = span_of(shape, px, py, px, py, distance)
     if i0 == span[0] and i1 == span[1] and j0 == span[2] and j1 == span[3]:
         return n_moving + span[4]
-    return obstacles_near_again(scene.resting, n_obs, px, py, distance, visit, span)
+    ny = shape[4]
+    count = n_moving
+    for i in range(i0, i1 + 1):
+        for c in range(start[i * ny + j0], start[i * ny + j1 + 1]):
+            visit[count] = items[c]
+            count += 1
+    span[0], span[1], span[2], span[3], span[4] = i0, i1, j0, j1, count - n_moving
+    return count
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
@@ -265,14 +273,15 @@ def timed_path_cost(x, scene):
     visit = indices[n_obs : 2 * n_obs]
     span = indices[2 * n_obs :]  # the grid cells ``visit`` holds for the horizon's steps (none yet)
     span[:] = -2
-    broad, n_moving, chord, shape = broad_phase_of(scene.resting, n_obs)
+    broad, n_moving, chord, shape, (moving, start, items) = broad_phase_of(scene.resting, n_obs)
+    visit[: moving.shape[0]] = moving  # the moving ones head every step's list (:func:`_step_visits`)
     for step in range(horizon_steps):
         nseg, qx, qy = walk_along(pts, seg, px, py, x[2 * k + seg] * reach)
         dx, dy = qx - px, qy - py
         goal_t = reach_fraction(px, py, dx, dy, goal[0], goal[1], goal_radius)
         first = step * n
         ee = dx * dx + dy * dy
-        for q in range(_step_visits(scene, broad, n_moving, shape, px, py, visit, span)):
+        for q in range(_step_visits(scene, broad, n_moving, shape, start, items, px, py, visit, span)):
             o = visit[q] if broad else q  # (:func:`visited`, read here: a compiled call a visit cost more than the test)
             if _out_of_reach(scene, chord and q >= n_moving, o, step, px, py, dx, dy, ee):
                 continue

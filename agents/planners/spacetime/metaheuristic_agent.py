@@ -220,14 +220,25 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
             # topology-preserving one cost more than a sixth of such a replan
             around = waypoints_on(route(problem.cost_to_go, robot, goal, 0.5 * self.facts.robot_radius, not self.kept_still), k)
             rows.insert(0, np.concatenate([around.ravel(), np.ones(k + 1)]))
-        for angle in 2 * np.pi * np.arange(self.n_dodges) / self.n_dodges:
-            w1 = np.clip(robot + self.dodge_steps * self.step_length * np.array([np.cos(angle), np.sin(angle)]), self.search_lo[:2], self.search_hi[:2])
-            rest = w1 + np.arange(1, k)[:, None] / k * (goal - w1)
-            rows.append(np.concatenate([w1, rest.ravel(), np.ones(k + 1)]))
-        rows = np.array(rows)
+        # the dodges all at once (each element by the same operations as one dodge at a time: the same seeds)
+        w1 = np.clip(robot + self._dodge_offsets(), self.search_lo[:2], self.search_hi[:2])
+        dodges = np.ones((len(w1), 3 * k + 1))
+        dodges[:, :2] = w1
+        dodges[:, 2 : 2 * k] = (w1[:, None, :] + np.arange(1, k)[:, None] / k * (goal - w1)[:, None, :]).reshape(len(w1), 2 * k - 2)
+        rows = np.vstack([np.array(rows).reshape(-1, 3 * k + 1), dodges])
         if problem is not None and self.search_seed.max_expansions > 0:  # a bounded search's plan first
             rows = np.vstack([search_seeds(problem, self.model.arena.box, k, self.search_seed), rows])
         return np.clip(rows, self._timed_lo, self._timed_hi)
+
+    def _dodge_offsets(self) -> np.ndarray:
+        """``(n_dodges, 2)``: the dodges' first waypoints relative to the robot (:meth:`seed_paths`), made
+        once (each angle's cosine and sine by the same scalar calls as one dodge at a time)."""
+        key = (self.n_dodges, self.dodge_steps, self.step_length)
+        if getattr(self, "_dodges", (None,))[0] != key:
+            angles = 2 * np.pi * np.arange(self.n_dodges) / self.n_dodges
+            offsets = [self.dodge_steps * self.step_length * np.array([np.cos(angle), np.sin(angle)]) for angle in angles]
+            self._dodges = (key, np.array(offsets).reshape(-1, 2))
+        return self._dodges[1]
 
     def needs_whole_budget(self, problem: TimedScene) -> bool:
         """No early exit where the way to the goal bends round walls or resting discs (the cost-to-go's

@@ -9,8 +9,8 @@ import numba
 import numpy as np
 import pytest
 
-from agents.planners.resting_discs import CHORD_MARGIN, off_chord
-from agents.planners.timed_objective import timed_path_cost
+from agents.planners.resting_discs import CHORD_MARGIN, broad_phase_of, off_chord
+from agents.planners.timed_objective import _step_visits, timed_path_cost
 from pathplan_env.geometry.contacts import swept_pair
 from pathplan_env.robots.holonomic import substep_point
 
@@ -125,3 +125,40 @@ def test_a_disc_off_the_chord_is_touched_by_no_substep(n):
             assert t_hit > 1.0 and gap_j > 0.0
             ax, ay = qx, qy
     assert passed > 1000
+
+
+@numba.njit(cache=False)
+def _step_lists(scene, xs, ys, counts, lists):
+    """The objective's list of obstacles for a step from each ``(xs[i], ys[i])`` in turn (a path's steps)."""
+    n_obs = scene.contact_radii.shape[0]
+    visit, span = np.empty(n_obs, np.int64), np.full(5, -2, np.int64)
+    broad, n_moving, _, shape, (moving, start, items) = broad_phase_of(scene.resting, n_obs)
+    visit[: moving.shape[0]] = moving
+    for i in range(xs.shape[0]):
+        counts[i] = _step_visits(scene, broad, n_moving, shape, start, items, xs[i], ys[i], visit, span)
+        lists[i, : counts[i]] = visit[: counts[i]]
+
+
+def test_a_step_lists_the_obstacles_a_fresh_query_lists():
+    """The objective collects a step's discs from the grid's arrays itself (and reuses the last step's
+    list where the cells are the same): each step's obstacles, in order, are the ones
+    :func:`~agents.planners.resting_discs.obstacles_near` lists afresh, the moving ones first."""
+    from agents.planners.resting_discs import obstacles_near, resting_set
+    from agents.planners.timed_objective import TimedScene
+
+    rng = np.random.default_rng(11)
+    trajectory = np.repeat(rng.uniform(0, 10, (1, 200, 4)), 3, axis=0)
+    trajectory[1:, :4, :2] += 0.3  # four discs move
+    radii = rng.uniform(0.05, 0.1, 200)
+    resting = resting_set(trajectory, radii)
+    scene = TimedScene(trajectory, 2, 0.33, radii, np.zeros(2), np.ones(2), 0.1, 0.08, 1, 100.0, np.zeros((1, 200)), resting=resting)
+    angles = 0.02 * np.arange(300)
+    xs, ys = 0.3 + np.cumsum(0.08 * np.cos(angles)), 0.2 + np.cumsum(0.04 * np.sin(angles))  # across the field and out of it
+    counts, lists = np.zeros(300, np.int64), np.full((300, 200), -1, np.int64)
+    _step_lists(scene, xs, ys, counts, lists)
+    fresh = np.empty(200, np.int64)
+    for i in range(300):
+        count = obstacles_near(resting, 200, xs[i], ys[i], 0.08 + 0.33, fresh)
+        assert counts[i] == count and np.array_equal(lists[i, :count], fresh[:count])
+        assert np.array_equal(lists[i, :4], resting.moving)
+    assert len(np.unique(counts)) > 3  # steps among the discs, and some listing the moving ones alone

@@ -237,3 +237,23 @@ def test_the_plain_route_is_the_topology_preserving_one_along_clutter_descents(s
         assert np.array_equal(plain, kept)
         compared += 1
     assert compared >= 10
+
+
+@pytest.mark.parametrize("n_dodges, k", [(8, 2), (5, 3), (0, 2), (3, 1)])
+def test_the_dodge_seeds_are_the_ones_made_one_at_a_time(n_dodges, k):
+    """``seed_paths`` makes its dodges at once, from offsets computed once: each row is the one the
+    loop over the dodges made, bit for bit."""
+    env = _clutter_env(1, 0)
+    agent = agents.make("pso-spacetime", env, seed=0, n_dodges=n_dodges, n_waypoints=k)
+    rng = np.random.default_rng(3)
+    for _ in range(50):
+        robot, goal = rng.uniform(-7.0, 7.0, 2), rng.uniform(-7.0, 7.0, 2)
+        rows = [np.concatenate([agent.straight_line(robot, goal), np.ones(k + 1)])]
+        for angle in 2 * np.pi * np.arange(n_dodges) / n_dodges:  # the loop seed_paths ran before
+            w1 = np.clip(robot + agent.dodge_steps * agent.step_length * np.array([np.cos(angle), np.sin(angle)]), agent.search_lo[:2],
+                         agent.search_hi[:2])  # fmt: skip
+            rest = w1 + np.arange(1, k)[:, None] / k * (goal - w1)
+            rows.append(np.concatenate([w1, rest.ravel(), np.ones(k + 1)]))
+        expected = np.clip(np.array(rows), agent._timed_lo, agent._timed_hi)
+        got = agent.seed_paths(robot, goal)
+        assert got.shape == expected.shape and np.array_equal(got, expected) and np.array_equal(np.signbit(got), np.signbit(expected))

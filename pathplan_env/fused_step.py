@@ -126,6 +126,7 @@ class FusedStep:
             and not observation.max_static_segments
             and not observation._carried
             and env._observe == observation.observe
+            and env._advance == env.action_type.advance
             and world._plain
             and _plain_state(world.obstacle_state)
             and env.render_mode is None
@@ -168,7 +169,7 @@ class FusedStep:
             return None
         env, world, observation = self.env, self.world, self.observation
         w = self._weights
-        if env.reward_weights is not w:  # (weights set since the reset: the general step reads them)
+        if env.reward_weights is not w or env.render_mode is not None:  # (set since the reset: the general step reads them)
             return None
         i = observation._rows_used
         if i == _BLOCK_ROWS:

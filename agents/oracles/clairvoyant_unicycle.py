@@ -20,7 +20,8 @@ than for the holonomic robot: a unicycle that cannot turn or brake in time is lo
 than this test proves, and those stay "undetermined" unless one of the unicycle's planners (``astar-unicycle``,
 ``pso-unicycle``, ``abc-unicycle``), flown on a copy of the env from the current state
 (:mod:`agents.oracles.flown_planners`), arrives without contact: then it flies that planner's actions (verdict
-"plan", ``found_by`` its name), or the one that stays free longest.
+"plan", ``found_by`` its name); where none arrives it flies the one that stays free longest and the
+episode stays "undetermined".
 """
 
 from __future__ import annotations
@@ -65,7 +66,8 @@ class UnicycleClairvoyantOracle(Agent):
     :param planners: registered planners flown on a copy of the env where the episode would stay
         "undetermined" (:mod:`agents.oracles.flown_planners`, as the holonomic oracle does): the first that
         arrives without contact is flown (verdict "plan", ``found_by`` its name), else the one that flies the
-        most steps free if that beats the oracle's own flight. ``()`` or ``None``: none.
+        most steps free if that beats the oracle's own flight. Not flown where the obstacles react to the
+        robot (the verdict is then "reactive"). ``()`` or ``None``: none.
     """
 
     def __init__(self, env, seed: int | None = None, *, speed_steps=(-1.0, 0.0, 1.0), turn_steps=(-1.0, -0.5, 0.0, 0.5, 1.0),

@@ -168,3 +168,25 @@ def test_copies_made_mid_episode_continue_fused_bit_for_bit(clone):
         assert _bits(a) == _bits(b)
         if a[2] or a[3]:
             break
+
+
+def test_rendering_turned_on_mid_episode_keeps_the_trail():
+    envs = [gym.make("DynamicObstacle-v0", scenario="crowdnav-circle-crossing").unwrapped for _ in range(2)]
+    for env in envs:
+        env.reset(seed=5)
+        env.render_mode = "rgb_array"  # (set after the reset: the general step keeps the trail)
+    _general(envs[1])
+    for env in envs:
+        for _ in range(3):
+            env.step(np.zeros(2, np.float32))
+    assert len(envs[0].trail) == len(envs[1].trail) == 4
+
+
+def test_a_replaced_advance_takes_the_general_step():
+    env = gym.make("DynamicObstacle-v0", scenario="crowdnav-circle-crossing").unwrapped
+    calls = []
+    advance = env._advance
+    env._advance = lambda action, world: calls.append(1) or advance(action, world)
+    env.reset(seed=5)
+    env.step(np.zeros(2, np.float32))
+    assert env._fused is None and calls == [1]

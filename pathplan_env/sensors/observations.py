@@ -140,8 +140,8 @@ class StateObservation(ObservationType):
         self._slices = self.layout.slices()
         self._pairs = (self.max_obstacles, 2)
         self._carried: tuple[str, ...] = ()  # the robot's own scalar entries (carry_robot_scalars)
-        self.max_static_segments = 0
-        self._new_template()
+        self._template = np.zeros(self.layout.size, np.float32)
+        self._rows_used = self.BLOCK_ROWS  # no block yet: the first observation allocates one
         self.reserve_static_segments(0)
 
     def carry_robot_scalars(self, names: tuple[str, ...]) -> None:
@@ -150,7 +150,8 @@ class StateObservation(ObservationType):
         observation's row, written where the row is: a dict of their own merged into every
         observation cost a tenth of the unicycle's step. Called once, before the first observation."""
         self._carried = tuple(names)
-        self._new_template()  # (those columns are written every step)
+        self._template = np.zeros(self.layout.size + len(self._carried), np.float32)  # (those columns are written every step)
+        self._rows_used = self.BLOCK_ROWS
 
     def reserve_static_segments(self, count: int) -> None:
         """Show the scene's walls and polygons (``World.static_segments``) in ``count`` padded rows:
@@ -161,15 +162,8 @@ class StateObservation(ObservationType):
         if int(count) != count or count < 0:
             raise ValueError(f"max_static_segments must be an integer >= 0, got {count!r}")
         self.max_static_segments = int(count)
-        self._new_template()
-
-    def _new_template(self) -> None:
-        """The episode template's row: the layout's columns, then the static rows' (``5 count`` floats
-        of ``static_segments``, ``count`` of ``static_mask``: written at reset, copied into every row with
-        the rest of the template), then the carried scalars' (the last columns); a new block follows."""
-        self._static_at = self.layout.size
-        self._template = np.zeros(self.layout.size + 6 * self.max_static_segments + len(self._carried), np.float32)
-        self._rows_used = self.BLOCK_ROWS
+        self._static = np.zeros((self.max_static_segments, 5), np.float32)
+        self._static_mask = np.zeros(self.max_static_segments, np.float32)
 
     def check_fits(self, scenario) -> None:
         count = len(scenario.static_segments)
@@ -213,12 +207,10 @@ class StateObservation(ObservationType):
         if self.max_static_segments:  # padding rows at the arena's lower corner, as the obstacles'
             segments = world.static_segments
             self.check_fits(world.scenario)
-            m, at = self.max_static_segments, self._static_at
-            static, mask = self._template[at : at + 5 * m].reshape(m, 5), self._template[at + 5 * m : at + 6 * m]
-            static[:] = np.concatenate([self.arena.low, self.arena.low, [0.0]])
-            static[: len(segments)] = segments
-            mask[:] = 0.0
-            mask[: len(segments)] = 1.0
+            self._static[:] = np.concatenate([self.arena.low, self.arena.low, [0.0]])
+            self._static[: len(segments)] = segments
+            self._static_mask[:] = 0.0
+            self._static_mask[: len(segments)] = 1.0
 
     def observe(self, world) -> dict[str, np.ndarray]:
         (x, y), (vx, vy) = world.robot_xy, world.robot_velocity_xy
@@ -240,30 +232,18 @@ class StateObservation(ObservationType):
                 _ROW(self._block, i, self._template, (x, y, vx, vy), state, self.max_obstacles)
             else:
                 _observation_row(self._block[i], self._template, (x, y, vx, vy), state, self.max_obstacles)
-        if self.max_static_segments:  # (the static rows are the row's too: copied from the template with it)
-            position, velocity, goal, positions, velocities, radii, mask, static, static_mask = self._rows[i]
-            obs = {
-                "robot_position": position,
-                "robot_velocity": velocity,
-                "goal": goal,
-                "obstacle_positions": positions,
-                "obstacle_velocities": velocities,
-                "obstacle_radii": radii,
-                "obstacle_mask": mask,
-                "static_segments": static,
-                "static_mask": static_mask,
-            }
-        else:
-            position, velocity, goal, positions, velocities, radii, mask = self._rows[i]
-            obs = {
-                "robot_position": position,
-                "robot_velocity": velocity,
-                "goal": goal,
-                "obstacle_positions": positions,
-                "obstacle_velocities": velocities,
-                "obstacle_radii": radii,
-                "obstacle_mask": mask,
-            }
+        position, velocity, goal, positions, velocities, radii, mask = self._rows[i]
+        obs = {
+            "robot_position": position,
+            "robot_velocity": velocity,
+            "goal": goal,
+            "obstacle_positions": positions,
+            "obstacle_velocities": velocities,
+            "obstacle_radii": radii,
+            "obstacle_mask": mask,
+        }
+        if self.max_static_segments:
+            obs.update(self._static_entries())
         if carried:
             block = self._block
             for name, column, view in self._carried_entries:
@@ -275,18 +255,15 @@ class StateObservation(ObservationType):
     def _new_block(self) -> None:
         """A block of :data:`BLOCK_ROWS` observations and each entry's view across it."""
         n, s, (m, _) = self.BLOCK_ROWS, self._slices, self._pairs
-        self._block = block = np.empty((n, self._template.shape[0]), np.float32)
+        size = self.layout.size
+        self._block = block = np.empty((n, size + len(self._carried)), np.float32)
         self._entries = (block[:, s.robot_position], block[:, s.robot_velocity], block[:, s.goal],
                          block[:, s.obstacle_positions].reshape(n, m, 2), block[:, s.obstacle_velocities].reshape(n, m, 2),
                          block[:, s.obstacle_radii], block[:, s.obstacle_mask])  # fmt: skip
-        c, at = self.max_static_segments, self._static_at
-        if c:  # the static rows: row views of the block as the others (two copies a step cost a twentieth of a corridor crowd's step)
-            self._entries += (block[:, at : at + 5 * c].reshape(n, c, 5), block[:, at + 5 * c : at + 6 * c])
-        # each row's entries, its views made here in one pass (numpy's iteration) rather than by
+        # each row's seven entries, its views made here in one pass (numpy's iteration) rather than by
         # seven indexings a step; a row is written once, before its views are handed out
         self._rows = list(zip(*self._entries, strict=True))
-        first = at + 6 * c  # the carried scalars: the last columns
-        self._carried_entries = tuple((name, first + j, block[:, first + j : first + j + 1]) for j, name in enumerate(self._carried))
+        self._carried_entries = tuple((name, size + j, block[:, size + j : size + j + 1]) for j, name in enumerate(self._carried))
 
     def __getstate__(self):
         state = self.__dict__.copy()  # a copy of the env starts a block of its own
@@ -297,6 +274,11 @@ class StateObservation(ObservationType):
         state["_state_checked"] = None
         state["_rows_used"] = self.BLOCK_ROWS
         return state
+
+    def _static_entries(self) -> dict[str, np.ndarray]:
+        if not self.max_static_segments:
+            return {}
+        return {"static_segments": self._static.copy(), "static_mask": self._static_mask.copy()}  # copies: a policy may write to them
 
 
 @numba.njit(cache=True)

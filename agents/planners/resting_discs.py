@@ -16,7 +16,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from pathplan_env.geometry.disc_grid import DiscGrid, cell_span, collect_span, disc_grid, grid_shape, near_point, near_segment
+from pathplan_env.geometry.disc_grid import DiscGrid, disc_grid, grid_shape, near_point, near_segment
 
 #: Below this many resting obstacles every obstacle is visited: a grid's bookkeeping costs more than
 #: testing a few dozen distances (and among the benchmark's 8 moving obstacles there are none).
@@ -98,23 +98,6 @@ def obstacles_near(resting, n_obstacles, x, y, distance, out):
     m = resting.moving.shape[0]
     out[:m] = resting.moving
     return m + near_point(resting.grid, x, y, distance, out[m:])
-
-
-@numba.njit(cache=True)
-def obstacles_near_again(resting, n_obstacles, x, y, distance, out, span):
-    """:func:`obstacles_near` for a sequence of nearby tests (a path's steps) writing to the same ``out``:
-    where a test's grid cells are the last one's (``span``: 4 ints, their range; start them at -2) the
-    list in ``out`` is that one's, and only its count is computed (the same obstacles, in the same order)."""
-    if resting is None:
-        return n_obstacles
-    m = resting.moving.shape[0]
-    i0, i1, j0, j1 = cell_span(resting.grid, x, y, x, y, distance)
-    if i0 == span[0] and i1 == span[1] and j0 == span[2] and j1 == span[3]:
-        return m + span[4]
-    out[:m] = resting.moving
-    span[0], span[1], span[2], span[3] = i0, i1, j0, j1
-    span[4] = collect_span(resting.grid, i0, i1, j0, j1, out[m:])
-    return m + span[4]
 
 
 @numba.njit(cache=True)

@@ -157,7 +157,7 @@ def _rest_visits(scene, no_movers, ax, ay, bx, by, visit):
 
 @numba.njit(cache=True, inline="always")
 def _step_visits(scene, broad, n_moving, shape, start, items, px, py, visit, span):
-    """:func:`~agents.planners.resting_discs.obstacles_near_again` for a step from ``p`` (``broad``,
+    """The obstacles a step from ``p`` may touch (:func:`~agents.planners.resting_discs.obstacles_near`'s list, reusing the last step's) (``broad``,
     ``n_moving``, ``shape``: what :func:`broad_phase_of` read; ``start``, ``items``: the grid's arrays,
     :func:`broad_phase_of`; ``visit[:n_moving]`` holds the moving ones already): where the step's grid cells
     are the last one's, its count is read here; else the cells' discs are collected here, in the same

@@ -128,15 +128,18 @@ def test_a_disc_off_the_chord_is_touched_by_no_substep(n):
 
 
 @numba.njit(cache=False)
-def _step_lists(scene, xs, ys, counts, lists):
-    """The objective's list of obstacles for a step from each ``(xs[i], ys[i])`` in turn (a path's steps)."""
+def _step_lists(scene, xs, ys, counts, lists, reused):
+    """The objective's list of obstacles for a step from each ``(xs[i], ys[i])`` in turn (a path's steps);
+    ``reused[i]``: whether that step kept the last step's grid cells (its list)."""
     n_obs = scene.contact_radii.shape[0]
     visit, span = np.empty(n_obs, np.int64), np.full(5, -2, np.int64)
     broad, n_moving, _, shape, (moving, start, items) = broad_phase_of(scene.resting, n_obs)
     visit[: moving.shape[0]] = moving
     for i in range(xs.shape[0]):
+        before = span[:4].copy()
         counts[i] = _step_visits(scene, broad, n_moving, shape, start, items, xs[i], ys[i], visit, span)
         lists[i, : counts[i]] = visit[: counts[i]]
+        reused[i] = (before == span[:4]).all()
 
 
 def test_a_step_lists_the_obstacles_a_fresh_query_lists():
@@ -154,11 +157,12 @@ def test_a_step_lists_the_obstacles_a_fresh_query_lists():
     scene = TimedScene(trajectory, 2, 0.33, radii, np.zeros(2), np.ones(2), 0.1, 0.08, 1, 100.0, np.zeros((1, 200)), resting=resting)
     angles = 0.02 * np.arange(300)
     xs, ys = 0.3 + np.cumsum(0.08 * np.cos(angles)), 0.2 + np.cumsum(0.04 * np.sin(angles))  # across the field and out of it
-    counts, lists = np.zeros(300, np.int64), np.full((300, 200), -1, np.int64)
-    _step_lists(scene, xs, ys, counts, lists)
+    counts, lists, reused = np.zeros(300, np.int64), np.full((300, 200), -1, np.int64), np.zeros(300, np.bool_)
+    _step_lists(scene, xs, ys, counts, lists, reused)
     fresh = np.empty(200, np.int64)
     for i in range(300):
         count = obstacles_near(resting, 200, xs[i], ys[i], 0.08 + 0.33, fresh)
         assert counts[i] == count and np.array_equal(lists[i, :count], fresh[:count])
         assert np.array_equal(lists[i, :4], resting.moving)
     assert len(np.unique(counts)) > 3  # steps among the discs, and some listing the moving ones alone
+    assert 50 < reused.sum() < 300  # both ways taken: the last step's list kept, and collected afresh

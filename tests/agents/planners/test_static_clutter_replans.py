@@ -128,27 +128,6 @@ def test_a_prediction_where_nothing_moves_is_the_one_every_substep_computes():
     assert np.array_equal(shortcut, stepped) and np.array_equal(np.signbit(shortcut), np.signbit(stepped))
 
 
-def test_a_path_s_steps_visit_the_obstacles_a_fresh_query_lists():
-    """The horizon's steps reuse the last step's list where its grid cells are the same: each step's
-    obstacles, in order, are the ones :func:`obstacles_near` lists afresh."""
-    from agents.planners.resting_discs import obstacles_near, obstacles_near_again
-
-    rng = np.random.default_rng(5)
-    trajectory = np.repeat(rng.uniform(0, 10, (1, 200, 4)), 3, axis=0)
-    trajectory[1:, :4, :2] += 0.3  # four discs move
-    resting = resting_set(trajectory, rng.uniform(0.05, 0.1, 200))
-    again, fresh, span = np.empty(200, np.int64), np.empty(200, np.int64), np.full(5, -2, np.int64)
-    reused = 0
-    x, y = 0.3, 0.2
-    for i in range(300):  # a walk of 8 cm steps across the field and out of it (y < 0)
-        before = span.copy()
-        count = obstacles_near_again(resting, 200, x, y, 0.41, again, span)
-        reused += bool(np.array_equal(before, span))
-        assert count == obstacles_near(resting, 200, x, y, 0.41, fresh) and np.array_equal(again[:count], fresh[:count])
-        x, y = x + 0.08 * np.cos(0.02 * i), y + 0.08 * np.sin(0.02 * i) * 0.5
-    assert 50 < reused < 300  # both ways taken
-
-
 def _same_record(a, b) -> bool:
     """Records (nested named tuples of arrays and numbers) equal field by field, bit for bit."""
     if isinstance(a, tuple):

@@ -211,15 +211,15 @@ class FusedStep:
             "waypoint": waypoint,
             "rewards": {"progress": progress, "goal": goal, "collision": hit, "time": time, "proximity": proximity},
         }
-        position, velocity, goal_xy, positions, velocities, radii, mask = observation._rows[i]
+        position, velocity, goal_xy, positions, velocities, radii, mask = observation._entries
         obs = {
-            "robot_position": position,
-            "robot_velocity": velocity,
-            "goal": goal_xy,
-            "obstacle_positions": positions,
-            "obstacle_velocities": velocities,
-            "obstacle_radii": radii,
-            "obstacle_mask": mask,
+            "robot_position": position[i],
+            "robot_velocity": velocity[i],
+            "goal": goal_xy[i],
+            "obstacle_positions": positions[i],
+            "obstacle_velocities": velocities[i],
+            "obstacle_radii": radii[i],
+            "obstacle_mask": mask[i],
         }
         return obs, -0.0 + progress + goal + hit + time + proximity, terminated, truncated, info  # (rewards.total: left to right)
 

@@ -60,10 +60,8 @@ def env_split(scenario, steps: int = 100, envs: int = 200) -> dict:
     not apply: the action's move, the observation, the reward terms, the info); the fused step's
     one compiled call (``pathplan_env.fused_step``: the move, the world's step, the observation's
     row, the reward terms that need no distance); the least any Gymnasium step of this env can cost
-    with ``World.step`` (its step and the three dicts the API returns, built from ready values), and
-    with the fused call in its place."""
-    import numpy as np
-
+    with ``World.step`` (its step and the three dicts the API returns, built from ready values and the
+    observation's seven fresh views of a row), and with the fused call in its place."""
     from pathplan_env import fused_step
 
     def parts():
@@ -72,7 +70,7 @@ def env_split(scenario, steps: int = 100, envs: int = 200) -> dict:
         u = env.unwrapped
         world, hold = u.world, u.waypoint_to_action(scenario.start)
         rewards = u._rewards(False, False, 1.0, 1.0)
-        entries = [np.zeros((2,), np.float32)] * 3 + [np.zeros((u.max_obstacles, 2), np.float32)] * 2 + [np.zeros(u.max_obstacles, np.float32)] * 2
+        entries = u.observation_type._entries  # the block's seven entries: an observation's arrays are views of one row
         fused = u._fused
         if fused is not None:
             fused._set_block(u.observation_type._block)
@@ -81,10 +79,10 @@ def env_split(scenario, steps: int = 100, envs: int = 200) -> dict:
         else:
             compiled = lambda: world.step(0.0, 0.0)
 
-        def dicts(min_gap):  # the API's three dicts from ready values
+        def dicts(min_gap):  # the API's three dicts from ready values (the observation's seven fresh views of a row)
             p, v, g, ps, vs, r, m = entries
-            obs = {"robot_position": p, "robot_velocity": v, "goal": g, "obstacle_positions": ps, "obstacle_velocities": vs,
-                   "obstacle_radii": r, "obstacle_mask": m}  # fmt: skip
+            obs = {"robot_position": p[1], "robot_velocity": v[1], "goal": g[1], "obstacle_positions": ps[1], "obstacle_velocities": vs[1],
+                   "obstacle_radii": r[1], "obstacle_mask": m[1]}  # fmt: skip
             terms = {"progress": 0.0, "goal": 0.0, "collision": 0.0, "time": -0.005, "proximity": 0.0}
             info = {"is_success": False, "collision": False, "cost": 0.0, "min_clearance": min_gap, "path_length": 0.0, "time": world.time,
                     "distance_to_goal": 1.0, "waypoint": (0.0, 0.0), "rewards": terms}  # fmt: skip

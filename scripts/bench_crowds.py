@@ -16,7 +16,8 @@ action's move, the observation, the reward terms, the info), the fused step's on
 (``pathplan_env.fused_step``, which replaces them and ``World.step`` where it applies), and the
 least any Gymnasium step of this env can cost: the world's step (or the fused call) and the three
 dicts the API returns (the observation's seven arrays, the reward terms, the info) built from ready
-values.
+values; with navground installed, its step timed alike and the env step's and the floor's ratios to it
+(the means' ratio).
 
 navground is in the ``crowds-bench`` extra (``pip install -e .[crowds-bench]``); without it the
 script says so and stops.
@@ -53,7 +54,7 @@ def env_stepper(scenario):
     return lambda: unwrapped.step(hold)
 
 
-def env_split(scenario, steps: int = 100, envs: int = 200) -> dict:
+def env_split(scenario, steps: int = 100, envs: int = 200, with_peer: bool = False) -> dict:
     """What one ``DynamicObstacle-v0.step`` of ``scenario`` is made of (µs a step, process CPU time
     over ``steps`` steps of each of ``envs`` fresh envs, the robot holding still): the whole step;
     ``World.step``; the general step's pieces (``DynamicObstacleEnv.step`` where the fused step does
@@ -61,7 +62,8 @@ def env_split(scenario, steps: int = 100, envs: int = 200) -> dict:
     one compiled call (``pathplan_env.fused_step``: the move, the world's step, the observation's
     row, the reward terms that need no distance); the least any Gymnasium step of this env can cost
     with ``World.step`` (its step and the three dicts the API returns, built from ready values and the
-    observation's seven fresh views of a row), and with the fused call in its place."""
+    observation's seven fresh views of a row), and with the fused call in its place; with
+    ``with_peer``, navground's step of the same scene (a fresh world each time, timed alike)."""
     from pathplan_env import fused_step
 
     def parts():
@@ -106,6 +108,7 @@ def env_split(scenario, steps: int = 100, envs: int = 200) -> dict:
             "floor: World.step + the API's dicts": floor,
             "fused compiled call": compiled,
             "floor: fused call + the API's dicts": fused_floor,
+            **({"navground's step": navground_stepper(scenario)} if with_peer else {}),
         }
 
     totals = dict.fromkeys(parts(), 0.0)
@@ -141,11 +144,18 @@ def main(argv=None) -> None:
             print(f"| {n} | " + " | ".join(f"{us:.2f}" for us in parts.values()) + " |", flush=True)
         return
     if args.env_split:
+        with_peer = importlib.util.find_spec("navground") is not None
         for n in args.sizes:
-            parts = env_split(crowd_scene("circle", n, args.seed))
+            parts = env_split(crowd_scene("circle", n, args.seed), with_peer=with_peer)
+            if with_peer:  # the env's step and its floor (no bookkeeping at all) against navground's step
+                peer = parts["navground's step"]
+                parts["env step ÷ navground"] = parts["env step"] / peer
+                parts["floor ÷ navground"] = parts["floor: fused call + the API's dicts"] / peer
             if n == args.sizes[0]:
                 print("| humans | " + " | ".join(parts) + " |\n|---:|" + "---:|" * len(parts))
             print(f"| {n} | " + " | ".join(f"{us:.2f}" for us in parts.values()) + " |", flush=True)
+        if not with_peer:
+            print("(navground is not installed: no ratios to its step)")
         return
     if importlib.util.find_spec("navground") is None:
         print("bench_crowds: navground is not installed (pip install -e .[crowds-bench]); nothing to compare, skipped")

@@ -274,11 +274,11 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         seeds = None if refine else self.seed_paths(robot, goal, problem)
         stall = 0 if self.needs_whole_budget(problem) else None
         if refine:  # nothing moved since the last replan: refine its best
-            best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, np.empty((0, self._timed_lo.size)), self.still_budget, self.still_stall,
-                                      self.still_spread)  # fmt: skip
+            none = np.empty((0, self._timed_lo.size))
+            best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, none, self.still_budget, self.still_stall, self.still_spread)
             last = memory.get("still_cost")
-            self.last_fallback = self.still_progress > 0.0 and not (
-                last is not None and self.last_penalty == 0.0 and self.last_cost <= last - self.still_progress * self.step_length)
+            progressed = last is not None and self.last_penalty == 0.0 and self.last_cost <= last - self.still_progress * self.step_length
+            self.last_fallback = self.still_progress > 0.0 and not progressed
             if self.last_fallback:  # no progress on the last plan (a stall, a way that opens elsewhere): the whole budget
                 refined, seeds = self.last_evaluations, self.seed_paths(robot, goal, problem)
                 best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, seeds, stall=stall)

@@ -37,11 +37,13 @@ CROWD_SETTINGS = MappingProxyType({"margin": 0.05, "rest_obstacles": False, "obs
 #: Where nothing has moved since the last replan, each optimiser's share of its budget, the spread (m) of its
 #: population round the last best, and the progress (a fraction of a step) a refine must make on the last
 #: replan's cost, else the replan runs the whole budget (``still_budget``, ``still_spread``, ``still_progress``).
-#: Chosen on the clutter table's 30 episodes and 60 more (seeds 1000, 2000; docs/results/bench_planners.md): with
-#: half PSO's budget round the last best and ABC's whole budget (before), PSO 1.0057 / 1.0179 / 1.0085 x the exact
-#: length (29 of 30 reached on the last: a stall), ABC 1.0276 / 1.0329 / 1.0321; with these, PSO 1.0115 / 1.0197 /
-#: 1.0184, ABC 1.0229 / 1.0323 / 1.0423, every episode reached, at 270 and 320 evaluations a refining replan against
-#: 780 and 1980 (issue 46: a replan among 300 resting discs within 2 x one among 8 moving obstacles).
+#: Chosen on the clutter table's 30 episodes and 60 more (seeds 1000, 2000; docs/results/bench_planners.md, the last
+#: section): with half PSO's budget round the last best and ABC's whole budget (before), PSO 1.0057 / 1.0179 / 1.0138 x
+#: the exact length, ABC 1.0276 / 1.0329 / 1.0321; with these, PSO 1.0115 / 1.0197 / 1.0184, ABC 1.0229 / 1.0323 /
+#: 1.0423 (paths a little longer on the whole: the trade), every episode reached, at 270 and at most 320 evaluations a
+#: refining replan against 780 and 1980 (issue 46: a replan among 300 resting discs within 2 x one among 8 moving
+#: obstacles; 1.2-1.3 and 1.1-1.4 x by the bench, 3.2-3.5 and 5.1-9.7 before). Without the progress guard ABC's
+#: refines stalled in a clutter episode the whole budget reaches.
 STILL_REFINE = MappingProxyType({"pso": (0.15, 0.2, 0.5), "abc": (0.15, 0.1, 0.5)})
 
 #: What the space-time optimisers' penalty measures (:data:`agents.planners.timed_objective.FIRST_CONTACT`).

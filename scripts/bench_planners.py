@@ -21,7 +21,8 @@
    and the replans after it, which fly on along it) and among 8 moving obstacles (random, Δd 0.5);
    then each space-time planner's replan median among the 300 resting cylinders beside its median
    among 8 moving obstacles (random, Δd 0.5, test episodes), and their ratio (issue 46's target: <= 2), with
-   PSO's and ABC's objective evaluations a replan in both (where nothing moves they spend their whole budget).
+   PSO's and ABC's objective evaluations a replan in both (where nothing has moved since the last replan they
+   refine its best at a share of their budget: ``STILL_REFINE``).
 6. ``--learned`` (this part alone): the shipped learned agents' acting time (one ``predict``, numpy
    forward, no torch) in the scenes each was trained for, over whole test episodes (issue 20's
    target: <= 2 ms median), wall clock and this process's CPU time.

@@ -33,6 +33,8 @@ class ABCSettings(NamedTuple):
     limit: int  # original ABC: trials without improvement before a scout replaces the source
     scouts_replace_infeasible: bool  # modified ABC: scouts replace every infeasible source instead
     rule: ConstraintRule = ConstraintRule()  # how candidates rank, and the early exit (:mod:`.constraints`)
+    #: empty: scouts draw uniformly in the box; else (D,): each coordinate uniform within this of the run's best
+    scout_scale: np.ndarray = np.zeros(0)
 
 
 class Colony(NamedTuple):
@@ -118,8 +120,12 @@ def abc_run(x0, lo, hi, settings, seed, problem):
             else:
                 abandon = trials[i] > limit
             if abandon and evaluations < max_evaluations:
-                for j in range(D):
-                    x[i, j] = lo[j] + uniform(rng) * (hi[j] - lo[j])
+                if settings.scout_scale.size:  # a refining run: round its best
+                    for j in range(D):
+                        x[i, j] = min(max(best_x[j] + (2.0 * uniform(rng) - 1.0) * settings.scout_scale[j], lo[j]), hi[j])
+                else:
+                    for j in range(D):
+                        x[i, j] = lo[j] + uniform(rng) * (hi[j] - lo[j])
                 cost[i], pen[i] = objective(x[i], problem)
                 trials[i] = 0
                 evaluations += 1

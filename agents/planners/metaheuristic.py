@@ -142,25 +142,15 @@ class MetaheuristicAgent(Agent):
         given, replaces the rule's early exit for this run (0: the whole budget). ``around`` > 0 (with
         ``warm_start`` and a previous best): the rows the seeds leave are drawn round the previous best
         (normal, this standard deviation in m for a waypoint, a tenth of it for a speed) instead of
-        uniformly in the box, for a run that refines a plan still good.
+        uniformly in the box, for a run that refines a plan still good (ABC's scouts then draw round the
+        run's best too, uniformly within as much).
         """
-        pso_settings, abc_settings = self.pso_settings, self.abc_settings
-        if stall is not None and stall != self.rule.stall:
-            rule = self.rule._replace(stall=int(stall))
-            pso_settings, abc_settings = pso_settings._replace(rule=rule), abc_settings._replace(rule=rule)
-        if budget != 1.0:
-            iterations = max(1, round(self.iterations * budget))
-            schedules = self.__dict__.setdefault("_schedules", {})  # made once for each share (a replan's Python counts among hundreds of discs)
-            if iterations not in schedules:
-                schedules[iterations] = inertia_schedule(iterations, self.w_max, self.w_min)
-            pso_settings = pso_settings._replace(inertia=schedules[iterations])
-            abc_settings = abc_settings._replace(max_evaluations=self.population * iterations)
+        pso_settings, abc_settings, size, scale = self._run_settings(budget, stall, around, lo.size)
         seed = int(self.rng.integers(2**31 - 1))
-        size = self.population if self.optimizer == "pso" else self.population // 2
-        x0 = self.rng.uniform(lo, hi, size=(size, lo.size))
-        if self.warm_start and around > 0.0 and "best" in memory:
-            scale = np.where(np.arange(lo.size) < self.search_lo.size, around, 0.1 * around)
-            x0 = np.clip(memory["best"] + scale * self.rng.standard_normal(x0.shape), lo, hi)
+        if self.warm_start and around > 0.0 and "best" in memory:  # (no uniform draw: every row is drawn round the best)
+            x0 = np.clip(memory["best"] + scale * self.rng.standard_normal((size, lo.size)), lo, hi)
+        else:
+            x0 = self.rng.uniform(lo, hi, size=(size, lo.size))
         if self.warm_start:
             if "best" in memory:  # the previous plan, as the paper's modified ABC does
                 x0[0] = memory["best"]
@@ -176,6 +166,28 @@ class MetaheuristicAgent(Agent):
         self.last_scouted = int(result.scouted)
         self.last_evaluations = int(result.evaluations)
         return result.best
+
+    def _run_settings(self, budget: float, stall: int | None, around: float, dimensions: int) -> tuple:
+        """:meth:`run_optimizer`'s settings for these arguments: ``(pso_settings, abc_settings, size, scale)``,
+        made once for each (a refining replan's Python counts among hundreds of discs)."""
+        key = (budget, stall, around, dimensions)
+        made = self.__dict__.setdefault("_run_settings_made", {})
+        if key in made:
+            return made[key]
+        pso_settings, abc_settings = self.pso_settings, self.abc_settings
+        if stall is not None and stall != self.rule.stall:
+            rule = self.rule._replace(stall=int(stall))
+            pso_settings, abc_settings = pso_settings._replace(rule=rule), abc_settings._replace(rule=rule)
+        if budget != 1.0:
+            iterations = max(1, round(self.iterations * budget))
+            pso_settings = pso_settings._replace(inertia=inertia_schedule(iterations, self.w_max, self.w_min))
+            abc_settings = abc_settings._replace(max_evaluations=self.population * iterations)
+        size = self.population if self.optimizer == "pso" else self.population // 2
+        scale = np.where(np.arange(dimensions) < self.search_lo.size, around, 0.1 * around)
+        if around > 0.0 and self.warm_start:  # a refining run: ABC's scouts draw round its best too
+            abc_settings = abc_settings._replace(scout_scale=scale)
+        made[key] = (pso_settings, abc_settings, size, scale)
+        return made[key]
 
     def plan(self, obs, memory):
         scene = self.scene(obs)

@@ -304,6 +304,9 @@ def drivers_statics(scenario, drivers: list) -> HumanStatics:
     goals array shared): every goal-directed obstacle routed, free cells sized for the largest."""
     # (a group's indices are ascending: one group's are the sorted ones)
     routed = drivers[0][1] if len(drivers) == 1 else np.sort(np.concatenate([idx for _, idx, _, _ in drivers]))
+    alike = scenario._alike()  # (a crowd family's humans: one radius)
+    if alike is not None and len(routed):
+        return human_statics(scenario, drivers[0][2], routed, alike[1])
     radii = scenario._arrays["radii"]  # (read only: arrays()'s copy of the dict not needed)
     return human_statics(scenario, drivers[0][2], routed, float(radii[routed].max()))
 

@@ -37,8 +37,8 @@ def _humans(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | None = 
 
 def _placed_humans(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | None = None,
                    trips: tuple | None = None) -> tuple[tuple[Obstacle, ...], np.ndarray, np.ndarray]:  # fmt: skip
-    """``(humans, their starts (n, 2), their goals (n, 2))``: ``n`` humans whose (start, goal) pairs come from ``draw(rng, k) -> (starts (k, 2), goals (k, 2))``:
-    each takes the first of its candidates that keeps the rules of the module docstring. A human
+    """``(humans, their starts (n, 2), their goals (n, 2))``: ``n`` humans whose (start, goal) pairs come
+    from ``draw(rng, k) -> (starts (k, 2), goals (k, 2))``: each takes the first of its candidates that keeps the rules of the module docstring. A human
     whose first ``_CANDIDATES`` all break them draws more batches (only then: a scene that fitted
     the first time is drawn exactly as before). ``grid``: the layout's :func:`clearance_grid`, if kept;
     ``trips``: ``(clearance, limit)``, a candidate whose trip along the layout (``routing.path_lengths`` for

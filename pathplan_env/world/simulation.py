@@ -94,7 +94,8 @@ class World(SpaceKeeper):
         self.static_segments = scenario.static_segments
         self._has_statics = len(self.static_segments) > 0  # read every step: no walls, no cost
         # what goal-directed obstacles know of the walls: RVO2 obstacles, routes (routing.py)
-        self._human_statics = drivers_statics(scenario, self._drivers) if self._drivers and self._has_statics else None
+        spare = getattr(recycle, "_human_statics", None)  # (its route rows, taken over where they fit: routing._reused_rows)
+        self._human_statics = drivers_statics(scenario, self._drivers, spare) if self._drivers and self._has_statics else None
         moving = [speed > 0 for speed in top_speeds.tolist()]  # a goal-directed obstacle is dynamic even at rest
         if recycle is not None and recycle.space is None:  # (a world that lent its space has nothing left)
             recycle = None
@@ -109,6 +110,8 @@ class World(SpaceKeeper):
         self._write_bodies()
         self.obstacle_state = self._pymunk_state.copy()  # (N, 4): x, y, vx, vy
         self._pack(fresh=True)
+        if spare is not None:
+            recycle._human_statics = None  # (its rows may be this world's now: never the next one's too)
 
     @staticmethod
     def _group_drivers(scenario: Scenario) -> list:

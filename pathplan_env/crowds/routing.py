@@ -250,21 +250,49 @@ def orca_obstacles(scenario) -> ORCAObstacles:
     return _orca_obstacles(_geometry_key(scenario))
 
 
-def human_statics(scenario, goals: np.ndarray, routed: np.ndarray, clearance: float) -> HumanStatics:
+def human_statics(scenario, goals: np.ndarray, routed: np.ndarray, clearance: float, spare: HumanStatics | None = None) -> HumanStatics:
     """Everything the goal-directed obstacles ``routed`` (indices, goals ``goals[i]``) need; free cells
-    keep ``clearance + ROUTE_MARGIN`` from the geometry."""
+    keep ``clearance + ROUTE_MARGIN`` from the geometry. ``spare``: a finished episode's statics, whose
+    route rows are taken over when they are the same grid's and as many (:func:`_reused_rows`)."""
     grid = _grid(_geometry_key(scenario), float(clearance) + ROUTE_MARGIN, GRID_CELL)
     goal_cells, row_of = _goal_cells(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.nearest, goals, routed)
     if len(goal_cells) and goal_cells.min() < 0:  # a goal on a blocked cell
         resolve_nearest(grid.nearest, grid.free, grid.rows, grid.cols)
         goal_cells, row_of = _goal_cells(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.nearest, goals, routed)
     n_cells = grid.rows * grid.cols
-    dist, pred = np.empty((len(routed), n_cells)), np.empty((len(routed), n_cells), np.int32)
+    rows = _reused_rows(spare, grid.free, len(routed), n_cells) if spare is not None else None
+    if rows is None:
+        rows = np.empty((len(routed), n_cells)), np.empty((len(routed), n_cells), np.int32), np.zeros((len(routed), n_cells), np.bool_)
+    dist, pred, settled = rows
     routes = Routes(grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.free, grid.nearest, dist, pred, row_of, np.zeros(len(routed), np.bool_),
-                    grid.blocked_below, np.zeros((len(routed), n_cells), np.bool_), np.zeros(len(routed), np.int64))  # fmt: skip
+                    grid.blocked_below, settled, np.zeros(len(routed), np.int64))  # fmt: skip
     obstacles = orca_obstacles(scenario)
     return HumanStatics(obstacles, scenario.static_segments, routes, grid.graph, grid.queue, goal_cells, tuple(obstacles), tuple(routes), goals.copy(),
                         np.empty(len(goals), np.int64))  # fmt: skip
+
+
+def _reused_rows(spare: HumanStatics, free: np.ndarray, n_rows: int, n_cells: int) -> tuple | None:
+    """``(dist, pred, settled)`` of ``spare`` (a finished episode's statics, never read again) made new
+    for the next one: each row unsettled, as ``np.zeros`` makes it; ``None`` unless they are rows of the
+    grid of ``free`` (the same array: a geometry's cached grid), ``n_rows`` of them. A row's search
+    writes its ``dist`` and ``pred`` before it reads them and settles its source (its goal's cell)
+    first, so the rows whose source is not settled were never begun and are left as they are: the
+    corridor's humans see their goals, and zeroing their 192 kB every reset was a fiftieth of it."""
+    routes = spare.routes
+    settled = routes.settled
+    if routes.free is not free or settled.shape != (n_rows, n_cells) or spare.goal_cells.shape != (n_rows,):
+        return None
+    _unsettle_begun(settled, spare.goal_cells)
+    return routes.dist, routes.pred, settled
+
+
+@numba.njit(cache=True)
+def _unsettle_begun(settled, sources):
+    """Every row ``r`` of ``settled`` whose source ``sources[r]`` is settled (a begun search) unsettled.
+    Compiled: numpy's fancy index, test and masked write cost three times this call."""
+    for r in range(settled.shape[0]):
+        if settled[r, sources[r]]:
+            settled[r, :] = False
 
 
 @lru_cache(maxsize=4)
@@ -299,13 +327,17 @@ def path_length_table(scenario, clearance: float, cell: float = 0.25) -> tuple:
     return grid.x0, grid.y0, grid.cell, grid.rows, grid.cols, grid.nearest, dist
 
 
-def drivers_statics(scenario, drivers: list) -> HumanStatics:
+def drivers_statics(scenario, drivers: list, spare: HumanStatics | None = None) -> HumanStatics:
     """:func:`human_statics` for a world's drivers (``(behaviour, idx, goals, preferred)`` each, the
-    goals array shared): every goal-directed obstacle routed, free cells sized for the largest."""
+    goals array shared): every goal-directed obstacle routed, free cells sized for the largest;
+    ``spare``: the previous world's statics, its rows taken over where they fit."""
     # (a group's indices are ascending: one group's are the sorted ones)
     routed = drivers[0][1] if len(drivers) == 1 else np.sort(np.concatenate([idx for _, idx, _, _ in drivers]))
+    alike = scenario._alike()  # (a crowd family's humans: one radius)
+    if alike is not None and len(routed):
+        return human_statics(scenario, drivers[0][2], routed, alike[1], spare)
     radii = scenario._arrays["radii"]  # (read only: arrays()'s copy of the dict not needed)
-    return human_statics(scenario, drivers[0][2], routed, float(radii[routed].max()))
+    return human_statics(scenario, drivers[0][2], routed, float(radii[routed].max()), spare)
 
 
 def _cells_of(grid, points: np.ndarray) -> np.ndarray:

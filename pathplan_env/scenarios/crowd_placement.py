@@ -36,9 +36,9 @@ def _humans(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | None = 
 
 
 def _placed_humans(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | None = None,
-                   trips: tuple | None = None) -> tuple[tuple[Obstacle, ...], np.ndarray]:  # fmt: skip
-    """``(humans, their starts (n, 2))``: ``n`` humans whose (start, goal) pairs come from ``draw(rng, k) -> (starts (k, 2), goals (k, 2))``:
-    each takes the first of its candidates that keeps the rules of the module docstring. A human
+                   trips: tuple | None = None) -> tuple[tuple[Obstacle, ...], np.ndarray, np.ndarray]:  # fmt: skip
+    """``(humans, their starts (n, 2), their goals (n, 2))``: ``n`` humans whose (start, goal) pairs come
+    from ``draw(rng, k) -> (starts (k, 2), goals (k, 2))``: each takes the first of its candidates that keeps the rules of the module docstring. A human
     whose first ``_CANDIDATES`` all break them draws more batches (only then: a scene that fitted
     the first time is drawn exactly as before). ``grid``: the layout's :func:`clearance_grid`, if kept;
     ``trips``: ``(clearance, limit)``, a candidate whose trip along the layout (``routing.path_lengths`` for
@@ -78,13 +78,14 @@ def _placed_humans(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | 
         else:
             i = _place_spaced(starts, goals, ok, centers, ends, i + 1, SPACING, rules)
     # valid by construction (inside the arena, clear of the walls, the robot and each other): not validated again
-    new, radius, rest = object.__new__, HUMAN_RADIUS, (0.0, 0.0)
+    new, radius, rest, speed = object.__new__, HUMAN_RADIUS, (0.0, 0.0), HUMAN_SPEED
     humans = []
     for (cx, cy), (gx, gy) in zip(centers.tolist(), ends.tolist()):  # Obstacle._from_checked's, inlined
         human = new(Obstacle)
-        human.__dict__.update(center=(cx, cy), radius=radius, velocity=rest, goal=(gx, gy), preferred_speed=HUMAN_SPEED)
+        fields = human.__dict__  # (its keys written one by one: update's keyword dict cost a tenth more)
+        fields["center"], fields["radius"], fields["velocity"], fields["goal"], fields["preferred_speed"] = (cx, cy), radius, rest, (gx, gy), speed
         humans.append(human)
-    return tuple(humans), centers
+    return tuple(humans), centers, ends
 
 
 @numba.njit(cache=True)
@@ -368,14 +369,23 @@ def _spaced(starts: np.ndarray, goals: np.ndarray, centers: np.ndarray, ends: np
 def _crowd(rng, n: int, layout: Scenario, draw: Callable, grid: tuple | None = None, trips: tuple | None = None) -> Scenario:
     """The layout (validated when it was built) with ``n`` humans (valid by construction), not validated
     again, as the CrowdNav presets' scenes (``tests/scenarios/test_family_scenes.py``: the same scenario as a validated one)."""
-    humans, centers = _placed_humans(rng, n, layout, draw, grid, trips)
+    humans, centers, ends = _placed_humans(rng, n, layout, draw, grid, trips)
     arrays = {"positions": centers, "velocities": np.zeros((n, 2)),  # (the humans' centres, the same floats)
               "radii": np.full(n, HUMAN_RADIUS)}  # fmt: skip
-    fields = {name: getattr(layout, name) for name in Scenario.__dataclass_fields__}
-    fields.update(obstacles=humans, behaviour=HUMAN_ORCA, name=layout.name + "-crowd")
-    scenario = Scenario._from_checked(arrays, layout.static_segments, **fields)  # (the layout's walls and polygons: its capsules)
-    object.__setattr__(scenario, "_polygon_shapes", polygon_shapes(layout))  # (shapely's, immutable: shared)
+    for a in arrays.values():
+        a.flags.writeable = False
+    shapes = polygon_shapes(layout)  # (shapely's, immutable: shared)
+    # Scenario._from_checked's instance of the layout's fields with these humans, its __dict__ written at
+    # once from the layout's (a field at a time through _from_checked's checks was a twentieth of a reset)
+    scenario = object.__new__(Scenario)
+    values = {name: layout.__dict__[name] for name in _FIELDS}
+    values.update(obstacles=humans, behaviour=HUMAN_ORCA, name=layout.name + "-crowd")
+    values.update(_arrays=arrays, _segments=layout.static_segments, _polygon_shapes=shapes, _humans_alike=(humans, HUMAN_RADIUS, HUMAN_SPEED, ends))
+    scenario.__dict__.update(values)
     return scenario
+
+
+_FIELDS = tuple(Scenario.__dataclass_fields__)
 
 
 def _uniform(rng, box, k: int) -> np.ndarray:

@@ -331,6 +331,15 @@ class Scenario:
         object.__setattr__(copy, "robot_visible", bool(visible))
         return copy
 
+    def _alike(self) -> tuple | None:
+        """``(obstacles, radius, preferred speed, goals (n, 2), never written)`` when every obstacle of this
+        scene has that radius and preferred speed (a Python float), its goal the row of ``goals``, no
+        behaviour of its own and a scenario's goal-directed behaviour: what a crowd family records when
+        it builds the scene (``crowd_placement._crowd``), so that a reset reads its humans once. A
+        record whose obstacles are not this scene's (a copy given new obstacles) is none."""
+        kept = self.__dict__.get("_humans_alike")
+        return kept if kept is not None and kept[0] is self.obstacles else None
+
     def with_delta_d(self, delta_d: float, rng: np.random.Generator) -> Scenario:
         """A copy whose every obstacle moves exactly ``delta_d`` radii per step.
 
@@ -342,9 +351,10 @@ class Scenario:
             raise ValueError(f"delta_d must be finite and >= 0, got {delta_d!r}")
         angles = rng.uniform(0.0, 2 * math.pi, size=len(self.obstacles))
         velocities, radii = self._arrays["velocities"], self._arrays["radii"]
-        if len(radii) and delta_d * float(radii.max()) > self.arena_diagonal:
+        alike = self._alike()  # (a crowd family's humans: one radius, one speed, no behaviour of their own)
+        if len(radii) and delta_d * (alike[1] if alike is not None else float(radii.max())) > self.arena_diagonal:
             raise ValueError(f"delta_d {delta_d} makes obstacles cross the whole arena in one step; lower delta_d")
-        if self.behaviour.goal_directed and all(ob.behaviour is None for ob in self.obstacles):
+        if self.behaviour.goal_directed and (alike is not None or all(ob.behaviour is None for ob in self.obstacles)):
             return self._with_preferred_speeds(delta_d, None)  # a crowd: no obstacle bounces, no bounce velocity to compute
         speeds = np.hypot(velocities[:, 0], velocities[:, 1])
         moving = speeds > 0
@@ -397,7 +407,8 @@ class Scenario:
         """Whether every obstacle's preferred speed is already ``delta_d * radius / dt``, bit for bit
         (a Python float, the sign of a zero included): :meth:`_with_preferred_speeds` of a crowd would change nothing."""
         dt = self.dt
-        for ob in self.obstacles:
+        alike = self._alike()
+        for ob in self.obstacles if alike is None else self.obstacles[:1]:  # (alike: every one's is the first's)
             speed = delta_d * ob.radius / dt
             kept = ob.preferred_speed
             if type(kept) is not float or kept != speed or (speed == 0.0 and math.copysign(1.0, kept) != math.copysign(1.0, speed)):

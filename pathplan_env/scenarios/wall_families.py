@@ -115,7 +115,12 @@ def corridor(rng: np.random.Generator, n: int | None = None) -> Scenario:
     16 m x 6 m arena); the robot crosses it end to end, either way, among ``n`` (6) obstacles."""
     n = 6 if n is None else check_count(n, "n_obstacles")
     lane = (1.05 + ROBOT_RADIUS + 0.1, 4.95 - ROBOT_RADIUS - 0.1)
-    start, goal = _swap(rng, _uniform(rng, (0.5, lane[0], 1.5, lane[1])), _uniform(rng, (14.5, lane[0], 15.5, lane[1])))
+    # _swap(rng, _uniform(rng, (0.5, *lane)), _uniform(rng, (14.5, *lane))) with its five floats in one draw
+    # (rng.random() and rng.random(k) read the generator alike: the same floats, the same state after)
+    u0, v0, u1, v1, swap = rng.random(5).tolist()
+    a = (0.5 + u0 * (1.5 - 0.5), lane[0] + v0 * (lane[1] - lane[0]))
+    b = (14.5 + u1 * (15.5 - 14.5), lane[0] + v1 * (lane[1] - lane[0]))
+    start, goal = (a, b) if swap < 0.5 else (b, a)
     walls = (((0.0, 1.0), (16.0, 1.0)), ((0.0, 5.0), (16.0, 5.0)))
     return _scenario(rng, n, [(0.0, 1.0, 16.0, 5.0)], bounds=(0.0, 0.0, 16.0, 6.0), start=start, goal=goal, walls=walls,
                      wall_thickness=0.1, name="corridor")  # fmt: skip

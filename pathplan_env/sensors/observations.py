@@ -133,6 +133,9 @@ class StateObservation(ObservationType):
     BLOCK_ROWS = 256
     #: The last ``obstacle_state`` seen that :data:`_ROW` may take (``None``: none yet).
     _state_checked = None
+    #: The arena whose lower corner ``_low`` holds; the read-only static segments and the arena the static
+    #: entries' rows (``_static``, ``_static_mask``) were last written from (``None``: written again).
+    _low_of = _low = _static_of = _static_arena = None
 
     def __init__(self, arena: Arena, dt: float, max_obstacles: int):
         super().__init__(arena, dt, max_obstacles)
@@ -163,6 +166,7 @@ class StateObservation(ObservationType):
             raise ValueError(f"max_static_segments must be an integer >= 0, got {count!r}")
         self.max_static_segments = int(count)
         self._static = np.zeros((self.max_static_segments, 5), np.float32)
+        self._static_of = self._static_arena = None
         self._static_mask = np.zeros(self.max_static_segments, np.float32)
 
     def check_fits(self, scenario) -> None:
@@ -203,14 +207,22 @@ class StateObservation(ObservationType):
         """The episode's template: its goal and radii, padding rows at the arena's lower corner."""
         _compile_row()
         gx, gy = world.scenario.goal
-        _fill_template(self._template, gx, gy, self.arena.low, world.radii, self.max_obstacles)
+        arena = self.arena
+        if self._low_of is not arena:  # (the arena is the env's for its life: its corner's array made once)
+            self._low_of, self._low = arena, arena.low
+        _fill_template(self._template, gx, gy, self._low, world.radii, self.max_obstacles)
         if self.max_static_segments:  # padding rows at the arena's lower corner, as the obstacles'
             segments = world.static_segments
             self.check_fits(world.scenario)
-            self._static[:] = np.concatenate([self.arena.low, self.arena.low, [0.0]])
-            self._static[: len(segments)] = segments
-            self._static_mask[:] = 0.0
-            self._static_mask[: len(segments)] = 1.0
+            # the rows of the last episode's segments are these when they are the same read-only array (a
+            # family's episodes share theirs, wall_families._segments) in the same arena: not written again
+            if segments is not self._static_of or self._static_arena is not arena:
+                self._static[:] = np.concatenate([self._low, self._low, [0.0]])
+                self._static[: len(segments)] = segments
+                self._static_mask[:] = 0.0
+                self._static_mask[: len(segments)] = 1.0
+                frozen = not segments.flags.writeable  # (a scenario's: segments_of's, never written)
+                self._static_of, self._static_arena = (segments, arena) if frozen else (None, None)
 
     def observe(self, world) -> dict[str, np.ndarray]:
         (x, y), (vx, vy) = world.robot_xy, world.robot_velocity_xy

@@ -27,11 +27,13 @@ def contiguous(statics) -> bool:
     return all(a.flags.c_contiguous for a in arrays if isinstance(a, np.ndarray))
 
 
-def routed_typed(statics) -> bool:
+def routed_typed(statics, fresh: bool = False) -> bool:
     """Whether the routed step's arguments of ``statics`` have exactly the types of its entry point's
     signature (``step_kernel.ROUTED_SIGNATURE``: numbers of those Python types, arrays of those dtypes and
     dimensions, C-contiguous, aligned and writable): the entry point unboxes them without checking.
-    The arrays a geometry's worlds share (its grid's, its RVO2 obstacles') are checked once (kept by identity)."""
+    The arrays a geometry's worlds share (its grid's, its RVO2 obstacles') are checked once (kept by identity);
+    ``fresh``: ``statics`` is ``routing.human_statics``' own, whose other arrays it has just made with
+    the signature's dtypes and dimensions, C-contiguous and writable (not checked again)."""
     routes, obstacles = statics.routes_fields, statics.obstacle_fields
     if len(routes) != len(_ROUTES_KINDS) or len(obstacles) != len(_OBSTACLES_KINDS):
         return False
@@ -39,16 +41,19 @@ def routed_typed(statics) -> bool:
         if ndim is None:
             if type(value) is not kind:
                 return False
-        elif not (_SHARED_TYPED.get(id(value)) is value if k in _SHARED_ROUTES else _array_typed(value, kind, ndim)):
-            if k not in _SHARED_ROUTES or not _array_typed(value, kind, ndim):
-                return False
-            _remember(value)
+        elif k in _SHARED_ROUTES:
+            if _SHARED_TYPED.get(id(value)) is not value:
+                if not _array_typed(value, kind, ndim):
+                    return False
+                _remember(value)
+        elif not (fresh or _array_typed(value, kind, ndim)):
+            return False
     for value, (kind, ndim) in zip(obstacles, _OBSTACLES_KINDS):
         if _SHARED_TYPED.get(id(value)) is not value:
             if not _array_typed(value, kind, ndim):
                 return False
             _remember(value)
-    return _array_typed(statics.scratch_targets, _FLOAT64, 2) and _array_typed(statics.missing, _INT64, 1)
+    return fresh or (_array_typed(statics.scratch_targets, _FLOAT64, 2) and _array_typed(statics.missing, _INT64, 1))
 
 
 def _array_typed(value, dtype, ndim) -> bool:

@@ -94,7 +94,8 @@ class World(SpaceKeeper):
         self.static_segments = scenario.static_segments
         self._has_statics = len(self.static_segments) > 0  # read every step: no walls, no cost
         # what goal-directed obstacles know of the walls: RVO2 obstacles, routes (routing.py)
-        self._human_statics = drivers_statics(scenario, self._drivers) if self._drivers and self._has_statics else None
+        spare = getattr(recycle, "_human_statics", None)  # (its route rows, taken over where they fit: routing._reused_rows)
+        self._human_statics = drivers_statics(scenario, self._drivers, spare) if self._drivers and self._has_statics else None
         moving = [speed > 0 for speed in top_speeds.tolist()]  # a goal-directed obstacle is dynamic even at rest
         if recycle is not None and recycle.space is None:  # (a world that lent its space has nothing left)
             recycle = None
@@ -108,7 +109,9 @@ class World(SpaceKeeper):
         self._pymunk_state[:, 2:] = data["velocities"]
         self._write_bodies()
         self.obstacle_state = self._pymunk_state.copy()  # (N, 4): x, y, vx, vy
-        self._pack()
+        self._pack(fresh=True)
+        if spare is not None:
+            recycle._human_statics = None  # (its rows may be this world's now: never the next one's too)
 
     @staticmethod
     def _group_drivers(scenario: Scenario) -> list:
@@ -117,6 +120,9 @@ class World(SpaceKeeper):
         if not scenario.goal_directed:
             return []
         n = scenario.n_obstacles
+        alike = scenario._alike()
+        if alike is not None:  # a crowd family's humans: their goals' array kept, one preferred speed
+            return [(scenario.behaviour, np.arange(n, dtype=np.int64), alike[3], np.full(n, alike[2]))] if n else []
         if scenario.behaviour.goal_directed and all(ob.behaviour is None for ob in scenario.obstacles):
             groups = {scenario.behaviour: np.arange(n, dtype=np.int64)} if n else {}  # a crowd of one behaviour: the loop's one group
         else:
@@ -132,16 +138,21 @@ class World(SpaceKeeper):
     def _top_speeds(self) -> np.ndarray:
         """``scenario.top_speeds()`` from the drivers' arrays: a driver's speed is ``max(speed, preferred)``
         as Python's ``max`` picks (the first unless the second is larger), the others their speed."""
-        speeds = self._speeds.copy()
+        speeds = self._speeds
+        if len(self._drivers) == 1 and len(self._drivers[0][1]) == len(speeds):  # one group of them all (its indices ascending: 0..n-1)
+            preferred = self._drivers[0][3]
+            return np.where(preferred > speeds, preferred, speeds)
+        speeds = speeds.copy()
         for _, idx, _, preferred in self._drivers:
             speeds[idx] = np.where(preferred[idx] > speeds[idx], preferred[idx], speeds[idx])
         return speeds
 
-    def _pack(self) -> None:
+    def _pack(self, fresh: bool = False) -> None:
         """The arrays :func:`~pathplan_env.world.step_kernel.world_step` reads, packed (``step_kernel``):
         the obstacles' state, speeds, radii, goals and preferred speeds, and the robot's row become
         views of one float64 array, Chipmunk's handles and the ORCA group's indices one int64 array.
-        Run at construction and after unpickling (the views are copies then)."""
+        Run at construction (``fresh``: the human statics just built, ``routed_call.routed_typed``'s) and
+        after unpickling (the views are copies then)."""
         m, scenario = self.n_obstacles, self.scenario
         mode, idx, behaviour = step_kernel.STEER_NONE, np.empty(0, np.int64), None
         if self._drivers:
@@ -150,7 +161,7 @@ class World(SpaceKeeper):
                 mode = step_kernel.STEER_ORCA if self._human_statics is None else step_kernel.STEER_ROUTED
                 behaviour, idx = self._drivers[0][0], self._drivers[0][1]
         # the routed step through its entry point where the arguments have its types, else the dispatcher
-        typed = mode == step_kernel.STEER_ROUTED and routed_typed(self._human_statics)
+        typed = mode == step_kernel.STEER_ROUTED and routed_typed(self._human_statics, fresh)
         if mode == step_kernel.STEER_ROUTED and not typed and not contiguous(self._human_statics):
             mode = step_kernel.STEER_OUTSIDE  # (the compiled step reads their arrays as C-contiguous)
         self._routed_call = routed_entry() if typed else step_kernel.world_step_routed

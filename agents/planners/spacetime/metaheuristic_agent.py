@@ -43,7 +43,10 @@ CROWD_SETTINGS = MappingProxyType({"margin": 0.05, "rest_obstacles": False, "obs
 #: 1.0423 (paths a little longer on the whole: the trade), every episode reached, at 270 and at most 320 evaluations a
 #: refining replan against 780 and 1980 (issue 46: a replan among 300 resting discs within 2 x one among 8 moving
 #: obstacles; 1.2-1.3 and 1.1-1.4 x by the bench, 3.2-3.5 and 5.1-9.7 before). Without the progress guard ABC's
-#: refines stalled in a clutter episode the whole budget reaches.
+#: refines stalled in a clutter episode the whole budget reaches. The run after a refine without progress starts from the
+#: last replan's best (from the refine's, ABC crept toward a cylinder for the rest of an episode): seed 0 then PSO 1.0108,
+#: ABC 1.0279; among 300 cylinders (scripts/clutter_density.py, seeds 5000-5019) PSO 17 and ABC 19 of 20, against 17 and
+#: 20 of 20 with a3a7f07's replans.
 STILL_REFINE = MappingProxyType({"pso": (0.15, 0.2, 0.5), "abc": (0.15, 0.1, 0.5)})
 
 #: What the space-time optimisers' penalty measures (:data:`agents.planners.timed_objective.FIRST_CONTACT`).
@@ -276,12 +279,13 @@ class SpacetimeMetaheuristicAgent(MetaheuristicAgent):
         seeds = None if refine else self.seed_paths(robot, goal, problem)
         stall = 0 if self.needs_whole_budget(problem) else None
         if refine:  # nothing moved since the last replan: refine its best
-            none = np.empty((0, self._timed_lo.size))
+            last_best, none = memory["best"], np.empty((0, self._timed_lo.size))
             best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, none, self.still_budget, self.still_stall, self.still_spread)
             last = memory.get("still_cost")
             progressed = last is not None and self.last_penalty == 0.0 and self.last_cost <= last - self.still_progress * self.step_length
             self.last_fallback = self.still_progress > 0.0 and not progressed
             if self.last_fallback:  # no progress on the last plan (a stall, a way that opens elsewhere): the whole budget
+                memory["best"] = last_best  # (warm-started as a replan without the refine would be: a stuck refine's best kept ABC stuck)
                 refined, seeds = self.last_evaluations, self.seed_paths(robot, goal, problem)
                 best = self.run_optimizer(problem, self._timed_lo, self._timed_hi, memory, seeds, stall=stall)
                 self.last_evaluations += refined  # the replan's, both runs

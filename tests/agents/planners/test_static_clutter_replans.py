@@ -43,10 +43,11 @@ FLOWN_DIGESTS = [  # 30 steps' actions and plans among 300 cylinders (and 2 boun
     # with its whole budget where nothing moves, as every replan had it before STILL_REFINE
     ("pso-spacetime?still_budget=1.0", 6, 0, "e00d8a7633ab744d43c61c08c0629537af18097edfe8f277838ed8f7628cc356"),
     # STILL_REFINE's refines round the last best where nothing has moved (0.15 of the budget, the whole one after a
-    # refine without progress): the episodes with nothing moving changed there (computed on 95ac617; before, half
-    # PSO's budget and ABC's whole one: da14e84a... and 8f6b8d96..., the latter still ABC's with still_budget=1.0)
-    ("pso-spacetime", 6, 0, "50fbe61fe381aad737925b8915d5c74a488f2e5a6608ab4bba8da6f5228102e9"),
-    ("abc-spacetime", 6, 0, "1b83d18781a5fc85f4faeff68d45385aa007322b1c89abc2932e1114af2628e9"),
+    # refine without progress, warm-started from the last replan's best): the episodes with nothing moving changed
+    # there (before, half PSO's budget and ABC's whole one: da14e84a... and 8f6b8d96..., the latter still ABC's with
+    # still_budget=1.0; with the whole budget after a refine warm-started from the refine's best: 50fbe61f... and 1b83d187...)
+    ("pso-spacetime", 6, 0, "7eced7b1f3b5614e468e29375f45294a07aa3d76aec6aa59fd560e2057df35e9"),
+    ("abc-spacetime", 6, 0, "0fac97bf956ca524e06f3daa75c426e0e1e1860adb4f2dbd302ce8b7499a0f24"),
     ("abc-spacetime?still_budget=1.0", 6, 0, "8f6b8d96b31a20d5bbc3ec85c8fd67a782949164647b741c2b9ecc9401ba6447"),
     # with bouncing discs every replan's problem is built afresh: the episodes are the ones before, bit for bit
     ("pso-spacetime", 7, 2, "0afc7a1dc9890ca1a660c449ec9c4928c012fcaa2ec9ae3349e31175cdc1a004"),

@@ -71,3 +71,40 @@ def test_abc_scouts_draw_round_the_best_only_when_asked():
     tight = np.full(lo.size, 1e-3)
     near = abc_run(x0, lo, hi, ABCSettings(400, 20, True, rule, tight), 7, problem)
     assert near.scouted > 0 and not np.array_equal(near.history, plain.history)
+
+
+
+@pytest.mark.parametrize("name", ["pso-spacetime", "abc-spacetime"])
+def test_the_whole_budget_after_a_refine_without_progress_starts_from_the_last_replans_best(name, monkeypatch):
+    """The run that follows a refine without progress is warm-started as a replan without the refine would
+    be, from the last replan's best: warm-started from the refine's, ABC crept toward a cylinder of a
+    300-cylinder field (seed 5003) for the rest of the episode, where its whole budget alone arrives."""
+    from agents.planners.metaheuristic import MetaheuristicAgent
+
+    runs = []  # each run of the optimiser: [replan, budget, its warm start, its best]
+    replan = [0]
+    run = MetaheuristicAgent.run_optimizer
+
+    def recording(self, problem, lo, hi, memory, seeds, budget=1.0, stall=None, around=0.0):
+        warm = memory.get("best")
+        best = run(self, problem, lo, hi, memory, seeds, budget, stall, around)
+        runs.append((replan[0], budget, None if warm is None else warm.copy(), best.copy()))
+        return best
+
+    monkeypatch.setattr(MetaheuristicAgent, "run_optimizer", recording)
+    env = _clutter_env(6)
+    agent = agents.make(name, env, seed=0)
+    obs, _ = env.reset(seed=6)
+    checked = 0
+    for step in range(40):
+        replan[0] = step
+        action, _ = agent.predict(obs, deterministic=True)
+        if agent.last_fallback:
+            (_, refine, _, _), (_, whole, warm, _) = [r for r in runs if r[0] == step]
+            last_best = [r for r in runs if r[0] == step - 1][-1][3]  # the last replan's plan
+            assert refine < 1.0 and whole == 1.0 and np.array_equal(warm, last_best)
+            checked += 1
+        obs, _, terminated, truncated, _ = env.step(action)
+        if terminated or truncated:
+            break
+    assert checked

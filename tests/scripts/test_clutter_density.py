@@ -1,0 +1,25 @@
+"""scripts/clutter_density.py: its arguments are checked, and a short run reports each agent against oracle-static."""
+
+import importlib
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
+density = importlib.import_module("clutter_density")
+
+
+def test_its_arguments_are_checked():
+    args = density.parse_args(["--seeds", "3:5"])
+    assert list(args.seed_range) == [3, 4] and args.agent_names == ["pso-spacetime", "abc-spacetime"]
+    for bad in (["--seeds", "5:5"], ["--seeds", "five"], ["--cylinders", "0"]):
+        with pytest.raises(SystemExit):
+            density.parse_args(bad)
+
+
+def test_a_run_reports_each_agent_on_the_episodes_the_oracle_solves(capsys):
+    density.main(["--cylinders", "150", "--seeds", "5000:5001", "--agents", "astar-spacetime"])
+    out = capsys.readouterr().out.splitlines()
+    assert out[0] == "150 cylinders, seeds 5000:5001: oracle-static 1/1"
+    assert out[1].startswith("astar-spacetime: 1/1 of the oracle's, 0 collisions, length ÷ oracle-static's mean ")

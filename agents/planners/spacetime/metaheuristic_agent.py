@@ -46,7 +46,8 @@ CROWD_SETTINGS = MappingProxyType({"margin": 0.05, "rest_obstacles": False, "obs
 #: refines stalled in a clutter episode the whole budget reaches. The run after a refine without progress starts from the
 #: last replan's best (from the refine's, ABC crept toward a cylinder for the rest of an episode): seed 0 then PSO 1.0108,
 #: ABC 1.0279; among 300 cylinders (scripts/clutter_density.py, seeds 5000-5019) PSO 17 and ABC 19 of 20, against 17 and
-#: 20 of 20 with a3a7f07's replans.
+#: 20 of 20 with a3a7f07's replans: stalls of the lower bound's guide, gone since the passable field guides wherever
+#: discs rest (agents.planners.passable.MISLEAD_CELLS; seeds 5000-5039: 40 of 40 each).
 STILL_REFINE = MappingProxyType({"pso": (0.15, 0.2, 0.5), "abc": (0.15, 0.1, 0.5)})
 
 #: What the space-time optimisers' penalty measures (:data:`agents.planners.timed_objective.FIRST_CONTACT`).

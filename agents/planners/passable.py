@@ -102,9 +102,11 @@ def guiding_cost_to_go(obs: dict, facts, memory: dict, margin: float = 0.0) -> t
     """The scene's walls and the cost-to-go a space-time planner is guided by: the lower bound
     (:func:`~agents.planners.costtogo.observed_cost_to_go`), bit for bit as before, unless it
     misleads; then the :func:`passable_cost_to_go` field, while the static scene stays (both kept in
-    ``memory``). Static geometry is what rests from the episode's first observation on: the passable
-    field is weighed from the second replan (a crowd's humans stand still at the start, then walk)
-    and never once a body has started or stopped. From that replan on it guides wherever discs rest (the
+    ``memory``). Static geometry is the walls and the discs at rest in every observation from the
+    episode's first on: the passable field is weighed from the second replan (a crowd's humans stand
+    still at the start, then walk: the field goes round the discs that still rest, the cylinders of
+    ``clutter-crowd``) and never once a body has started or stopped where no disc has rested
+    throughout (the wall crowd families). From that replan on it guides wherever discs rest (the
     gaps between them are what the lower bound opens, up to 0.28 m too narrow at a 0.333 m robot); among
     walls alone, where the lower bound misleads: on that replan, on more than :data:`MISLEAD_CELLS` of the
     cells the robot can reach (:func:`misled_share`), or, at a later replan, where the robot stands. ``margin`` is
@@ -115,24 +117,27 @@ def guiding_cost_to_go(obs: dict, facts, memory: dict, margin: float = 0.0) -> t
     segments, lower = observed_cost_to_go(obs, facts, memory)
     if lower.field.size == 0 or memory.get("passable_off"):
         return segments, lower
+    centers, velocities, radii = Observation.of(obs).obstacles
+    still = (velocities == 0.0).all(axis=1)
+    rows = memory.setdefault("passable_rows", still)  # the discs at rest in every observation so far
+    rows = rows & still if len(rows) == len(still) else np.zeros(len(still), np.bool_)
+    memory["passable_rows"] = rows
     key = memory["cost_to_go_key"]
-    if key != memory.setdefault("passable_first_key", key):  # a body started or stopped: no static geometry
+    if key != memory.setdefault("passable_first_key", key) and not rows.any():  # a body started or stopped, none rests throughout
         memory["passable_off"] = True
         return segments, lower
     memory["passable_replans"] = memory.get("passable_replans", 0) + 1
     if memory["passable_replans"] < 2:  # resting on one observation may be a standing start (humans)
         return segments, lower
     goal = np.asarray(obs["goal"], np.float64)
-    if memory.get("passable_key") != key:
-        parsed = Observation.of(obs)
-        centers, velocities, radii = parsed.obstacles
-        still = (velocities == 0.0).all(axis=1)
-        reach = (radii[still] + facts.robot_radius) * (1.0 + margin)
-        passable = passable_cost_to_go(goal, facts.goal_radius, facts.arena.box, segments, facts.robot_radius, centers[still], reach)
-        memory["passable_key"], memory["passable"] = key, passable
+    static_key = (segments.tobytes(), centers[rows].tobytes(), radii[rows].tobytes(), goal.tobytes())
+    if memory.get("passable_key") != static_key:
+        reach = (radii[rows] + facts.robot_radius) * (1.0 + margin)
+        passable = passable_cost_to_go(goal, facts.goal_radius, facts.arena.box, segments, facts.robot_radius, centers[rows], reach)
+        memory["passable_key"], memory["passable"] = static_key, passable
         # among resting discs from the start (the gaps between them are what the lower bound opens) at once
         memory["passable_engaged"] = memory["passable_switched"] = passable is not None and (
-            bool(still.any()) or misled_share(lower, passable, goal, facts.goal_radius) > MISLEAD_CELLS)
+            bool(rows.any()) or misled_share(lower, passable, goal, facts.goal_radius) > MISLEAD_CELLS)
     passable = memory["passable"]
     if passable is None:
         return segments, lower

@@ -76,6 +76,24 @@ def test_among_resting_discs_the_passable_field_guides_where_the_lower_bound_rea
         assert info["is_success"] and not info["collision"], name
 
 
+def test_once_humans_walk_the_passable_field_goes_round_the_discs_that_still_rest():
+    # clutter-crowd: humans and cylinders rest on the first observation, the humans walk from the second
+    for scenario, passable in (("clutter-crowd", True), ("doorway-crowd", False)):
+        env = gym.make("DynamicObstacle-v0", scenario=scenario)
+        obs, _ = env.reset(seed=1)
+        facts, memory = EnvFacts.of(env), {}
+        guides = []
+        for _ in range(3):
+            guides.append(guiding_cost_to_go(obs, facts, memory)[1])
+            obs, *_ = env.step(np.zeros(2, np.float32))
+        assert guides[0] is not memory.get("passable")  # one observation at rest may be a standing start
+        if passable:  # the cylinders alone, not the humans who stood at the start
+            assert guides[1] is guides[2] is memory["passable"] and not memory.get("passable_off")
+            assert memory["passable_rows"].sum() == len(env.unwrapped.scenario.obstacles) - 4  # the preset's 4 humans
+        else:  # walls alone once the humans walk: the lower bound, as before
+            assert memory["passable_off"] and guides[2] is memory["cost_to_go"]
+
+
 def test_astar_spacetime_threads_the_clutter_it_stalled_in():
     # episode 2 of the test split (seed 0): astar-spacetime parked in front of a cylinder until the time limit
     env = gym.make("DynamicObstacle-v0", scenario="clutter")

@@ -9,8 +9,9 @@ limit ``oracle-clairvoyant`` (issue 46: ``pso-`` and ``abc-spacetime`` >= 0.95 x
                                       [--n-obstacles 5 --delta-d 0.5] [--workers 2] [--csv episodes.csv]
 
 Prints one line an agent: the episodes it reached of those the reference reached, its success ÷ the reference's,
-its length ÷ ``oracle-static``'s (mean, largest, how many over 1.05) and the seeds it did not reach the goal in. ``--csv`` writes every episode (agent, seed, success, collision, steps,
-length, the reference's length), an agent's rows as soon as its episodes are flown.
+its length ÷ ``oracle-static``'s (mean, largest, how many over 1.05) and the seeds it did not reach the goal in.
+``--csv`` writes every episode (agent, seed, success, collision, steps, length, the reference's length), an agent's
+rows as soon as its episodes are flown.
 """
 
 from __future__ import annotations

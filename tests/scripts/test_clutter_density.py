@@ -38,3 +38,12 @@ def test_with_bouncing_discs_the_reference_is_the_limit(capsys):
     out = capsys.readouterr().out.splitlines()
     assert out[0] == "150 cylinders, 2 bouncing discs at Δd 0.5, seeds 5000:5001: oracle-clairvoyant 1/1"
     assert out[1] == "astar-spacetime: 1/1 of the oracle-clairvoyant's (success ÷ its 1.000), 0 collisions; not reached: []"
+
+
+def test_workers_fly_the_same_episodes(tmp_path, capsys):
+    runs = []
+    for workers in ("1", "2"):
+        out = tmp_path / f"w{workers}.csv"
+        density.main(["--cylinders", "150", "--seeds", "5000:5002", "--agents", "pso-spacetime", "--workers", workers, "--csv", str(out)])
+        runs.append((capsys.readouterr().out, out.read_text()))
+    assert runs[0] == runs[1] and runs[0][1].count("\n") == 5  # the header, 2 seeds x (the oracle, the agent)

@@ -36,11 +36,13 @@ MISLEAD_CELLS = 0.05
 
 
 def passable_cost_to_go(goal, goal_radius: float, box, segments: np.ndarray, robot_radius: float, centers: np.ndarray,
-                        reach: np.ndarray, cell: float | None = None) -> CostToGo | None:  # fmt: skip
+                        reach: np.ndarray, cell: float | None = None, step: float = 0.0) -> CostToGo | None:  # fmt: skip
     """The cost-to-go to the goal's disc through only the gaps the robot's disc passes, on a grid
     (the module docstring says why). A cell is free only when its centre keeps ``sqrt(R**2 + L**2 / 4)`` from every shape, ``R``
     the shape's reach (``reach``: each disc's contact distance from its centre; a capsule's half
-    thickness plus ``robot_radius``) and ``L`` the grid's longest move: a straight move of length ``<= L``
+    thickness plus ``robot_radius``) and ``L`` the grid's longest move, or the robot's ``step`` if longer
+    (so that the robot's own steps between free points keep clear too: a gap the grid's moves pass by a
+    centimetre the planners' steps do not thread): a straight move of length ``<= L``
     between two such centres then never comes within ``R`` (the chord bound of
     :func:`agents.oracles.static.flying_margin`), so every grid path is one the robot's centre flies
     without contact and the field is the length of such a path (no lower bound: up to
@@ -58,7 +60,7 @@ def passable_cost_to_go(goal, goal_radius: float, box, segments: np.ndarray, rob
     if cell is None:
         cell = max(robot_radius / 8.0, math.sqrt(width * height / 250_000.0))
     gx, gy = max(1, math.ceil(width / cell)), max(1, math.ceil(height / cell))
-    longest = cell * math.sqrt(5.0)  # a knight move
+    longest = max(cell * math.sqrt(5.0), step)  # a knight move, or the robot's step
     capsules = segments.copy()
     capsules[:, 4] = np.sqrt((capsules[:, 4] + robot_radius) ** 2 + 0.25 * longest**2)
     grown = np.sqrt(reach**2 + 0.25 * longest**2)
@@ -133,7 +135,8 @@ def guiding_cost_to_go(obs: dict, facts, memory: dict, margin: float = 0.0) -> t
     static_key = (segments.tobytes(), centers[rows].tobytes(), radii[rows].tobytes(), goal.tobytes())
     if memory.get("passable_key") != static_key:
         reach = (radii[rows] + facts.robot_radius) * (1.0 + margin)
-        passable = passable_cost_to_go(goal, facts.goal_radius, facts.arena.box, segments, facts.robot_radius, centers[rows], reach)
+        passable = passable_cost_to_go(goal, facts.goal_radius, facts.arena.box, segments, facts.robot_radius, centers[rows], reach,
+                                       step=facts.robot_speed * facts.dt)  # fmt: skip
         memory["passable_key"], memory["passable"] = static_key, passable
         # among resting discs from the start (the gaps between them are what the lower bound opens) at once
         memory["passable_engaged"] = memory["passable_switched"] = passable is not None and (
@@ -179,5 +182,5 @@ def passable_around(static: CostToGo, obs: dict, facts, margin: float, centers: 
     reach = np.concatenate([still_r[still], np.asarray(radii, np.float64)]) + facts.robot_radius
     segments = parsed.walls
     blocked = passable_cost_to_go(np.asarray(obs["goal"], np.float64), facts.goal_radius, facts.arena.box, segments, facts.robot_radius,
-                                  centres, reach * (1.0 + margin), static.cell)  # fmt: skip
+                                  centres, reach * (1.0 + margin), static.cell, facts.robot_speed * facts.dt)  # fmt: skip
     return blocked_beside_static(static, blocked)

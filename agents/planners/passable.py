@@ -47,8 +47,8 @@ def passable_cost_to_go(goal, goal_radius: float, box, segments: np.ndarray, rob
     :func:`agents.oracles.static.flying_margin`), so every grid path is one the robot's centre flies
     without contact and the field is the length of such a path (no lower bound: up to
     :data:`GRID_STRETCH` and a cell longer than the exact one). Cells of an eighth of the robot's
-    radius leave the clutter family's narrowest corridor (its 0.8 m: 13 cm for the centre) three
-    cells wide. A blocked cell next to free ones reads its free neighbours' value plus the move (a
+    radius leave the clutter family's narrowest corridor (its 0.8 m: 13 cm for the centre, 9 cm once
+    grown for the robot's 0.25 m step) two cells wide. A blocked cell next to free ones reads its free neighbours' value plus the move (a
     robot at a shape's reach stands in such a cell); the rest is ``inf``.
 
     :return: the field, or ``None`` when the goal's cells are all blocked (no such guide).

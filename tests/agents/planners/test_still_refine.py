@@ -34,10 +34,12 @@ def _fly(name: str, seed: int, **settings):
     return bool(info["is_success"]), info["path_length"] / shortest_path_to_goal(env.unwrapped.scenario), spent
 
 
-@pytest.mark.parametrize("name, refine", [("pso-spacetime", 30 * (8 + 1)), ("abc-spacetime", 40 * 8)])
-def test_a_refined_clutter_episode_reaches_the_goal_on_a_short_path_at_a_fraction_of_the_evaluations(name, refine):
+# ABC's single paths spread wider than PSO's (over 300 cylinders, 140 episodes: 21 over 1.05 x the static oracle's, the
+# largest 1.126, PSO's 3 and 1.098; docs/results/clutter.md, "Denser fields"): its bound is the wider one
+@pytest.mark.parametrize("name, refine, longest", [("pso-spacetime", 30 * (8 + 1), 1.05), ("abc-spacetime", 40 * 8, 1.10)])
+def test_a_refined_clutter_episode_reaches_the_goal_on_a_short_path_at_a_fraction_of_the_evaluations(name, refine, longest):
     success, ratio, spent = _fly(name, 1)
-    assert success and ratio < 1.05
+    assert success and ratio < longest
     refining = [evaluations for evaluations, still, fallback in spent if still and not fallback]
     assert len(refining) > len(spent) / 2 and max(refining) <= refine  # most replans refine, within the share
     whole = spent[0][0]  # the first replan's: the whole budget
